@@ -1,0 +1,23 @@
+"""pomkit: inverse displacement mapping on the GPU (wgpu/WGSL), from Python.
+
+    import pomkit as pk
+    scene = pk.Scene(mesh=pk.Mesh.plane(), material=pk.Material(pk.textures.bricks(256)),
+                     camera=pk.Camera.look_at((0, 1.2, 1.6)), lights=[pk.DirectionalLight((-0.4, -1, -0.3), 3.0)])
+    frame = pk.Renderer().render(scene, pk.POM())
+"""
+
+from . import _core
+from ._core import DeviceLostError, GpuError, NoAdapterError
+from ._frame import Frame
+from ._methods import POM, Bump, Flat, Method
+from ._render import Renderer, adapters, exact_uv
+from ._scene import Camera, DirectionalLight, Material, Mesh, Scene, SphereLight, linear_to_srgb, srgb_to_linear
+from . import textures
+
+__version__ = _core.__version__
+
+__all__ = [
+    "__version__", "Renderer", "adapters", "exact_uv", "Frame", "Scene", "Mesh", "Material", "Camera",
+    "DirectionalLight", "SphereLight", "Method", "Flat", "Bump", "POM", "textures",
+    "GpuError", "DeviceLostError", "NoAdapterError", "linear_to_srgb", "srgb_to_linear",
+]

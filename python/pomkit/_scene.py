@@ -1,0 +1,426 @@
+"""Scene model: plain validated data (mesh, material, camera, lights).
+
+Conventions (see docs/conventions.md and DESIGN.md): h = 1 is the base surface, h = 0 lies
+`depth` below it along the base normal; array row r, column c is the texel centred at
+u = (c + 0.5) / W, v = (r + 0.5) / H; the camera's ray of pixel (i, j) passes through the
+pixel centre; a directional light's `direction` is the way the light travels.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+from typing import Any, Sequence
+
+import numpy as np
+
+from . import _core
+
+__all__ = ["Mesh", "Material", "Camera", "DirectionalLight", "SphereLight", "Scene"]
+
+
+def _vec3(name: str, v: Any) -> tuple[float, float, float]:
+    try:
+        a = np.asarray(v, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name}: expected three numbers, got {v!r}") from None
+    if a.shape != (3,):
+        raise ValueError(f"{name}: expected three numbers, got {a.size}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name}: must be finite, got {tuple(a)}")
+    return (float(a[0]), float(a[1]), float(a[2]))
+
+
+def _rgb(name: str, v: Any) -> tuple[float, float, float]:
+    if isinstance(v, (int, float, np.floating, np.integer)) and not isinstance(v, bool):
+        v = (v, v, v)
+    c = _vec3(name, v)
+    if min(c) < 0:
+        raise ValueError(f"{name}: must be >= 0, got {c}")
+    return c
+
+
+def _float_array(name: str, a: Any, ncols: int, dtype=np.float32) -> np.ndarray:
+    try:
+        arr = np.asarray(a)
+    except Exception:
+        raise TypeError(f"{name}: expected an array") from None
+    if arr.dtype.kind not in "fiu":
+        raise TypeError(f"{name}: expected a numeric array, got dtype {arr.dtype}")
+    if arr.ndim != 2 or arr.shape[1] != ncols:
+        raise ValueError(f"{name}: expected shape (n, {ncols}), got {arr.shape}")
+    arr = np.ascontiguousarray(arr, dtype=dtype)
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: contains NaN or Inf")
+    return arr
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    a.flags.writeable = False
+    return a
+
+
+@dataclass(frozen=True, eq=False)
+class Mesh:
+    """A triangle mesh with per-vertex normals, uvs and tangent frames.
+
+    Build one with `Mesh.plane`, `sphere`, `torus`, `cylinder`, `cube`, `from_arrays` or
+    `from_trimesh`. Tangents are 4-vectors (xyz, w) as in glTF: the bitangent is
+    w * cross(N, T) and points along dP/dv. `uv_scale` is the world length per unit of u and v
+    (|dP/du|, |dP/dv|) at each vertex. Triangles are stored counter-clockwise seen from where
+    the normals point (the renderer culls back faces).
+    """
+
+    positions: np.ndarray
+    normals: np.ndarray
+    uvs: np.ndarray
+    indices: np.ndarray
+    tangents: np.ndarray
+    uv_scale: np.ndarray
+    kind: str = "arrays"
+
+    @classmethod
+    def _from_core(cls, arrays, kind: str) -> "Mesh":
+        p, n, uv, idx, t, s = arrays[:6]
+        return cls(*(_readonly(np.asarray(x)) for x in (p, n, uv, idx, t, s)), kind=kind)
+
+    @classmethod
+    def plane(cls, size: float = 2.0, segments: int = 1) -> "Mesh":
+        """Square in the XZ plane at y = 0, normal +Y, centred at the origin.
+
+        u grows with +X and v with +Z, so row 0 of a map is the far edge for a camera on +Z.
+        """
+        return cls._from_core(_core.mesh_generate("plane", _pos("size", size), 0.0, _count("segments", segments), 1), "plane")
+
+    @classmethod
+    def sphere(cls, radius: float = 1.0, segments: int = 64, rings: int = 32) -> "Mesh":
+        """UV sphere centred at the origin.
+
+        u = longitude / 2pi around +Y (u = 0 on +X, growing toward -Z), v = polar angle / pi
+        from the north pole (+Y, v = 0) to the south pole (v = 1). The poles are rows of
+        coincident vertices and u = 0/1 is a seam of duplicated vertices: both are test cases.
+        """
+        return cls._from_core(_core.mesh_generate("sphere", _pos("radius", radius), 0.0, _count("segments", segments), _count("rings", rings)), "sphere")
+
+    @classmethod
+    def torus(cls, major: float = 1.0, minor: float = 0.35, segments: int = 64, tube_segments: int = 32) -> "Mesh":
+        """Torus around +Y centred at the origin.
+
+        u = angle around the axis / 2pi, v = angle around the tube / 2pi (v = 0 on the outer
+        equator, rising toward +Y). Continuous and periodic in both directions.
+        """
+        return cls._from_core(
+            _core.mesh_generate("torus", _pos("major", major), _pos("minor", minor), _count("segments", segments), _count("tube_segments", tube_segments)),
+            "torus",
+        )
+
+    @classmethod
+    def cylinder(cls, radius: float = 0.5, height: float = 1.5, segments: int = 64, rings: int = 1) -> "Mesh":
+        """Open cylinder (no caps) around +Y, centred at the origin.
+
+        u = angle / 2pi (u = 0 on +X), v from the top rim (v = 0) to the bottom rim (v = 1).
+        """
+        return cls._from_core(
+            _core.mesh_generate("cylinder", _pos("radius", radius), _pos("height", height), _count("segments", segments), _count("rings", rings)),
+            "cylinder",
+        )
+
+    @classmethod
+    def cube(cls, size: float = 1.5, segments: int = 1) -> "Mesh":
+        """Cube of edge `size` centred at the origin; each face carries the whole uv square."""
+        return cls._from_core(_core.mesh_generate("cube", _pos("size", size), 0.0, _count("segments", segments), 1), "cube")
+
+    @classmethod
+    def from_arrays(cls, positions, normals, uvs, indices, tangents=None) -> "Mesh":
+        """A mesh from numpy arrays: positions (n,3), normals (n,3), uvs (n,2), indices (m,) or
+        (m/3,3), optional tangents (n,4). Tangents are computed when not given; triangles with
+        degenerate uvs get a fallback frame and a warning; a mesh with no usable uvs raises."""
+        p = _float_array("positions", positions, 3)
+        n = _float_array("normals", normals, 3)
+        uv = _float_array("uvs", uvs, 2)
+        try:
+            idx = np.asarray(indices)
+        except Exception:
+            raise TypeError("indices: expected an integer array") from None
+        if idx.dtype.kind not in "iu":
+            raise TypeError(f"indices: expected an integer array, got dtype {idx.dtype}")
+        idx = idx.reshape(-1)
+        if idx.size and (idx.min() < 0):
+            raise ValueError(f"indices: index {int(idx.min())} is negative")
+        if idx.size and idx.max() >= len(p):
+            raise ValueError(f"indices: index {int(idx.max())} is out of range for {len(p)} vertices")
+        idx = np.ascontiguousarray(idx, dtype=np.uint32)
+        t = None if tangents is None else _float_array("tangents", tangents, 4)
+        out = _core.mesh_from_arrays(p, n, uv, idx, t)
+        degenerate, fallback = out[6], out[7]
+        if degenerate:
+            warnings.warn(
+                f"{degenerate} triangle(s) have degenerate uvs; {fallback} vertex(es) got a fallback tangent frame",
+                RuntimeWarning,
+                stacklevel=2,
+            )
+        return cls._from_core(out, "arrays")
+
+    @classmethod
+    def from_trimesh(cls, mesh) -> "Mesh":
+        """A mesh from a `trimesh.Trimesh` with uvs (`mesh.visual.uv`)."""
+        uv = getattr(getattr(mesh, "visual", None), "uv", None)
+        if uv is None:
+            raise ValueError("mesh: the trimesh has no uvs (mesh.visual.uv); give it a parameterisation")
+        return cls.from_arrays(mesh.vertices, mesh.vertex_normals, uv, mesh.faces)
+
+    def _describe(self) -> dict:
+        return dict(positions=self.positions, normals=self.normals, uvs=self.uvs, indices=self.indices,
+                    tangents=self.tangents, uv_scale=self.uv_scale)
+
+
+def _pos(name: str, x) -> float:
+    if isinstance(x, bool) or not isinstance(x, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{name}: expected a number, got {type(x).__name__}")
+    x = float(x)
+    if not (math.isfinite(x) and x > 0):
+        raise ValueError(f"{name}: must be a finite number > 0, got {x}")
+    return x
+
+
+def _count(name: str, x) -> int:
+    if isinstance(x, bool) or not isinstance(x, (int, np.integer)):
+        raise TypeError(f"{name}: expected an integer, got {type(x).__name__}")
+    if not 1 <= int(x) <= 100_000:
+        raise ValueError(f"{name}: must lie in [1, 100000], got {x}")
+    return int(x)
+
+
+def _normalize_height(h: Any) -> np.ndarray:
+    if isinstance(h, np.ndarray):
+        arr = h
+    else:
+        try:
+            arr = np.asarray(h)
+        except Exception:
+            raise TypeError("height: expected a 2-D numpy array") from None
+    if arr.dtype == np.uint8:
+        out = arr.astype(np.float32) / 255.0
+    elif arr.dtype == np.uint16:
+        out = arr.astype(np.float32) / 65535.0
+    elif arr.dtype in (np.float32, np.float64, np.float16):
+        out = arr.astype(np.float32)
+    else:
+        raise TypeError(f"height: dtype {arr.dtype} is not supported; pass float32 in [0, 1], uint8 or uint16")
+    if out.ndim != 2:
+        raise ValueError(f"height: expected a 2-D array (H, W), got shape {arr.shape}")
+    if out.size == 0:
+        raise ValueError(f"height: the array is empty (shape {arr.shape})")
+    if not np.all(np.isfinite(out)):
+        bad = np.argwhere(~np.isfinite(out))[0]
+        raise ValueError(f"height: contains NaN or Inf (first at row {bad[0]}, column {bad[1]}); clean it, e.g. np.nan_to_num")
+    lo, hi = float(out.min()), float(out.max())
+    if lo < 0.0 or hi > 1.0:
+        raise ValueError(f"height: float values must lie in [0, 1], found [{lo}, {hi}]; normalise the map")
+    return _readonly(np.ascontiguousarray(out))
+
+
+def srgb_to_linear(x: np.ndarray) -> np.ndarray:
+    x = np.asarray(x, dtype=np.float32)
+    return np.where(x <= 0.04045, x / 12.92, ((x + 0.055) / 1.055) ** 2.4).astype(np.float32)
+
+
+def linear_to_srgb(x: np.ndarray) -> np.ndarray:
+    x = np.clip(np.asarray(x, dtype=np.float32), 0.0, 1.0)
+    return np.where(x <= 0.0031308, x * 12.92, 1.055 * np.power(x, 1 / 2.4) - 0.055).astype(np.float32)
+
+
+def _normalize_albedo(a: Any) -> np.ndarray | None:
+    if a is None:
+        return None
+    arr = np.asarray(a)
+    if arr.ndim != 3 or arr.shape[2] not in (3, 4):
+        raise ValueError(f"albedo: expected shape (H, W, 3), got {arr.shape}")
+    if arr.size == 0:
+        raise ValueError("albedo: the array is empty")
+    arr = arr[..., :3]
+    if arr.dtype == np.uint8:
+        out = srgb_to_linear(arr.astype(np.float32) / 255.0)
+    elif arr.dtype.kind == "f":
+        out = arr.astype(np.float32)
+        if not np.all(np.isfinite(out)):
+            raise ValueError("albedo: contains NaN or Inf")
+        if out.min() < 0:
+            raise ValueError("albedo: linear values must be >= 0")
+    else:
+        raise TypeError(f"albedo: dtype {arr.dtype} is not supported; pass sRGB uint8 or linear float32")
+    return _readonly(np.ascontiguousarray(out))
+
+
+@dataclass(frozen=True, eq=False)
+class Material:
+    """Height map and albedo.
+
+    height: (H, W) float32 in [0, 1] (uint8 and uint16 are normalised); h = 1 is the base
+    surface, h = 0 lies `depth` world units below it. albedo: (H, W, 3) sRGB uint8 or linear
+    float32; None is a constant linear 0.5 grey. tiling: repetitions of the maps over the
+    mesh's uv square.
+    """
+
+    height: Any
+    depth: float = 0.08
+    albedo: Any = None
+    tiling: float = 1.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "height", _normalize_height(self.height))
+        if isinstance(self.depth, bool) or not isinstance(self.depth, (int, float, np.integer, np.floating)):
+            raise TypeError(f"depth: expected a number, got {type(self.depth).__name__}")
+        d = float(self.depth)
+        if not math.isfinite(d) or d < 0:
+            raise ValueError(f"depth: must be a finite number >= 0, got {d}")
+        object.__setattr__(self, "depth", d)
+        if isinstance(self.tiling, bool) or not isinstance(self.tiling, (int, float, np.integer, np.floating)):
+            raise TypeError(f"tiling: expected a number, got {type(self.tiling).__name__}")
+        t = float(self.tiling)
+        if not math.isfinite(t) or t <= 0 or t > 1e6:
+            raise ValueError(f"tiling: must be a finite number in (0, 1e6], got {t}")
+        object.__setattr__(self, "tiling", t)
+        object.__setattr__(self, "albedo", _normalize_albedo(self.albedo))
+
+
+@dataclass(frozen=True)
+class Camera:
+    """Pinhole camera. Use `Camera.look_at`. fov_y is the vertical field of view in degrees;
+    the ray of pixel (i, j) passes through the pixel centre (j + 0.5, i + 0.5), row 0 at the top."""
+
+    eye: tuple[float, float, float]
+    target: tuple[float, float, float]
+    up: tuple[float, float, float]
+    fov_y: float
+    width: int
+    height: int
+
+    @classmethod
+    def look_at(cls, eye, target=(0.0, 0.0, 0.0), up=(0.0, 1.0, 0.0), fov_y: float = 45.0,
+                width: int = 256, height: int = 256) -> "Camera":
+        return cls(eye, target, up, fov_y, width, height)
+
+    def __post_init__(self):
+        eye, target, up = _vec3("eye", self.eye), _vec3("target", self.target), _vec3("up", self.up)
+        for name in ("width", "height"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
+                raise TypeError(f"{name}: expected a positive integer, got {type(v).__name__}")
+            if int(v) <= 0:
+                raise ValueError(f"{name}: image size must be positive, got {v}")
+            object.__setattr__(self, name, int(v))
+        if isinstance(self.fov_y, bool) or not isinstance(self.fov_y, (int, float, np.integer, np.floating)):
+            raise TypeError(f"fov_y: expected a number of degrees, got {type(self.fov_y).__name__}")
+        fov = float(self.fov_y)
+        if not (0.0 < fov < 180.0):
+            raise ValueError(f"fov_y: must lie in (0, 180) degrees, got {fov}")
+        f = np.subtract(target, eye)
+        if np.linalg.norm(f) < 1e-9:
+            raise ValueError("eye: eye and target coincide; move the eye away from the target")
+        u = np.asarray(up)
+        if np.linalg.norm(u) < 1e-12 or np.linalg.norm(np.cross(f / np.linalg.norm(f), u / np.linalg.norm(u))) < 1e-6:
+            raise ValueError("up: up is zero or parallel to the view direction; pass another up vector")
+        object.__setattr__(self, "eye", eye)
+        object.__setattr__(self, "target", target)
+        object.__setattr__(self, "up", up)
+        object.__setattr__(self, "fov_y", fov)
+
+    def _describe(self) -> dict:
+        return dict(eye=self.eye, target=self.target, up=self.up, fov_y=self.fov_y, width=self.width, height=self.height)
+
+
+@dataclass(frozen=True)
+class DirectionalLight:
+    """A distant light. `direction` is the way the light travels (as in Mitsuba); `irradiance`
+    (linear RGB or a scalar) is measured on a surface facing the light; `angular_diameter`
+    (degrees) is the apparent size of the source, which the soft shadows estimate."""
+
+    direction: tuple[float, float, float]
+    irradiance: Any = 1.0
+    angular_diameter: float = 0.0
+
+    def __post_init__(self):
+        d = _vec3("direction", self.direction)
+        if np.linalg.norm(d) < 1e-12:
+            raise ValueError("direction: must be a non-zero vector")
+        object.__setattr__(self, "direction", d)
+        object.__setattr__(self, "irradiance", _rgb("irradiance", self.irradiance))
+        a = float(self.angular_diameter)
+        if not (0.0 <= a < 180.0):
+            raise ValueError(f"angular_diameter: must lie in [0, 180) degrees, got {a}")
+        object.__setattr__(self, "angular_diameter", a)
+
+    def _describe(self) -> dict:
+        return dict(kind="directional", direction=self.direction, irradiance=self.irradiance, angular_diameter=self.angular_diameter)
+
+
+@dataclass(frozen=True)
+class SphereLight:
+    """A spherical area light at `position` with `radius` and radiant intensity `intensity`
+    (W/sr, linear RGB or scalar): irradiance I / r^2 on a surface facing it at distance r. Its
+    radiance is I / (pi radius^2) (Mitsuba: a `sphere` shape with an `area` emitter)."""
+
+    position: tuple[float, float, float]
+    radius: float = 0.05
+    intensity: Any = 1.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "position", _vec3("position", self.position))
+        r = float(self.radius)
+        if not (math.isfinite(r) and r >= 0):
+            raise ValueError(f"radius: must be a finite number >= 0, got {r}")
+        object.__setattr__(self, "radius", r)
+        object.__setattr__(self, "intensity", _rgb("intensity", self.intensity))
+
+    def _describe(self) -> dict:
+        return dict(kind="sphere", position=self.position, radius=self.radius, intensity=self.intensity)
+
+
+MAX_LIGHTS = 4
+
+
+@dataclass(frozen=True, eq=False)
+class Scene:
+    """One mesh, one material, a camera, up to four lights and a constant ambient radiance."""
+
+    mesh: Mesh
+    material: Material
+    camera: Camera
+    lights: Sequence[Any] = field(default_factory=tuple)
+    ambient: Any = 0.0
+
+    def __post_init__(self):
+        if not isinstance(self.mesh, Mesh):
+            raise TypeError(f"mesh: expected a pomkit.Mesh, got {type(self.mesh).__name__}")
+        if not isinstance(self.material, Material):
+            raise TypeError(f"material: expected a pomkit.Material, got {type(self.material).__name__}")
+        if not isinstance(self.camera, Camera):
+            raise TypeError(f"camera: expected a pomkit.Camera, got {type(self.camera).__name__}")
+        lights = tuple(self.lights) if isinstance(self.lights, (list, tuple)) else (self.lights,)
+        for l in lights:
+            if not isinstance(l, (DirectionalLight, SphereLight)):
+                raise TypeError(f"lights: expected DirectionalLight or SphereLight, got {type(l).__name__}")
+        if len(lights) > MAX_LIGHTS:
+            raise ValueError(f"lights: at most {MAX_LIGHTS} lights are supported, got {len(lights)}")
+        object.__setattr__(self, "lights", lights)
+        object.__setattr__(self, "ambient", _rgb("ambient", self.ambient))
+
+    def replace(self, **changes) -> "Scene":
+        """A copy with some fields changed (dataclasses.replace)."""
+        import dataclasses
+        return dataclasses.replace(self, **changes)
+
+    def _describe(self) -> dict:
+        m = self.material
+        return dict(
+            mesh=self.mesh._describe(),
+            height=m.height,
+            albedo=m.albedo,
+            depth=m.depth,
+            tiling=m.tiling,
+            camera=self.camera._describe(),
+            lights=[l._describe() for l in self.lights],
+            ambient=self.ambient,
+        )

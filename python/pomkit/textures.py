@@ -1,0 +1,161 @@
+"""Procedural height maps: the scenes of the papers without shipping image files.
+
+Every function returns a (size, size) float32 array in [0, 1] (h = 1 is the base surface),
+tiles seamlessly, and is deterministic for a given seed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["bricks", "cobblestones", "pyramids", "sine", "noise", "spikes", "text", "constant", "ALL"]
+
+
+def _check_size(size) -> int:
+    if isinstance(size, bool) or not isinstance(size, (int, np.integer)):
+        raise TypeError(f"size: expected an integer, got {type(size).__name__}")
+    if not 1 <= int(size) <= 16384:
+        raise ValueError(f"size: must lie in [1, 16384], got {size}")
+    return int(size)
+
+
+def _grid(size: int):
+    c = (np.arange(size, dtype=np.float64) + 0.5) / size
+    return np.meshgrid(c, c)  # u (columns), v (rows)
+
+
+def _smoothstep(e0, e1, x):
+    t = np.clip((x - e0) / (e1 - e0), 0.0, 1.0)
+    return t * t * (3 - 2 * t)
+
+
+def _finish(h) -> np.ndarray:
+    return np.clip(h, 0.0, 1.0).astype(np.float32)
+
+
+def constant(size: int = 64, value: float = 0.5) -> np.ndarray:
+    """A flat map at height `value` (the analytic test case)."""
+    size = _check_size(size)
+    return np.full((size, size), float(value), dtype=np.float32)
+
+
+def bricks(size: int = 512, rows: int = 8, cols: int = 4, mortar: float = 0.06, bevel: float = 0.04,
+           mortar_height: float = 0.35, seed: int = 0) -> np.ndarray:
+    """Running-bond bricks: bevelled brick tops near h = 1 (slightly varied per brick) with
+    recessed mortar joints."""
+    size = _check_size(size)
+    u, v = _grid(size)
+    rng = np.random.default_rng(seed)
+    y = v * rows
+    r = np.floor(y).astype(int)
+    x = u * cols + 0.5 * (r % 2)
+    c = np.floor(x).astype(int) % cols
+    fx, fy = x - np.floor(x), y - np.floor(y)
+    # distance to the brick's edge in brick-height units
+    aspect = rows / cols
+    dx = np.minimum(fx, 1 - fx) / aspect
+    dy = np.minimum(fy, 1 - fy)
+    d = np.minimum(dx, dy)
+    top = 1.0 - 0.08 * rng.random((rows, cols))[r % rows, c]
+    prof = _smoothstep(mortar * 0.5, mortar * 0.5 + bevel, d)
+    return _finish(mortar_height + (top - mortar_height) * prof)
+
+
+def cobblestones(size: int = 512, cells: int = 12, seed: int = 0, gap: float = 0.08) -> np.ndarray:
+    """Rounded stones on a Voronoi diagram (tileable), with gaps between them."""
+    size = _check_size(size)
+    u, v = _grid(size)
+    rng = np.random.default_rng(seed)
+    pts = (np.stack(np.meshgrid(np.arange(cells), np.arange(cells)), -1).reshape(-1, 2) + rng.random((cells * cells, 2))) / cells
+    f1 = np.full(u.shape, np.inf)
+    f2 = np.full(u.shape, np.inf)
+    for ox in (-1, 0, 1):
+        for oy in (-1, 0, 1):
+            for p in pts:
+                dd = np.hypot(u - (p[0] + ox), v - (p[1] + oy))
+                f2 = np.where(dd < f1, f1, np.minimum(f2, dd))
+                f1 = np.minimum(f1, dd)
+    edge = (f2 - f1) * cells  # 0 on the cell borders
+    dome = np.sqrt(np.clip(1.0 - (f1 * cells / 0.9) ** 2, 0.0, 1.0))
+    return _finish(0.15 + 0.85 * _smoothstep(gap, gap + 0.25, edge) * (0.6 + 0.4 * dome))
+
+
+def pyramids(size: int = 512, count: int = 8) -> np.ndarray:
+    """A grid of count x count square pyramids: apex h = 1, base h = 0."""
+    size = _check_size(size)
+    u, v = _grid(size)
+    fx = (u * count) % 1.0
+    fy = (v * count) % 1.0
+    return _finish(1.0 - 2.0 * np.maximum(np.abs(fx - 0.5), np.abs(fy - 0.5)))
+
+
+def sine(size: int = 512, freq: float = 4.0) -> np.ndarray:
+    """0.5 + 0.5 sin(2 pi f u) sin(2 pi f v): smooth, with frequency `freq` per tile (an
+    integer keeps it tileable)."""
+    size = _check_size(size)
+    u, v = _grid(size)
+    return _finish(0.5 + 0.5 * np.sin(2 * np.pi * freq * u) * np.sin(2 * np.pi * freq * v))
+
+
+def noise(size: int = 512, octaves: int = 6, base: int = 4, persistence: float = 0.5, seed: int = 0) -> np.ndarray:
+    """Tileable fBm of periodic value noise, normalised to [0, 1]."""
+    size = _check_size(size)
+    rng = np.random.default_rng(seed)
+    u, v = _grid(size)
+    acc = np.zeros_like(u)
+    amp, total = 1.0, 0.0
+    for o in range(octaves):
+        n = base * 2 ** o
+        lattice = rng.random((n, n))
+        x, y = u * n, v * n
+        x0, y0 = np.floor(x).astype(int), np.floor(y).astype(int)
+        tx, ty = _smoothstep(0, 1, x - x0), _smoothstep(0, 1, y - y0)
+        a = lattice[y0 % n, x0 % n]
+        b = lattice[y0 % n, (x0 + 1) % n]
+        c = lattice[(y0 + 1) % n, x0 % n]
+        d = lattice[(y0 + 1) % n, (x0 + 1) % n]
+        acc += amp * ((a * (1 - tx) + b * tx) * (1 - ty) + (c * (1 - tx) + d * tx) * ty)
+        total += amp
+        amp *= persistence
+    acc /= total
+    return _finish((acc - acc.min()) / max(acc.max() - acc.min(), 1e-12))
+
+
+def spikes(size: int = 512, count: int = 64, radius_texels: float = 1.5, seed: int = 0) -> np.ndarray:
+    """Thin cones (a few texels wide) reaching h = 1 on a floor at h = 0: the high-frequency
+    stress case that fixed-step searches miss."""
+    size = _check_size(size)
+    rng = np.random.default_rng(seed)
+    u, v = _grid(size)
+    h = np.zeros_like(u)
+    r = radius_texels / size
+    for p in rng.random((count, 2)):
+        dx = (u - p[0] + 0.5) % 1.0 - 0.5
+        dy = (v - p[1] + 0.5) % 1.0 - 0.5
+        h = np.maximum(h, 1.0 - np.hypot(dx, dy) / r)
+    return _finish(h)
+
+
+def text(size: int = 512, message: str = "pomkit", raised: float = 1.0, background: float = 0.4) -> np.ndarray:
+    """Raised letters (rendered with Pillow's built-in font) on a lower background."""
+    size = _check_size(size)
+    from PIL import Image, ImageDraw, ImageFilter, ImageFont
+
+    img = Image.new("L", (size, size), 0)
+    draw = ImageDraw.Draw(img)
+    fsize = max(8, int(size / max(len(message), 1) * 1.6))
+    try:
+        font = ImageFont.load_default(size=fsize)
+    except TypeError:  # Pillow < 10.1
+        font = ImageFont.load_default()
+    box = draw.textbbox((0, 0), message, font=font)
+    w, h = box[2] - box[0], box[3] - box[1]
+    draw.text(((size - w) / 2 - box[0], (size - h) / 2 - box[1]), message, fill=255, font=font)
+    img = img.filter(ImageFilter.GaussianBlur(radius=max(size / 256, 0.5)))
+    a = np.asarray(img, dtype=np.float64) / 255.0
+    return _finish(background + (raised - background) * a)
+
+
+#: name -> function, for sweeps over every map
+ALL = {"bricks": bricks, "cobblestones": cobblestones, "pyramids": pyramids, "sine": sine,
+       "noise": noise, "spikes": spikes, "text": text}

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# Set up pomkit from a fresh Debian machine with Rust and Python 3.11:
+#   system packages (Mesa's software Vulkan/GL drivers where no adapter is found; Debian's
+#   libllvm19 for Mitsuba's LLVM variant and OSMesa/EGL for pyrender when extras are asked for),
+#   a venv in .venv, and a release build of the extension installed into it.
+# Usage: scripts/setup.sh [extra ...]   e.g. scripts/setup.sh test reference
+set -euo pipefail
+cd "$(dirname "$0")/.."
+EXTRAS=("$@")
+PY=${PYTHON:-python3.11}
+command -v "$PY" >/dev/null || PY=python3
+
+export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-/tmp/pomkit-xdg-$(id -u)}
+mkdir -p "$XDG_RUNTIME_DIR" && chmod 700 "$XDG_RUNTIME_DIR"
+
+SUDO=""
+[ "$(id -u)" -ne 0 ] && command -v sudo >/dev/null && SUDO="sudo"
+apt_install() {
+  local missing=()
+  for p in "$@"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
+  if [ ${#missing[@]} -gt 0 ]; then
+    echo "[setup] apt-get install ${missing[*]}"
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}" >/dev/null
+  fi
+}
+
+# A GPU adapter: if no Vulkan ICD is present, install Mesa's software drivers (lavapipe + EGL/GL).
+if ! ls /usr/share/vulkan/icd.d/*.json >/dev/null 2>&1 && ! ls /etc/vulkan/icd.d/*.json >/dev/null 2>&1; then
+  apt_install mesa-vulkan-drivers libegl1 libegl-mesa0 libgl1-mesa-dri
+fi
+for e in "${EXTRAS[@]}"; do
+  if [ "$e" = "reference" ]; then
+    # Mitsuba's llvm_ad_rgb needs LLVM >= 16 (Debian's 15 crashes); pyrender renders headless
+    # through EGL or OSMesa.
+    apt_install libllvm19 libegl1 libegl-mesa0 libgl1-mesa-dri libosmesa6
+  fi
+done
+
+if [ ! -x .venv/bin/python ]; then
+  echo "[setup] creating .venv with $PY"
+  "$PY" -m venv .venv
+fi
+. .venv/bin/activate
+pip install -q --upgrade pip >/dev/null
+pip install -q "maturin>=1.16,<2" numpy pillow
+
+echo "[setup] building the extension (release)"
+rm -rf target/wheels
+maturin build --release --quiet -o target/wheels
+WHEEL=$(ls target/wheels/pomkit-*.whl | head -n 1)
+spec="$WHEEL"
+if [ ${#EXTRAS[@]} -gt 0 ]; then spec="$WHEEL[$(IFS=,; echo "${EXTRAS[*]}")]"; fi
+pip install -q --force-reinstall --no-deps "$WHEEL"
+pip install -q "$spec"
+python -c "import pomkit, sys; print('[setup] pomkit', pomkit.__version__, 'on', pomkit.adapters()[0]['name'] if pomkit.adapters() else 'NO ADAPTER')"

@@ -1,0 +1,251 @@
+//! The GPU context: instance, adapter choice, one device per process, error capture,
+//! uploads and readback.
+
+use crate::error::{Error, Result};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, OnceLock};
+
+/// What `adapters()` reports about one adapter.
+#[derive(Clone, Debug)]
+pub struct AdapterDesc {
+    pub name: String,
+    pub backend: String,
+    pub device_type: String,
+    pub driver: String,
+}
+
+pub struct Context {
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub info: AdapterDesc,
+    pub timestamps: bool,
+    pub float32_filterable: bool,
+    pub limits: wgpu::Limits,
+    lost: Arc<AtomicBool>,
+    lost_msg: Arc<Mutex<String>>,
+    uncaptured: Arc<Mutex<Option<String>>>,
+}
+
+/// Which backends to try: POMKIT_BACKEND=vulkan|gl|all forces them (default: Vulkan, then GL).
+pub fn backends_from_env() -> Result<wgpu::Backends> {
+    match std::env::var("POMKIT_BACKEND").ok().as_deref().map(str::to_ascii_lowercase).as_deref() {
+        None | Some("") | Some("auto") | Some("all") => Ok(wgpu::Backends::VULKAN | wgpu::Backends::GL),
+        Some("vulkan") | Some("vk") => Ok(wgpu::Backends::VULKAN),
+        Some("gl") | Some("gles") | Some("opengl") => Ok(wgpu::Backends::GL),
+        Some(other) => Err(Error::arg("POMKIT_BACKEND", format!("unknown backend {other:?}; use vulkan, gl or auto"))),
+    }
+}
+
+fn instance(backends: wgpu::Backends) -> wgpu::Instance {
+    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+    desc.backends = backends;
+    desc.flags = wgpu::InstanceFlags::empty();
+    wgpu::Instance::new(desc)
+}
+
+fn describe(a: &wgpu::Adapter) -> AdapterDesc {
+    let i = a.get_info();
+    AdapterDesc {
+        name: i.name,
+        backend: format!("{:?}", i.backend).to_lowercase(),
+        device_type: format!("{:?}", i.device_type),
+        driver: format!("{} {}", i.driver, i.driver_info).trim().to_string(),
+    }
+}
+
+const NO_ADAPTER_HELP: &str = "pomkit needs a Vulkan or OpenGL ES adapter. Without a GPU, install Mesa's \
+software drivers: `sudo apt-get install mesa-vulkan-drivers libegl1 libegl-mesa0 libgl1-mesa-dri` \
+(Debian/Ubuntu), or set POMKIT_BACKEND=gl to try the GL backend";
+
+/// Every adapter the allowed backends expose.
+pub fn adapters() -> Result<Vec<AdapterDesc>> {
+    let backends = backends_from_env()?;
+    let inst = instance(backends);
+    let list = pollster::block_on(inst.enumerate_adapters(backends));
+    Ok(list.iter().map(describe).collect())
+}
+
+impl Context {
+    /// Open a device on the adapter whose name, backend or index matches `choice`, or the
+    /// best one (discrete > integrated > cpu; Vulkan before GL).
+    pub fn new(choice: Option<&str>) -> Result<Self> {
+        let backends = backends_from_env()?;
+        let inst = instance(backends);
+        let mut list = pollster::block_on(inst.enumerate_adapters(backends));
+        if list.is_empty() {
+            return Err(Error::NoAdapter(NO_ADAPTER_HELP.to_string()));
+        }
+        let rank = |a: &wgpu::Adapter| {
+            let i = a.get_info();
+            let t = match i.device_type {
+                wgpu::DeviceType::DiscreteGpu => 0,
+                wgpu::DeviceType::IntegratedGpu => 1,
+                wgpu::DeviceType::VirtualGpu => 2,
+                wgpu::DeviceType::Cpu => 3,
+                wgpu::DeviceType::Other => 4,
+            };
+            let b = if i.backend == wgpu::Backend::Vulkan { 0 } else { 1 };
+            (t, b)
+        };
+        list.sort_by_key(rank);
+        let adapter = match choice {
+            None => list.swap_remove(0),
+            Some(c) => {
+                let names: Vec<String> = list.iter().map(|a| {
+                    let d = describe(a);
+                    format!("{} ({})", d.name, d.backend)
+                }).collect();
+                let idx = if let Ok(k) = c.parse::<usize>() {
+                    (k < list.len()).then_some(k)
+                } else {
+                    let c = c.to_ascii_lowercase();
+                    list.iter().position(|a| {
+                        let d = describe(a);
+                        d.name.to_ascii_lowercase().contains(&c) || d.backend == c
+                    })
+                };
+                match idx {
+                    Some(k) => list.swap_remove(k),
+                    None => {
+                        return Err(Error::arg(
+                            "adapter",
+                            format!("no adapter matches {c:?}; available: {}", names.join(", ")),
+                        ))
+                    }
+                }
+            }
+        };
+        let info = describe(&adapter);
+        let af = adapter.features();
+        let mut features = wgpu::Features::empty();
+        let timestamps = af.contains(wgpu::Features::TIMESTAMP_QUERY);
+        if timestamps {
+            features |= wgpu::Features::TIMESTAMP_QUERY;
+        }
+        let float32_filterable = af.contains(wgpu::Features::FLOAT32_FILTERABLE);
+        if float32_filterable {
+            features |= wgpu::Features::FLOAT32_FILTERABLE;
+        }
+        let limits = adapter.limits();
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("pomkit"),
+            required_features: features,
+            required_limits: limits.clone(),
+            experimental_features: wgpu::ExperimentalFeatures::disabled(),
+            memory_hints: wgpu::MemoryHints::Performance,
+            trace: wgpu::Trace::Off,
+        }))
+        .map_err(|e| Error::NoAdapter(format!("could not open a device on {}: {e}", info.name)))?;
+
+        let lost = Arc::new(AtomicBool::new(false));
+        let lost_msg = Arc::new(Mutex::new(String::new()));
+        {
+            let lost = lost.clone();
+            let lost_msg = lost_msg.clone();
+            device.set_device_lost_callback(move |reason, msg| {
+                lost.store(true, Ordering::SeqCst);
+                if let Ok(mut m) = lost_msg.lock() {
+                    *m = format!("{reason:?}: {msg}");
+                }
+            });
+        }
+        // wgpu's default handler panics on errors outside an error scope: keep the message
+        // instead, so that the next call can report it.
+        let uncaptured = Arc::new(Mutex::new(None));
+        {
+            let u = uncaptured.clone();
+            device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+                if let Ok(mut g) = u.lock() {
+                    *g = Some(e.to_string());
+                }
+            }));
+        }
+        Ok(Self { adapter, device, queue, info, timestamps, float32_filterable, limits, lost, lost_msg, uncaptured })
+    }
+
+    pub fn check_alive(&self) -> Result<()> {
+        if self.lost.load(Ordering::SeqCst) {
+            let m = self.lost_msg.lock().map(|m| m.clone()).unwrap_or_default();
+            return Err(Error::DeviceLost(format!(
+                "{m}; create a new pomkit.Renderer() to open a fresh device"
+            )));
+        }
+        Ok(())
+    }
+
+    /// Run `f` inside validation and out-of-memory error scopes; a wgpu error becomes `Error::Gpu`.
+    pub fn scoped<T>(&self, f: impl FnOnce() -> Result<T>) -> Result<T> {
+        self.check_alive()?;
+        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let val = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let r = f();
+        let ve = pollster::block_on(val.pop());
+        let oe = pollster::block_on(oom.pop());
+        if let Some(e) = ve.or(oe) {
+            return Err(Error::Gpu(e.to_string()));
+        }
+        if let Some(m) = self.uncaptured.lock().ok().and_then(|mut g| g.take()) {
+            return Err(Error::Gpu(m));
+        }
+        self.check_alive()?;
+        r
+    }
+
+    /// Destroy the device (simulates device loss for tests).
+    pub fn destroy(&self) {
+        self.device.destroy();
+        self.lost.store(true, Ordering::SeqCst);
+        if let Ok(mut m) = self.lost_msg.lock() {
+            if m.is_empty() {
+                *m = "the device was destroyed".into();
+            }
+        }
+    }
+
+    pub fn wait(&self) -> Result<()> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| Error::Gpu(format!("waiting for the GPU failed: {e}")))
+    }
+
+    /// Read a buffer (MAP_READ) back to host memory.
+    pub fn read_buffer(&self, buf: &wgpu::Buffer) -> Result<Vec<u8>> {
+        let slot: Arc<Mutex<Option<std::result::Result<(), wgpu::BufferAsyncError>>>> = Arc::new(Mutex::new(None));
+        let s2 = slot.clone();
+        buf.map_async(wgpu::MapMode::Read, .., move |r| {
+            *s2.lock().unwrap() = Some(r);
+        });
+        self.wait()?;
+        match slot.lock().unwrap().take() {
+            Some(Ok(())) => {}
+            Some(Err(e)) => return Err(Error::Gpu(format!("buffer map failed: {e}"))),
+            None => return Err(Error::Gpu("buffer map did not complete".into())),
+        }
+        let out = {
+            let view = buf.get_mapped_range(..).map_err(|e| Error::Gpu(format!("{e}")))?;
+            view.to_vec()
+        };
+        buf.unmap();
+        Ok(out)
+    }
+}
+
+static SHARED: OnceLock<Mutex<Option<(Option<String>, Arc<Context>)>>> = OnceLock::new();
+
+/// The process-wide context: created lazily on first use and reused. A different adapter
+/// choice, or a lost device, replaces it.
+pub fn shared(choice: Option<&str>) -> Result<Arc<Context>> {
+    let cell = SHARED.get_or_init(|| Mutex::new(None));
+    let mut g = cell.lock().map_err(|_| Error::Gpu("context lock poisoned".into()))?;
+    if let Some((c, ctx)) = g.as_ref() {
+        let same = choice.is_none() || c.as_deref() == choice;
+        if same && ctx.check_alive().is_ok() {
+            return Ok(ctx.clone());
+        }
+    }
+    let ctx = Arc::new(Context::new(choice)?);
+    *g = Some((choice.map(str::to_string), ctx.clone()));
+    Ok(ctx)
+}

@@ -1,0 +1,737 @@
+//! Render passes and the Frame. One render pass draws the base mesh with the method's pipeline
+//! into two float32 targets (colour + steps, uv + distance + lod); one readback returns all AOVs.
+
+use crate::error::{Error, Result};
+use crate::gpu::Context;
+use crate::heightmap::{mean_pyramid, mip_count};
+use crate::methods::{Filtering, Method};
+use crate::mesh::{Mesh, Vertex};
+use crate::scene::{Albedo, HeightMap, Light, Scene, MAX_LIGHTS};
+use glam::DVec3;
+use std::collections::hash_map::DefaultHasher;
+use std::collections::HashMap;
+use std::hash::{Hash, Hasher};
+use std::sync::{Arc, Mutex};
+use wgpu::util::DeviceExt;
+
+/// All WGSL, concatenated in dependency order: one file per concern.
+pub const SHADER_SOURCE: &str = concat!(
+    include_str!("../shaders/common.wgsl"),
+    "\n",
+    include_str!("../shaders/lod.wgsl"),
+    "\n",
+    include_str!("../shaders/pom.wgsl"),
+    "\n",
+    include_str!("../shaders/shadows.wgsl"),
+    "\n",
+    include_str!("../shaders/surface.wgsl"),
+);
+
+/// Per-pixel results of one render. Arrays are row-major (H, W, ...), row 0 at the top.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    pub width: u32,
+    pub height: u32,
+    /// linear RGB, H*W*3
+    pub color: Vec<f32>,
+    /// hit uv in mesh uv space (unwrapped), H*W*2, NaN where no hit
+    pub uv: Vec<f32>,
+    /// distance eye -> hit, NaN where no hit
+    pub depth: Vec<f32>,
+    pub mask: Vec<bool>,
+    /// height-map samples taken (view + shadow rays)
+    pub steps: Vec<u32>,
+    /// mip level used, NaN where no hit
+    pub lod: Vec<f32>,
+    /// GPU time of the render pass from timestamp queries, if the adapter has them
+    pub gpu_ms: Option<f64>,
+    /// wall time of submit-and-wait, always measured
+    pub wall_ms: f64,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct LightU {
+    vec: [f32; 4],
+    color: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Globals {
+    view_proj: [[f32; 4]; 4],
+    eye: [f32; 4],
+    tex: [f32; 4],
+    march: [f32; 4],
+    extra: [f32; 4],
+    ambient: [f32; 4],
+    lights: [LightU; MAX_LIGHTS],
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+struct PipelineKey {
+    method: u32,
+    shadows: u32,
+    filtering: u32,
+}
+
+struct Cached<T> {
+    entries: Vec<(u64, Arc<T>)>,
+    cap: usize,
+}
+
+impl<T> Cached<T> {
+    fn new(cap: usize) -> Self {
+        Self { entries: Vec::new(), cap }
+    }
+    /// Most-recently used last; evicts the oldest beyond `cap` (bounded GPU memory).
+    fn get_or(&mut self, key: u64, make: impl FnOnce() -> Result<T>) -> Result<Arc<T>> {
+        if let Some(pos) = self.entries.iter().position(|(k, _)| *k == key) {
+            let e = self.entries.remove(pos);
+            let v = e.1.clone();
+            self.entries.push(e);
+            return Ok(v);
+        }
+        let v = Arc::new(make()?);
+        self.entries.push((key, v.clone()));
+        while self.entries.len() > self.cap {
+            self.entries.remove(0);
+        }
+        Ok(v)
+    }
+}
+
+struct GpuMesh {
+    vbuf: wgpu::Buffer,
+    ibuf: wgpu::Buffer,
+    count: u32,
+}
+
+struct Inner {
+    pipelines: HashMap<PipelineKey, Arc<wgpu::RenderPipeline>>,
+    heights: Cached<wgpu::TextureView>,
+    albedos: Cached<wgpu::TextureView>,
+    meshes: Cached<GpuMesh>,
+}
+
+pub struct Renderer {
+    pub ctx: Arc<Context>,
+    module: wgpu::ShaderModule,
+    bgl: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    height_sampler: wgpu::Sampler,
+    albedo_sampler: wgpu::Sampler,
+    inner: Mutex<Inner>,
+    /// serialises GPU submissions so that error scopes and timings belong to one render
+    submit: Mutex<()>,
+}
+
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+fn hash_bytes(parts: &[&[u8]]) -> u64 {
+    let mut h = DefaultHasher::new();
+    for p in parts {
+        p.len().hash(&mut h);
+        p.hash(&mut h);
+    }
+    h.finish()
+}
+
+/// f32 -> IEEE half (round to nearest even), for the albedo texture.
+pub fn f16_bits(x: f32) -> u16 {
+    let b = x.to_bits();
+    let sign = ((b >> 16) & 0x8000) as u16;
+    let exp = ((b >> 23) & 0xff) as i32;
+    let man = b & 0x7f_ffff;
+    if exp == 255 {
+        return sign | 0x7c00 | if man != 0 { 0x200 } else { 0 };
+    }
+    let e = exp - 127 + 15;
+    if e >= 31 {
+        return sign | 0x7c00;
+    }
+    if e <= 0 {
+        if e < -10 {
+            return sign;
+        }
+        let m = man | 0x80_0000;
+        let shift = (14 - e) as u32;
+        let half = 1u32 << (shift - 1);
+        let rem = m & ((1u32 << shift) - 1);
+        let mut r = m >> shift;
+        if rem > half || (rem == half && (r & 1) == 1) {
+            r += 1;
+        }
+        return sign | r as u16;
+    }
+    let mut h = ((e as u32) << 10) | (man >> 13);
+    let rem = man & 0x1fff;
+    if rem > 0x1000 || (rem == 0x1000 && (h & 1) == 1) {
+        h += 1;
+    }
+    sign | h as u16
+}
+
+impl Renderer {
+    pub fn new(ctx: Arc<Context>) -> Result<Self> {
+        let dev = &ctx.device;
+        let filterable = ctx.float32_filterable;
+        let (module, bgl, pipeline_layout, height_sampler, albedo_sampler) = ctx.scoped(|| {
+            let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("pomkit surface"),
+                source: wgpu::ShaderSource::Wgsl(SHADER_SOURCE.into()),
+            });
+            let tex_entry = |binding: u32, filterable: bool| wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            };
+            let samp_entry = |binding: u32, filtering: bool| wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX,
+                ty: wgpu::BindingType::Sampler(if filtering {
+                    wgpu::SamplerBindingType::Filtering
+                } else {
+                    wgpu::SamplerBindingType::NonFiltering
+                }),
+                count: None,
+            };
+            let bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("pomkit surface"),
+                entries: &[
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 0,
+                        visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX,
+                        ty: wgpu::BindingType::Buffer {
+                            ty: wgpu::BufferBindingType::Uniform,
+                            has_dynamic_offset: false,
+                            min_binding_size: None,
+                        },
+                        count: None,
+                    },
+                    tex_entry(1, filterable),
+                    samp_entry(2, filterable),
+                    tex_entry(3, true),
+                    samp_entry(4, true),
+                ],
+            });
+            let pipeline_layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("pomkit surface"),
+                bind_group_layouts: &[Some(&bgl)],
+                immediate_size: 0,
+            });
+            let filt = if filterable { wgpu::FilterMode::Linear } else { wgpu::FilterMode::Nearest };
+            let mfilt = if filterable { wgpu::MipmapFilterMode::Linear } else { wgpu::MipmapFilterMode::Nearest };
+            let height_sampler = dev.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("height"),
+                address_mode_u: wgpu::AddressMode::Repeat,
+                address_mode_v: wgpu::AddressMode::Repeat,
+                address_mode_w: wgpu::AddressMode::Repeat,
+                mag_filter: filt,
+                min_filter: filt,
+                mipmap_filter: mfilt,
+                ..Default::default()
+            });
+            let albedo_sampler = dev.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("albedo"),
+                address_mode_u: wgpu::AddressMode::Repeat,
+                address_mode_v: wgpu::AddressMode::Repeat,
+                address_mode_w: wgpu::AddressMode::Repeat,
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                mipmap_filter: wgpu::MipmapFilterMode::Linear,
+                ..Default::default()
+            });
+            Ok((module, bgl, pipeline_layout, height_sampler, albedo_sampler))
+        })?;
+        Ok(Self {
+            ctx,
+            module,
+            bgl,
+            pipeline_layout,
+            height_sampler,
+            albedo_sampler,
+            inner: Mutex::new(Inner {
+                pipelines: HashMap::new(),
+                heights: Cached::new(8),
+                albedos: Cached::new(8),
+                meshes: Cached::new(8),
+            }),
+            submit: Mutex::new(()),
+        })
+    }
+
+    /// The filtering a method actually gets: exact where the adapter cannot filter float32.
+    pub fn effective_filtering(&self, f: Filtering) -> Filtering {
+        if self.ctx.float32_filterable { f } else { Filtering::Exact }
+    }
+
+    fn pipeline(&self, inner: &mut Inner, key: PipelineKey) -> Result<Arc<wgpu::RenderPipeline>> {
+        if let Some(p) = inner.pipelines.get(&key) {
+            return Ok(p.clone());
+        }
+        let constants = [
+            ("METHOD", key.method as f64),
+            ("SHADOWS", key.shadows as f64),
+            ("FILTERING", key.filtering as f64),
+        ];
+        let attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2];
+        let target = Some(wgpu::ColorTargetState {
+            format: COLOR_FORMAT,
+            blend: None,
+            write_mask: wgpu::ColorWrites::ALL,
+        });
+        let p = self.ctx.scoped(|| {
+            Ok(self.ctx.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("pomkit surface"),
+                layout: Some(&self.pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &self.module,
+                    entry_point: Some("vs_main"),
+                    compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+                    buffers: &[Some(wgpu::VertexBufferLayout {
+                        array_stride: std::mem::size_of::<Vertex>() as u64,
+                        step_mode: wgpu::VertexStepMode::Vertex,
+                        attributes: &attrs,
+                    })],
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    front_face: wgpu::FrontFace::Ccw,
+                    cull_mode: Some(wgpu::Face::Back),
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &self.module,
+                    entry_point: Some("fs_main"),
+                    compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+                    targets: &[target.clone(), target],
+                }),
+                multiview_mask: None,
+                cache: None,
+            }))
+        })?;
+        let p = Arc::new(p);
+        inner.pipelines.insert(key, p.clone());
+        Ok(p)
+    }
+
+    fn height_texture(&self, inner: &mut Inner, map: &HeightMap) -> Result<Arc<wgpu::TextureView>> {
+        let key = hash_bytes(&[&map.width.to_le_bytes(), &map.height.to_le_bytes(), bytemuck::cast_slice(&map.data)]);
+        let ctx = &self.ctx;
+        inner.heights.get_or(key, || {
+            let levels = mean_pyramid(map);
+            let data: Vec<f32> = levels.concat();
+            ctx.scoped(|| {
+                let tex = ctx.device.create_texture_with_data(
+                    &ctx.queue,
+                    &wgpu::TextureDescriptor {
+                        label: Some("height"),
+                        size: wgpu::Extent3d { width: map.width, height: map.height, depth_or_array_layers: 1 },
+                        mip_level_count: mip_count(map.width, map.height),
+                        sample_count: 1,
+                        dimension: wgpu::TextureDimension::D2,
+                        format: wgpu::TextureFormat::R32Float,
+                        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                        view_formats: &[],
+                    },
+                    wgpu::util::TextureDataOrder::LayerMajor,
+                    bytemuck::cast_slice(&data),
+                );
+                Ok(tex.create_view(&Default::default()))
+            })
+        })
+    }
+
+    fn albedo_texture(&self, inner: &mut Inner, albedo: Option<&Albedo>) -> Result<Arc<wgpu::TextureView>> {
+        let grey = Albedo { width: 1, height: 1, data: vec![[0.5, 0.5, 0.5, 1.0]] };
+        let a = albedo.unwrap_or(&grey);
+        let key = hash_bytes(&[&a.width.to_le_bytes(), &a.height.to_le_bytes(), bytemuck::cast_slice(&a.data)]);
+        let ctx = &self.ctx;
+        inner.albedos.get_or(key, || {
+            // mips by box filter, stored as half floats (filterable on every adapter)
+            let mut levels: Vec<Vec<[f32; 4]>> = vec![a.data.clone()];
+            let n = mip_count(a.width, a.height);
+            for k in 1..n {
+                let (pw, ph) = crate::heightmap::level_size(a.width, a.height, k - 1);
+                let (w, h) = crate::heightmap::level_size(a.width, a.height, k);
+                let prev = &levels[(k - 1) as usize];
+                let mut out = Vec::with_capacity((w * h) as usize);
+                for y in 0..h {
+                    for x in 0..w {
+                        let mut acc = [0.0f32; 4];
+                        for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                            let p = prev[(((2 * y + dy).min(ph - 1)) * pw + (2 * x + dx).min(pw - 1)) as usize];
+                            for c in 0..4 {
+                                acc[c] += p[c] * 0.25;
+                            }
+                        }
+                        out.push(acc);
+                    }
+                }
+                levels.push(out);
+            }
+            let bits: Vec<u16> = levels.iter().flatten().flat_map(|p| p.map(f16_bits)).collect();
+            ctx.scoped(|| {
+                let tex = ctx.device.create_texture_with_data(
+                    &ctx.queue,
+                    &wgpu::TextureDescriptor {
+                        label: Some("albedo"),
+                        size: wgpu::Extent3d { width: a.width, height: a.height, depth_or_array_layers: 1 },
+                        mip_level_count: n,
+                        sample_count: 1,
+                        dimension: wgpu::TextureDimension::D2,
+                        format: wgpu::TextureFormat::Rgba16Float,
+                        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                        view_formats: &[],
+                    },
+                    wgpu::util::TextureDataOrder::LayerMajor,
+                    bytemuck::cast_slice(&bits),
+                );
+                Ok(tex.create_view(&Default::default()))
+            })
+        })
+    }
+
+    fn gpu_mesh(&self, inner: &mut Inner, mesh: &Mesh) -> Result<Arc<GpuMesh>> {
+        let verts = mesh.vertices();
+        let key = hash_bytes(&[bytemuck::cast_slice(&verts), bytemuck::cast_slice(&mesh.indices)]);
+        let ctx = &self.ctx;
+        inner.meshes.get_or(key, || {
+            ctx.scoped(|| {
+                let vbuf = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("vertices"),
+                    contents: bytemuck::cast_slice(&verts),
+                    usage: wgpu::BufferUsages::VERTEX,
+                });
+                let ibuf = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("indices"),
+                    contents: bytemuck::cast_slice(&mesh.indices),
+                    usage: wgpu::BufferUsages::INDEX,
+                });
+                Ok(GpuMesh { vbuf, ibuf, count: mesh.indices.len() as u32 })
+            })
+        })
+    }
+
+    /// Refuse sizes over the device's limits before anything reaches the GPU.
+    pub fn check_limits(&self, scene: &Scene) -> Result<()> {
+        let lim = &self.ctx.limits;
+        let maxd = lim.max_texture_dimension_2d;
+        let cam = &scene.camera;
+        if cam.width > maxd || cam.height > maxd {
+            return Err(Error::limit(
+                "width",
+                format!("frame {}x{} exceeds the device's max_texture_dimension_2d = {maxd}", cam.width, cam.height),
+            ));
+        }
+        let row = (cam.width as u64 * 16).div_ceil(256) * 256;
+        let bytes = row * cam.height as u64;
+        if bytes > lim.max_buffer_size {
+            return Err(Error::limit(
+                "width",
+                format!("frame {}x{} needs a {bytes}-byte readback buffer; the device's max_buffer_size is {}", cam.width, cam.height, lim.max_buffer_size),
+            ));
+        }
+        let hm = &scene.material.height;
+        if hm.width > maxd || hm.height > maxd {
+            return Err(Error::limit(
+                "height",
+                format!("height map {}x{} exceeds the device's max_texture_dimension_2d = {maxd}", hm.width, hm.height),
+            ));
+        }
+        if let Some(a) = &scene.material.albedo {
+            if a.width > maxd || a.height > maxd {
+                return Err(Error::limit(
+                    "albedo",
+                    format!("albedo {}x{} exceeds the device's max_texture_dimension_2d = {maxd}", a.width, a.height),
+                ));
+            }
+        }
+        let vbytes = scene.mesh.positions.len() as u64 * std::mem::size_of::<Vertex>() as u64;
+        if vbytes > lim.max_buffer_size {
+            return Err(Error::limit("mesh", format!("vertex buffer of {vbytes} bytes exceeds max_buffer_size = {}", lim.max_buffer_size)));
+        }
+        Ok(())
+    }
+
+    fn globals(&self, scene: &Scene, method: &Method) -> Globals {
+        let (lo, hi) = scene.mesh.bounds();
+        let c = (lo + hi) * 0.5;
+        let r = (hi - lo).length() * 0.5 + scene.material.depth as f64 + 1e-3;
+        let d = (DVec3::from(scene.camera.eye) - c).length();
+        let far = (d + r) * 1.01 + 1e-3;
+        let near = (d - r).max(far * 1e-5);
+        let vp = scene.camera.view_proj(near, far);
+        let mut lights = [LightU { vec: [0.0; 4], color: [0.0; 4] }; MAX_LIGHTS];
+        for (i, l) in scene.lights.iter().enumerate() {
+            lights[i] = match l {
+                Light::Directional { direction, irradiance, angular_diameter } => {
+                    let d = DVec3::from(*direction).normalize();
+                    LightU {
+                        vec: [d.x as f32, d.y as f32, d.z as f32, 0.0],
+                        color: [irradiance[0], irradiance[1], irradiance[2], (angular_diameter.to_radians() * 0.5).tan() as f32],
+                    }
+                }
+                Light::Sphere { position, radius, intensity } => LightU {
+                    vec: [position[0] as f32, position[1] as f32, position[2] as f32, 1.0],
+                    color: [intensity[0], intensity[1], intensity[2], *radius as f32],
+                },
+            };
+        }
+        let hm = &scene.material.height;
+        Globals {
+            view_proj: vp.to_cols_array_2d(),
+            eye: [scene.camera.eye[0] as f32, scene.camera.eye[1] as f32, scene.camera.eye[2] as f32, scene.lights.len() as f32],
+            tex: [hm.width as f32, hm.height as f32, scene.material.tiling, scene.material.depth],
+            march: [method.min_steps as f32, method.max_steps as f32, method.shadow_steps as f32, method.lod_threshold],
+            extra: [if method.adaptive { 1.0 } else { 0.0 }, 0.0, 0.0, 0.0],
+            ambient: [scene.ambient[0], scene.ambient[1], scene.ambient[2], mip_count(hm.width, hm.height) as f32],
+            lights,
+        }
+    }
+
+    pub fn render(&self, scene: &Scene, method: &Method) -> Result<Frame> {
+        scene.validate()?;
+        self.check_limits(scene)?;
+        self.ctx.check_alive()?;
+        let filtering = self.effective_filtering(method.filtering);
+        let key = PipelineKey {
+            method: method.kind.shader_id(),
+            shadows: method.shadow_id(),
+            filtering: if filtering == Filtering::Exact { 1 } else { 0 },
+        };
+        let (pipeline, height, albedo, mesh) = {
+            let mut inner = self.inner.lock().map_err(|_| Error::Gpu("renderer lock poisoned".into()))?;
+            let pipeline = self.pipeline(&mut inner, key)?;
+            let height = self.height_texture(&mut inner, &scene.material.height)?;
+            let albedo = self.albedo_texture(&mut inner, scene.material.albedo.as_ref())?;
+            let mesh = self.gpu_mesh(&mut inner, &scene.mesh)?;
+            (pipeline, height, albedo, mesh)
+        };
+        let globals = self.globals(scene, method);
+        let _guard = self.submit.lock().map_err(|_| Error::Gpu("renderer lock poisoned".into()))?;
+        self.draw(scene, &pipeline, &height, &albedo, &mesh, &globals)
+    }
+
+    fn draw(
+        &self,
+        scene: &Scene,
+        pipeline: &wgpu::RenderPipeline,
+        height: &wgpu::TextureView,
+        albedo: &wgpu::TextureView,
+        mesh: &GpuMesh,
+        globals: &Globals,
+    ) -> Result<Frame> {
+        let ctx = &self.ctx;
+        let dev = &ctx.device;
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        let row_bytes = (w as u64 * 16).div_ceil(256) * 256;
+        let mut wall_ms = 0.0;
+        let (color_buf, geo_buf, ts_buf) = ctx.scoped(|| {
+            let ubuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("globals"),
+                contents: bytemuck::bytes_of(globals),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("surface"),
+                layout: &self.bgl,
+                entries: &[
+                    wgpu::BindGroupEntry { binding: 0, resource: ubuf.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(height) },
+                    wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.height_sampler) },
+                    wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(albedo) },
+                    wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&self.albedo_sampler) },
+                ],
+            });
+            let target = |label| {
+                dev.create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: COLOR_FORMAT,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                    view_formats: &[],
+                })
+            };
+            let color_t = target("color");
+            let geo_t = target("geo");
+            let depth_t = dev.create_texture(&wgpu::TextureDescriptor {
+                label: Some("depth"),
+                size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: DEPTH_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                view_formats: &[],
+            });
+            let color_v = color_t.create_view(&Default::default());
+            let geo_v = geo_t.create_view(&Default::default());
+            let depth_v = depth_t.create_view(&Default::default());
+            let queries = ctx.timestamps.then(|| {
+                dev.create_query_set(&wgpu::QuerySetDescriptor { label: Some("pass time"), ty: wgpu::QueryType::Timestamp, count: 2 })
+            });
+            let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("render") });
+            {
+                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("surface"),
+                    color_attachments: &[
+                        Some(wgpu::RenderPassColorAttachment {
+                            view: &color_v,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                        }),
+                        Some(wgpu::RenderPassColorAttachment {
+                            view: &geo_v,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Clear(wgpu::Color { r: 0.0, g: 0.0, b: -1.0, a: 0.0 }),
+                                store: wgpu::StoreOp::Store,
+                            },
+                        }),
+                    ],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &depth_v,
+                        depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: queries.as_ref().map(|q| wgpu::RenderPassTimestampWrites {
+                        query_set: q,
+                        beginning_of_pass_write_index: Some(0),
+                        end_of_pass_write_index: Some(1),
+                    }),
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &bind, &[]);
+                pass.set_vertex_buffer(0, mesh.vbuf.slice(..));
+                pass.set_index_buffer(mesh.ibuf.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..mesh.count, 0, 0..1);
+            }
+            let readback = |label| {
+                dev.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size: row_bytes * h as u64,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            };
+            let color_buf = readback("color readback");
+            let geo_buf = readback("geo readback");
+            for (t, b) in [(&color_t, &color_buf), (&geo_t, &geo_buf)] {
+                enc.copy_texture_to_buffer(
+                    t.as_image_copy(),
+                    wgpu::TexelCopyBufferInfo {
+                        buffer: b,
+                        layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row_bytes as u32), rows_per_image: Some(h) },
+                    },
+                    wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+                );
+            }
+            let ts_buf = queries.as_ref().map(|q| {
+                let resolve = dev.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("ts resolve"),
+                    size: 16,
+                    usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                });
+                let read = dev.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("ts read"),
+                    size: 16,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                enc.resolve_query_set(q, 0..2, &resolve, 0);
+                enc.copy_buffer_to_buffer(&resolve, 0, &read, 0, 16);
+                read
+            });
+            let t0 = std::time::Instant::now();
+            ctx.queue.submit([enc.finish()]);
+            ctx.wait()?;
+            wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+            Ok((color_buf, geo_buf, ts_buf))
+        })?;
+        let color_raw = ctx.read_buffer(&color_buf)?;
+        let geo_raw = ctx.read_buffer(&geo_buf)?;
+        let gpu_ms = match ts_buf {
+            Some(b) => {
+                let raw = ctx.read_buffer(&b)?;
+                let t: &[u64] = bytemuck::cast_slice(&raw);
+                let period = ctx.queue.get_timestamp_period() as f64;
+                (t[1] > t[0]).then(|| (t[1] - t[0]) as f64 * period / 1e6)
+            }
+            None => None,
+        };
+        Ok(unpack(w, h, row_bytes as usize, &color_raw, &geo_raw, gpu_ms, wall_ms))
+    }
+}
+
+fn unpack(w: u32, h: u32, row_bytes: usize, color_raw: &[u8], geo_raw: &[u8], gpu_ms: Option<f64>, wall_ms: f64) -> Frame {
+    let n = (w * h) as usize;
+    let mut f = Frame {
+        width: w,
+        height: h,
+        color: Vec::with_capacity(n * 3),
+        uv: Vec::with_capacity(n * 2),
+        depth: Vec::with_capacity(n),
+        mask: Vec::with_capacity(n),
+        steps: Vec::with_capacity(n),
+        lod: Vec::with_capacity(n),
+        gpu_ms,
+        wall_ms,
+    };
+    for y in 0..h as usize {
+        let c: &[f32] = bytemuck::cast_slice(&color_raw[y * row_bytes..y * row_bytes + w as usize * 16]);
+        let g: &[f32] = bytemuck::cast_slice(&geo_raw[y * row_bytes..y * row_bytes + w as usize * 16]);
+        for x in 0..w as usize {
+            let hit = g[x * 4 + 2] >= 0.0;
+            f.color.extend_from_slice(&c[x * 4..x * 4 + 3]);
+            f.steps.push(if hit { c[x * 4 + 3].max(0.0) as u32 } else { 0 });
+            f.mask.push(hit);
+            if hit {
+                f.uv.extend_from_slice(&g[x * 4..x * 4 + 2]);
+                f.depth.push(g[x * 4 + 2]);
+                f.lod.push(g[x * 4 + 3]);
+            } else {
+                f.uv.extend_from_slice(&[f32::NAN, f32::NAN]);
+                f.depth.push(f32::NAN);
+                f.lod.push(f32::NAN);
+            }
+        }
+    }
+    f
+}
+
+#[cfg(test)]
+mod tests {
+    use super::f16_bits;
+    #[test]
+    fn half_floats() {
+        assert_eq!(f16_bits(1.0), 0x3c00);
+        assert_eq!(f16_bits(0.5), 0x3800);
+        assert_eq!(f16_bits(0.0), 0);
+        assert_eq!(f16_bits(65504.0), 0x7bff);
+        assert_eq!(f16_bits(1e-7), 0x0002);
+    }
+}

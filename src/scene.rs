@@ -1,0 +1,274 @@
+//! Plain validated scene data: mesh, material, camera, lights. Nothing here touches the GPU.
+
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
+use glam::{DMat4, DVec3, DVec4, Mat4};
+
+/// A height map: row-major, `data[r * width + c]` is the texel centred at
+/// u = (c + 0.5) / width, v = (r + 0.5) / height. Values in [0, 1].
+#[derive(Clone, Debug)]
+pub struct HeightMap {
+    pub width: u32,
+    pub height: u32,
+    pub data: Vec<f32>,
+}
+
+impl HeightMap {
+    pub fn new(width: u32, height: u32, data: Vec<f32>) -> Result<Self> {
+        if width == 0 || height == 0 {
+            return Err(Error::arg("height", "the height map is empty; pass a 2-D array with at least one texel"));
+        }
+        if data.len() != (width as usize) * (height as usize) {
+            return Err(Error::arg(
+                "height",
+                format!("expected {} values for a {width}x{height} map, got {}", width as usize * height as usize, data.len()),
+            ));
+        }
+        if let Some(i) = data.iter().position(|x| !x.is_finite()) {
+            return Err(Error::arg(
+                "height",
+                format!("contains NaN or Inf (first at row {}, column {}); replace them, e.g. with np.nan_to_num", i / width as usize, i % width as usize),
+            ));
+        }
+        if let Some(x) = data.iter().find(|x| **x < 0.0 || **x > 1.0) {
+            return Err(Error::arg("height", format!("values must lie in [0, 1], found {x}; normalise the map")));
+        }
+        Ok(Self { width, height, data })
+    }
+
+    pub fn from_fn(width: u32, height: u32, f: impl Fn(f64, f64) -> f64) -> Self {
+        let mut data = Vec::with_capacity((width * height) as usize);
+        for r in 0..height {
+            for c in 0..width {
+                let u = (c as f64 + 0.5) / width as f64;
+                let v = (r as f64 + 0.5) / height as f64;
+                data.push(f(u, v).clamp(0.0, 1.0) as f32);
+            }
+        }
+        Self { width, height, data }
+    }
+
+    #[inline]
+    pub fn texel(&self, x: i64, y: i64) -> f64 {
+        let w = self.width as i64;
+        let h = self.height as i64;
+        let xi = x.rem_euclid(w) as usize;
+        let yi = y.rem_euclid(h) as usize;
+        self.data[yi * self.width as usize + xi] as f64
+    }
+
+    /// The bilinear, repeating height field at texture coordinate (s, t) (tiled units).
+    pub fn sample(&self, s: f64, t: f64) -> f64 {
+        let x = s * self.width as f64 - 0.5;
+        let y = t * self.height as f64 - 0.5;
+        let x0 = x.floor();
+        let y0 = y.floor();
+        let fx = x - x0;
+        let fy = y - y0;
+        let (xi, yi) = (x0 as i64, y0 as i64);
+        let h00 = self.texel(xi, yi);
+        let h10 = self.texel(xi + 1, yi);
+        let h01 = self.texel(xi, yi + 1);
+        let h11 = self.texel(xi + 1, yi + 1);
+        (h00 * (1.0 - fx) + h10 * fx) * (1.0 - fy) + (h01 * (1.0 - fx) + h11 * fx) * fy
+    }
+}
+
+/// Linear RGB albedo texture, row-major like the height map.
+#[derive(Clone, Debug)]
+pub struct Albedo {
+    pub width: u32,
+    pub height: u32,
+    pub data: Vec<[f32; 4]>,
+}
+
+#[derive(Clone, Debug)]
+pub struct Material {
+    pub height: HeightMap,
+    /// world distance between h = 1 (base surface) and h = 0
+    pub depth: f32,
+    /// repetitions of the map over the mesh's uv square
+    pub tiling: f32,
+    /// None: constant linear 0.5 grey
+    pub albedo: Option<Albedo>,
+}
+
+impl Material {
+    pub fn validate(&self) -> Result<()> {
+        if !self.depth.is_finite() || self.depth < 0.0 {
+            return Err(Error::arg("depth", format!("must be a finite number >= 0, got {}", self.depth)));
+        }
+        if !self.tiling.is_finite() || self.tiling <= 0.0 {
+            return Err(Error::arg("tiling", format!("must be a finite number > 0, got {}", self.tiling)));
+        }
+        if let Some(a) = &self.albedo {
+            if a.width == 0 || a.height == 0 || a.data.len() != (a.width * a.height) as usize {
+                return Err(Error::arg("albedo", "must be a non-empty H x W x 3 array"));
+            }
+            if a.data.iter().any(|p| p.iter().any(|x| !x.is_finite())) {
+                return Err(Error::arg("albedo", "contains NaN or Inf"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Pinhole camera. The ray of pixel (i, j) passes through the pixel centre (j + 0.5, i + 0.5);
+/// row 0 is the top of the image; `fov_y` is the vertical field of view in degrees.
+#[derive(Clone, Debug)]
+pub struct Camera {
+    pub eye: [f64; 3],
+    pub target: [f64; 3],
+    pub up: [f64; 3],
+    pub fov_y: f64,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// Orthonormal camera basis (right, up, back) in f64.
+pub struct CameraBasis {
+    pub eye: DVec3,
+    pub forward: DVec3,
+    pub right: DVec3,
+    pub up: DVec3,
+    pub tan_half_y: f64,
+    pub aspect: f64,
+}
+
+impl Camera {
+    pub fn validate(&self) -> Result<()> {
+        let all = self.eye.iter().chain(self.target.iter()).chain(self.up.iter());
+        if all.clone().any(|x| !x.is_finite()) {
+            return Err(Error::arg("camera", "eye, target and up must be finite"));
+        }
+        if self.width == 0 || self.height == 0 {
+            return Err(Error::arg("width", format!("image size must be positive, got {}x{}", self.width, self.height)));
+        }
+        if !(self.fov_y > 0.0 && self.fov_y < 180.0) {
+            return Err(Error::arg("fov_y", format!("must lie in (0, 180) degrees, got {}", self.fov_y)));
+        }
+        let eye = DVec3::from(self.eye);
+        let target = DVec3::from(self.target);
+        let fwd = target - eye;
+        if fwd.length() < 1e-9 {
+            return Err(Error::arg("eye", "eye and target coincide; move the eye away from the target"));
+        }
+        let up = DVec3::from(self.up);
+        if up.length() < 1e-12 || fwd.normalize().cross(up.normalize()).length() < 1e-6 {
+            return Err(Error::arg("up", "up is zero or parallel to the view direction; pass another up vector"));
+        }
+        Ok(())
+    }
+
+    pub fn basis(&self) -> CameraBasis {
+        let eye = DVec3::from(self.eye);
+        let forward = (DVec3::from(self.target) - eye).normalize();
+        let right = forward.cross(DVec3::from(self.up)).normalize();
+        let up = right.cross(forward);
+        CameraBasis {
+            eye,
+            forward,
+            right,
+            up,
+            tan_half_y: (self.fov_y.to_radians() * 0.5).tan(),
+            aspect: self.width as f64 / self.height as f64,
+        }
+    }
+
+    /// Unit direction of the ray through the centre of pixel (row i, column j).
+    pub fn ray_dir(&self, b: &CameraBasis, i: u32, j: u32) -> DVec3 {
+        let x = ((j as f64 + 0.5) / self.width as f64) * 2.0 - 1.0;
+        let y = 1.0 - ((i as f64 + 0.5) / self.height as f64) * 2.0;
+        (b.forward + b.right * (x * b.tan_half_y * b.aspect) + b.up * (y * b.tan_half_y)).normalize()
+    }
+
+    /// View-projection matrix (wgpu clip space: y up, depth in [0, 1]) for the given clip
+    /// range, computed in f64. Right-handed view space looking down -z.
+    pub fn view_proj(&self, near: f64, far: f64) -> Mat4 {
+        let b = self.basis();
+        let view = DMat4::from_cols(
+            DVec4::new(b.right.x, b.up.x, -b.forward.x, 0.0),
+            DVec4::new(b.right.y, b.up.y, -b.forward.y, 0.0),
+            DVec4::new(b.right.z, b.up.z, -b.forward.z, 0.0),
+            DVec4::new(-b.right.dot(b.eye), -b.up.dot(b.eye), b.forward.dot(b.eye), 1.0),
+        );
+        let f = 1.0 / b.tan_half_y;
+        let r = far / (near - far);
+        let proj = DMat4::from_cols(
+            DVec4::new(f / b.aspect, 0.0, 0.0, 0.0),
+            DVec4::new(0.0, f, 0.0, 0.0),
+            DVec4::new(0.0, 0.0, r, -1.0),
+            DVec4::new(0.0, 0.0, r * near, 0.0),
+        );
+        (proj * view).as_mat4()
+    }
+}
+
+#[derive(Clone, Debug)]
+pub enum Light {
+    /// `direction` is the way the light travels; irradiance on a surface facing the light.
+    Directional { direction: [f64; 3], irradiance: [f32; 3], angular_diameter: f64 },
+    /// A sphere light of radiant intensity `intensity` (W/sr): irradiance I / r^2.
+    Sphere { position: [f64; 3], radius: f64, intensity: [f32; 3] },
+}
+
+impl Light {
+    pub fn validate(&self) -> Result<()> {
+        match self {
+            Light::Directional { direction, irradiance, angular_diameter } => {
+                let d = DVec3::from(*direction);
+                if !d.is_finite() || d.length() < 1e-12 {
+                    return Err(Error::arg("direction", "must be a finite non-zero vector"));
+                }
+                if irradiance.iter().any(|x| !x.is_finite() || *x < 0.0) {
+                    return Err(Error::arg("irradiance", "must be finite and >= 0"));
+                }
+                if !(angular_diameter.is_finite() && *angular_diameter >= 0.0 && *angular_diameter < 180.0) {
+                    return Err(Error::arg("angular_diameter", "must lie in [0, 180) degrees"));
+                }
+            }
+            Light::Sphere { position, radius, intensity } => {
+                if !DVec3::from(*position).is_finite() {
+                    return Err(Error::arg("position", "must be finite"));
+                }
+                if !(radius.is_finite() && *radius >= 0.0) {
+                    return Err(Error::arg("radius", "must be finite and >= 0"));
+                }
+                if intensity.iter().any(|x| !x.is_finite() || *x < 0.0) {
+                    return Err(Error::arg("intensity", "must be finite and >= 0"));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+pub const MAX_LIGHTS: usize = 4;
+
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub mesh: Mesh,
+    pub material: Material,
+    pub camera: Camera,
+    pub lights: Vec<Light>,
+    /// constant environment radiance, linear RGB
+    pub ambient: [f32; 3],
+}
+
+impl Scene {
+    pub fn validate(&self) -> Result<()> {
+        self.mesh.validate()?;
+        self.material.validate()?;
+        self.camera.validate()?;
+        if self.lights.len() > MAX_LIGHTS {
+            return Err(Error::arg("lights", format!("at most {MAX_LIGHTS} lights are supported, got {}", self.lights.len())));
+        }
+        for l in &self.lights {
+            l.validate()?;
+        }
+        if self.ambient.iter().any(|x| !x.is_finite() || *x < 0.0) {
+            return Err(Error::arg("ambient", "must be finite and >= 0"));
+        }
+        Ok(())
+    }
+}
