@@ -53,4 +53,9 @@ spec="$WHEEL"
 if [ ${#EXTRAS[@]} -gt 0 ]; then spec="$WHEEL[$(IFS=,; echo "${EXTRAS[*]}")]"; fi
 pip install -q --force-reinstall --no-deps "$WHEEL"
 pip install -q "$spec"
+for e in "${EXTRAS[@]}"; do
+  # pyrender 0.1.45 pins PyOpenGL 3.1.0, whose OSMesa binding is broken; 3.1.10 works with it
+  # (EGL and OSMesa) and is what the headless fallback needs.
+  [ "$e" = "reference" ] && pip install -q --no-deps "PyOpenGL>=3.1.10" 2>/dev/null
+done
 python -c "import pomkit, sys; print('[setup] pomkit', pomkit.__version__, 'on', pomkit.adapters()[0]['name'] if pomkit.adapters() else 'NO ADAPTER')"

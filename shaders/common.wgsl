@@ -30,7 +30,7 @@ struct Globals {
     eye: vec4<f32>,        // xyz eye, w: number of lights
     tex: vec4<f32>,        // height W, H, tiling, depth
     march: vec4<f32>,      // min_steps, max_steps, shadow_steps, lod_threshold
-    extra: vec4<f32>,      // method-specific: x adaptive(1)/fixed(0), y binary steps, z scale, w bias
+    extra: vec4<f32>,      // method-specific: x adaptive(1)/fixed(0), y mip filtering(1)/level 0(0), z, w
     ambient: vec4<f32>,    // rgb constant environment radiance, w: number of mip levels
     lights: array<Light, 4>,
 }
@@ -59,11 +59,20 @@ struct VsOut {
     @location(4) uv_scale: vec2<f32>,
 }
 
+// Targets are Rgba32Uint holding float32 bits: exact float32 AOVs on every backend (GL cannot
+// render to Rgba32Float). See `write_aovs`.
 struct FsOut {
     // rgb: linear radiance, a: height-map samples taken (view + shadow rays)
-    @location(0) color: vec4<f32>,
+    @location(0) color: vec4<u32>,
     // xy: hit uv (mesh space, unwrapped), z: distance eye -> hit, w: mip level used
-    @location(1) geo: vec4<f32>,
+    @location(1) geo: vec4<u32>,
+}
+
+fn write_aovs(color: vec3<f32>, steps: f32, uv: vec2<f32>, dist: f32, lod: f32) -> FsOut {
+    var o: FsOut;
+    o.color = bitcast<vec4<u32>>(vec4<f32>(color, steps));
+    o.geo = bitcast<vec4<u32>>(vec4<f32>(uv, dist, lod));
+    return o;
 }
 
 // Orthonormal base frame at a fragment and the world-per-uv scale.
@@ -160,6 +169,11 @@ fn height_normal(f: Frame, s: vec2<f32>, lod: f32) -> vec3<f32> {
 
 fn albedo_at(s: vec2<f32>, lod: f32) -> vec3<f32> {
     return textureSampleLevel(albedo_tex, albedo_samp, s, lod).rgb;
+}
+
+// The level the height field is sampled at: the footprint's (Tatarchuk's tex2Dgrad) or level 0.
+fn height_lod(lod: f32) -> f32 {
+    return select(0.0, lod, G.extra.y > 0.5);
 }
 
 // Mip level from the texture-space footprint; call in uniform control flow (before loops).

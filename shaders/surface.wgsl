@@ -58,7 +58,6 @@ fn fs_main(in: VsOut) -> FsOut {
     let v_ts = to_texture_space(f, view);
     let ndotv = -dot(view, f.n);
 
-    var out: FsOut;
     var color = vec3<f32>(0.0);
     var steps = 0.0;
     var s_hit = s0;
@@ -77,10 +76,11 @@ fn fs_main(in: VsOut) -> FsOut {
         let w_bump = lod_bump_weight(lod);
         var c_pom = vec3<f32>(0.0);
         if (w_bump < 1.0) {
-            let hit = pom_march(s0, v_ts, ndotv, lod);
+            let hl = height_lod(lod);
+            let hit = pom_march(s0, v_ts, ndotv, hl);
             let lam = (1.0 - hit.h) / max(-v_ts.z, 1e-12);
             let p = in.world + view * lam;
-            let sh = shade(f, hit.s, hit.h, p, height_normal(f, hit.s, lod), lod, true);
+            let sh = shade(f, hit.s, hit.h, p, height_normal(f, hit.s, hl), hl, true);
             c_pom = sh.color;
             steps = hit.steps + sh.steps;
             s_hit = hit.s;
@@ -94,7 +94,5 @@ fn fs_main(in: VsOut) -> FsOut {
         color = mix(c_pom, c_bump, w_bump);
     }
 
-    out.color = vec4<f32>(color, steps);
-    out.geo = vec4<f32>(s_hit / tiling, dist, lod);
-    return out;
+    return write_aovs(color, steps, s_hit / tiling, dist, lod);
 }

@@ -52,6 +52,9 @@ pub struct Method {
     pub shadow_steps: u32,
     pub lod_threshold: f32,
     pub filtering: Filtering,
+    /// sample the height field at the footprint's mip level (Tatarchuk's tex2Dgrad, default);
+    /// false: level 0, the exact bilinear field (aliases under minification)
+    pub mip_filtering: bool,
 }
 
 pub const MAX_STEPS_LIMIT: u32 = 4096;
@@ -74,6 +77,7 @@ impl Method {
             shadow_steps: 8,
             lod_threshold: 4.0,
             filtering: Filtering::Hardware,
+            mip_filtering: true,
         }
     }
 
@@ -100,6 +104,9 @@ impl Method {
         }
         if let Some(a) = num.get("adaptive") {
             m.adaptive = *a != 0.0;
+        }
+        if let Some(a) = num.get("mip_filtering") {
+            m.mip_filtering = *a != 0.0;
         }
         if let Some(t) = num.get("lod_threshold") {
             if !t.is_finite() {

@@ -241,6 +241,12 @@ impl PyRenderer {
         Ok(d)
     }
 
+    /// Trigger a wgpu validation error (tests: it must raise GpuError and leave the renderer usable).
+    fn _provoke_validation_error(&self, py: Python<'_>) -> PyResult<()> {
+        let r = self.inner.clone();
+        py.detach(move || r.provoke_validation_error()).map_err(to_py)
+    }
+
     /// Destroy the device (to test device-loss handling).
     fn _destroy_device(&self) {
         self.inner.ctx.destroy();

@@ -126,7 +126,8 @@ pub struct Renderer {
     submit: Mutex<()>,
 }
 
-pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// float32 bits in uint targets: exact on every backend (GL cannot render to Rgba32Float)
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 fn hash_bytes(parts: &[&[u8]]) -> u64 {
@@ -264,6 +265,21 @@ impl Renderer {
                 meshes: Cached::new(8),
             }),
             submit: Mutex::new(()),
+        })
+    }
+
+    /// Issue an invalid wgpu call (a buffer both MAP_READ and MAP_WRITE) inside the error
+    /// scopes: used by tests to check that validation errors surface as `Error::Gpu` and leave
+    /// the renderer usable.
+    pub fn provoke_validation_error(&self) -> Result<()> {
+        self.ctx.scoped(|| {
+            let _b = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("invalid on purpose"),
+                size: 16,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::MAP_WRITE,
+                mapped_at_creation: false,
+            });
+            Ok(())
         })
     }
 
@@ -499,7 +515,7 @@ impl Renderer {
             eye: [scene.camera.eye[0] as f32, scene.camera.eye[1] as f32, scene.camera.eye[2] as f32, scene.lights.len() as f32],
             tex: [hm.width as f32, hm.height as f32, scene.material.tiling, scene.material.depth],
             march: [method.min_steps as f32, method.max_steps as f32, method.shadow_steps as f32, method.lod_threshold],
-            extra: [if method.adaptive { 1.0 } else { 0.0 }, 0.0, 0.0, 0.0],
+            extra: [if method.adaptive { 1.0 } else { 0.0 }, if method.mip_filtering { 1.0 } else { 0.0 }, 0.0, 0.0],
             ambient: [scene.ambient[0], scene.ambient[1], scene.ambient[2], mip_count(hm.width, hm.height) as f32],
             lights,
         }
@@ -605,7 +621,8 @@ impl Renderer {
                             depth_slice: None,
                             resolve_target: None,
                             ops: wgpu::Operations {
-                                load: wgpu::LoadOp::Clear(wgpu::Color { r: 0.0, g: 0.0, b: -1.0, a: 0.0 }),
+                                // distance -1.0 (as float32 bits) marks pixels without a hit
+                                load: wgpu::LoadOp::Clear(wgpu::Color { r: 0.0, g: 0.0, b: (-1.0f32).to_bits() as f64, a: 0.0 }),
                                 store: wgpu::StoreOp::Store,
                             },
                         }),

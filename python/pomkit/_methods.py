@@ -85,7 +85,11 @@ class POM(Method):
     between the last two samples. Shadows: "none", "hard" (horizon test over `shadow_steps`
     samples toward the light) or "soft" (penumbra estimate from the light's angular diameter).
     In-shader LOD: full POM at mip levels <= lod_threshold - 1, bump mapping above
-    lod_threshold, blended in between.
+    lod_threshold, blended in between. `mip_filtering=True` samples the height field at the
+    footprint's mip level (the paper's tex2Dgrad); False samples level 0, the exact bilinear
+    field the oracle uses (no prefiltering: aliases under minification).
+    `filtering`: "hardware" (the sampler's bilinear filter) or "exact" (four loads and a
+    float32 lerp).
     """
 
     min_steps: int = 8
@@ -95,6 +99,7 @@ class POM(Method):
     lod_threshold: float = 4.0
     adaptive: bool = True
     filtering: str = "hardware"
+    mip_filtering: bool = True
     _kind = "POM"
 
     def __post_init__(self):
@@ -107,5 +112,6 @@ class POM(Method):
         _choice(self, "filtering", _FILTERING)
         if isinstance(self.lod_threshold, bool) or not isinstance(self.lod_threshold, (int, float)) or not math.isfinite(self.lod_threshold):
             raise ValueError(f"lod_threshold: must be a finite number, got {self.lod_threshold!r}")
-        if not isinstance(self.adaptive, bool):
-            raise TypeError(f"adaptive: expected a bool, got {type(self.adaptive).__name__}")
+        for name in ("adaptive", "mip_filtering"):
+            if not isinstance(getattr(self, name), bool):
+                raise TypeError(f"{name}: expected a bool, got {type(getattr(self, name)).__name__}")

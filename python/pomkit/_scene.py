@@ -327,6 +327,24 @@ class Camera:
         object.__setattr__(self, "up", up)
         object.__setattr__(self, "fov_y", fov)
 
+    def basis(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(forward, right, up) unit vectors in float64."""
+        f = np.subtract(self.target, self.eye)
+        f = f / np.linalg.norm(f)
+        r = np.cross(f, self.up)
+        r = r / np.linalg.norm(r)
+        return f, r, np.cross(r, f)
+
+    def rays(self) -> np.ndarray:
+        """(H, W, 3) float64 unit directions of the rays through the pixel centres."""
+        f, r, u = self.basis()
+        t = math.tan(math.radians(self.fov_y) / 2)
+        aspect = self.width / self.height
+        x = ((np.arange(self.width) + 0.5) / self.width * 2 - 1) * t * aspect
+        y = (1 - (np.arange(self.height) + 0.5) / self.height * 2) * t
+        d = f[None, None, :] + x[None, :, None] * r[None, None, :] + y[:, None, None] * u[None, None, :]
+        return d / np.linalg.norm(d, axis=-1, keepdims=True)
+
     def _describe(self) -> dict:
         return dict(eye=self.eye, target=self.target, up=self.up, fov_y=self.fov_y, width=self.width, height=self.height)
 

@@ -1,0 +1,27 @@
+# One command each, from a fresh Debian machine with Rust and Python 3.11:
+#   make demo   set up everything, then run `python -m pomkit demo` (writes ./pomkit-out/)
+#   make test   set up everything, then run the tests (cargo test and pytest)
+SHELL := /bin/bash
+export XDG_RUNTIME_DIR ?= /tmp/pomkit-xdg-$(shell id -u)
+VENV := .venv/bin
+
+.PHONY: setup setup-test demo test bench clean
+
+setup:
+	scripts/setup.sh
+
+setup-test:
+	scripts/setup.sh test reference notebooks
+
+demo: setup
+	$(VENV)/python -m pomkit demo
+
+test: setup-test
+	cargo test --release --lib --tests 2>&1 | tee .cargo-test.log | grep -E "^(test result|running|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
+	$(VENV)/python -m pytest tests
+
+bench: setup
+	$(VENV)/python -m pomkit bench
+
+clean:
+	rm -rf target .venv pomkit-out

@@ -1,0 +1,78 @@
+//! Rust-only tests of the core: render through wgpu and check against the analytic case and
+//! the CPU oracle, without Python.
+
+use pomkit::exact::exact_hits;
+use pomkit::gpu;
+use pomkit::mesh::Mesh;
+use pomkit::methods::{Method, Shadows};
+use pomkit::render::Renderer;
+use pomkit::scene::{Camera, HeightMap, Light, Material, Scene};
+use pomkit::Error;
+
+fn scene(height: HeightMap, theta_deg: f64, size: u32) -> Scene {
+    let t = theta_deg.to_radians();
+    Scene {
+        mesh: Mesh::plane(2.0, 1).unwrap(),
+        material: Material { height, depth: 0.1, tiling: 1.0, albedo: None },
+        camera: Camera {
+            eye: [0.0, 2.0 * t.cos(), 2.0 * t.sin()],
+            target: [0.0; 3],
+            up: [0.0, 0.0, -1.0],
+            fov_y: 30.0,
+            width: size,
+            height: size,
+        },
+        lights: vec![Light::Directional { direction: [-0.3, -1.0, -0.2], irradiance: [2.0; 3], angular_diameter: 1.0 }],
+        ambient: [0.05; 3],
+    }
+}
+
+fn renderer() -> Renderer {
+    Renderer::new(gpu::shared(None).expect("an adapter (install mesa-vulkan-drivers)")).unwrap()
+}
+
+#[test]
+fn pom_matches_the_oracle_on_a_constant_height() {
+    let r = renderer();
+    let hm = HeightMap::new(32, 32, vec![0.3; 32 * 32]).unwrap();
+    let s = scene(hm, 60.0, 64);
+    let mut m = Method::pom();
+    m.shadows = Shadows::None;
+    m.lod_threshold = 100.0;
+    let f = r.render(&s, &m).unwrap();
+    let o = exact_hits(&s).unwrap();
+    let mut n = 0;
+    for i in 0..(64 * 64) {
+        if f.mask[i] && o.mask[i] {
+            let du = (f.uv[i * 2] as f64 - o.uv[i * 2]).abs() * 32.0;
+            let dv = (f.uv[i * 2 + 1] as f64 - o.uv[i * 2 + 1]).abs() * 32.0;
+            // the edge pixels of the plane may rasterise differently: only count inner ones
+            let u = o.uv[i * 2];
+            if u > 0.02 && u < 0.98 {
+                assert!(du < 0.05 && dv < 0.05, "pixel {i}: {du} {dv} texels");
+                n += 1;
+            }
+        }
+    }
+    assert!(n > 1000, "{n}");
+    assert!(f.gpu_ms.is_some() == r.ctx.timestamps);
+}
+
+#[test]
+fn bad_sizes_are_refused_before_the_gpu() {
+    let r = renderer();
+    let lim = r.ctx.limits.max_texture_dimension_2d;
+    let hm = HeightMap::new(lim + 1, 1, vec![0.5; lim as usize + 1]).unwrap();
+    let e = r.render(&scene(hm, 30.0, 8), &Method::flat()).unwrap_err();
+    assert!(matches!(e, Error::Limit { .. }), "{e}");
+    assert!(e.to_string().contains("max_texture_dimension_2d"));
+}
+
+#[test]
+fn validation_errors_become_errors_and_the_renderer_survives() {
+    let r = renderer();
+    let e = r.provoke_validation_error().unwrap_err();
+    assert!(matches!(e, Error::Gpu(_)), "{e}");
+    let hm = HeightMap::new(8, 8, vec![0.5; 64]).unwrap();
+    assert!(r.render(&scene(hm, 30.0, 8), &Method::pom()).is_ok());
+}
