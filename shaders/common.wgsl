@@ -10,7 +10,7 @@ const PI: f32 = 3.14159265358979;
 const MAX_LIGHTS: u32 = 4u;
 
 // ---- pipeline-specialisation constants (one pipeline per combination) ----
-// METHOD: 0 Flat, 1 Bump, 2 POM, 3 Parallax, 4 SteepParallax, 5 Relief, 6 Tessellated
+// METHOD: 0 Flat, 1 Bump, 2 POM, 6 Tessellated (the displaced mesh, rasterised)
 override METHOD: u32 = 0u;
 // SHADOWS: 0 none, 1 hard, 2 soft
 override SHADOWS: u32 = 0u;

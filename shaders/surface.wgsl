@@ -92,6 +92,11 @@ fn fs_main(in: VsOut) -> FsOut {
             c_bump = sh.color;
         }
         color = mix(c_pom, c_bump, w_bump);
+    } else if (METHOD == 6u) {
+        // Tessellated: the displaced mesh itself, shaded like the per-pixel methods (base frame,
+        // height-field normal at the rasterised uv, level 0: this is the true surface)
+        let sh = shade(f, s0, 1.0, in.world, height_normal(f, s0, 0.0), lod, false);
+        color = sh.color;
     }
 
     return write_aovs(color, steps, s_hit / tiling, dist, lod);

@@ -9,6 +9,8 @@ pub enum Kind {
     Flat,
     Bump,
     Pom,
+    /// the displaced mesh itself (Chen & Chang's ground-truth model), rasterised
+    Tessellated,
 }
 
 impl Kind {
@@ -17,6 +19,7 @@ impl Kind {
             Kind::Flat => 0,
             Kind::Bump => 1,
             Kind::Pom => 2,
+            Kind::Tessellated => 6,
         }
     }
     pub fn name(self) -> &'static str {
@@ -24,6 +27,7 @@ impl Kind {
             Kind::Flat => "Flat",
             Kind::Bump => "Bump",
             Kind::Pom => "POM",
+            Kind::Tessellated => "Tessellated",
         }
     }
 }
@@ -55,6 +59,8 @@ pub struct Method {
     /// sample the height field at the footprint's mip level (Tatarchuk's tex2Dgrad, default);
     /// false: level 0, the exact bilinear field (aliases under minification)
     pub mip_filtering: bool,
+    /// Tessellated: lattice spacing in texels (1 = one vertex per texel centre)
+    pub texels_per_vertex: f64,
 }
 
 pub const MAX_STEPS_LIMIT: u32 = 4096;
@@ -78,6 +84,7 @@ impl Method {
             lod_threshold: 4.0,
             filtering: Filtering::Hardware,
             mip_filtering: true,
+            texels_per_vertex: 1.0,
         }
     }
 
@@ -87,6 +94,7 @@ impl Method {
             "Flat" => Self::flat(),
             "Bump" => Self::bump(),
             "POM" => Self::pom(),
+            "Tessellated" => Self { kind: Kind::Tessellated, shadows: Shadows::None, ..Self::pom() },
             other => return Err(Error::arg("method", format!("unknown method {other:?}"))),
         };
         let steps = |name: &str, default: u32| -> Result<u32> {
@@ -104,6 +112,12 @@ impl Method {
         }
         if let Some(a) = num.get("adaptive") {
             m.adaptive = *a != 0.0;
+        }
+        if let Some(t) = num.get("texels_per_vertex") {
+            if !(t.is_finite() && (1.0 / 64.0..=1024.0).contains(t)) {
+                return Err(Error::arg("texels_per_vertex", format!("must lie in [1/64, 1024], got {t}")));
+            }
+            m.texels_per_vertex = *t;
         }
         if let Some(a) = num.get("mip_filtering") {
             m.mip_filtering = *a != 0.0;

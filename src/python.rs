@@ -43,6 +43,7 @@ type MeshArrays<'py> = (
     Bound<'py, PyAny>,
     Bound<'py, PyAny>,
     Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
 );
 
 fn mesh_out<'py>(py: Python<'py>, m: &Mesh) -> PyResult<MeshArrays<'py>> {
@@ -57,6 +58,10 @@ fn mesh_out<'py>(py: Python<'py>, m: &Mesh) -> PyResult<MeshArrays<'py>> {
         m.indices.clone().into_pyarray(py).into_any(),
         f(m.tangents.concat(), 4)?,
         f(m.uv_scale.concat(), 2)?,
+        Array::from_shape_vec((m.charts.len(), 3), m.charts.concat())
+            .map_err(|e| PyValueError::new_err(e.to_string()))?
+            .into_pyarray(py)
+            .into_any(),
     ))
 }
 
@@ -79,7 +84,7 @@ fn mesh_from_arrays<'py>(
     let t = tangents.as_ref().map(|t| rows::<4>(t, "tangents")).transpose()?;
     let (mesh, rep) = py.detach(|| Mesh::from_arrays(p, n, u, i, t)).map_err(to_py)?;
     let a = mesh_out(py, &mesh)?;
-    PyTuple::new(py, [a.0, a.1, a.2, a.3, a.4, a.5, rep.degenerate_uv_triangles.into_pyobject(py)?.into_any(), rep.fallback_vertices.into_pyobject(py)?.into_any()])
+    PyTuple::new(py, [a.0, a.1, a.2, a.3, a.4, a.5, a.6, rep.degenerate_uv_triangles.into_pyobject(py)?.into_any(), rep.fallback_vertices.into_pyobject(py)?.into_any()])
 }
 
 /// A generated base mesh: kind in plane, sphere, torus, cylinder, cube.
@@ -122,6 +127,14 @@ fn scene_from_py(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
         tangents: rows::<4>(&tangents, "tangents")?,
         uv_scale: rows::<2>(&uv_scale, "uv_scale")?,
         indices: indices.as_array().iter().copied().collect(),
+        charts: {
+            let c: PyReadonlyArray2<u32> = item(mesh, "charts")?.extract()?;
+            let c = c.as_array();
+            if c.len() > 0 && c.shape()[1] != 3 {
+                return Err(PyValueError::new_err("charts: expected shape (k, 3)"));
+            }
+            c.outer_iter().map(|r| [r[0], r[1], r[2]]).collect()
+        },
     };
     let height: PyReadonlyArray2<f32> = item(d, "height")?.extract()?;
     let hv = height.as_array();
@@ -283,6 +296,25 @@ fn exact_uv<'py>(py: Python<'py>, scene: &Bound<'py, PyDict>) -> PyResult<Bound<
     Ok(d)
 }
 
+/// The displaced surface of `scene` as arrays (positions, shading normals, uvs, faces), with
+/// `texels_per_vertex` lattice spacing.
+#[pyfunction]
+fn tessellate<'py>(py: Python<'py>, scene: &Bound<'py, PyDict>, texels_per_vertex: f64) -> PyResult<Bound<'py, PyDict>> {
+    let scene = scene_from_py(scene)?;
+    scene.validate().map_err(to_py)?;
+    let t = py
+        .detach(move || crate::mesh::tessellate::tessellate(&scene.mesh, &scene.material, texels_per_vertex))
+        .map_err(to_py)?;
+    let e = |e: numpy::ndarray::ShapeError| PyValueError::new_err(e.to_string());
+    let n = t.positions.len();
+    let d = PyDict::new(py);
+    d.set_item("positions", Array::from_shape_vec((n, 3), t.positions.concat()).map_err(e)?.into_pyarray(py))?;
+    d.set_item("normals", Array::from_shape_vec((n, 3), t.normals.concat()).map_err(e)?.into_pyarray(py))?;
+    d.set_item("uvs", Array::from_shape_vec((n, 2), t.uvs.concat()).map_err(e)?.into_pyarray(py))?;
+    d.set_item("faces", Array::from_shape_vec((t.indices.len() / 3, 3), t.indices).map_err(e)?.into_pyarray(py))?;
+    Ok(d)
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
@@ -291,6 +323,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(exact_uv, m)?)?;
     m.add_function(wrap_pyfunction!(mesh_from_arrays, m)?)?;
     m.add_function(wrap_pyfunction!(mesh_generate, m)?)?;
+    m.add_function(wrap_pyfunction!(tessellate, m)?)?;
     m.add("GpuError", m.py().get_type::<GpuError>())?;
     m.add("DeviceLostError", m.py().get_type::<DeviceLostError>())?;
     m.add("NoAdapterError", m.py().get_type::<NoAdapterError>())?;

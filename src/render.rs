@@ -4,7 +4,8 @@
 use crate::error::{Error, Result};
 use crate::gpu::Context;
 use crate::heightmap::{mean_pyramid, mip_count};
-use crate::methods::{Filtering, Method};
+use crate::methods::{Filtering, Kind, Method};
+use crate::mesh::tessellate::tessellate;
 use crate::mesh::{Mesh, Vertex};
 use crate::scene::{Albedo, HeightMap, Light, Scene, MAX_LIGHTS};
 use glam::DVec3;
@@ -112,6 +113,10 @@ struct Inner {
     heights: Cached<wgpu::TextureView>,
     albedos: Cached<wgpu::TextureView>,
     meshes: Cached<GpuMesh>,
+}
+
+fn mesh_key(mesh: &Mesh) -> u64 {
+    hash_bytes(&[bytemuck::cast_slice(&mesh.vertices()), bytemuck::cast_slice(&mesh.indices)])
 }
 
 pub struct Renderer {
@@ -423,11 +428,43 @@ impl Renderer {
         })
     }
 
-    fn gpu_mesh(&self, inner: &mut Inner, mesh: &Mesh) -> Result<Arc<GpuMesh>> {
-        let verts = mesh.vertices();
-        let key = hash_bytes(&[bytemuck::cast_slice(&verts), bytemuck::cast_slice(&mesh.indices)]);
+    /// The base mesh, or for `Tessellated` the displaced mesh (with the base frame per vertex).
+    fn gpu_mesh(&self, inner: &mut Inner, scene: &Scene, method: &Method) -> Result<Arc<GpuMesh>> {
+        let mesh = &scene.mesh;
+        let mut key = mesh_key(mesh);
+        let tess = method.kind == Kind::Tessellated;
+        if tess {
+            let m = &scene.material;
+            key = hash_bytes(&[
+                &key.to_le_bytes(),
+                bytemuck::cast_slice(&m.height.data),
+                &m.height.width.to_le_bytes(),
+                &m.depth.to_le_bytes(),
+                &m.tiling.to_le_bytes(),
+                &method.texels_per_vertex.to_le_bytes(),
+            ]);
+        }
         let ctx = &self.ctx;
         inner.meshes.get_or(key, || {
+            let (verts, indices) = if tess {
+                let t = tessellate(mesh, &scene.material, method.texels_per_vertex)?;
+                let v: Vec<Vertex> = (0..t.positions.len())
+                    .map(|i| Vertex {
+                        position: t.positions[i],
+                        normal: t.base_normals[i],
+                        uv: t.uvs[i],
+                        tangent: t.tangents[i],
+                        uv_scale: t.uv_scale[i],
+                    })
+                    .collect();
+                (v, t.indices)
+            } else {
+                (mesh.vertices(), mesh.indices.clone())
+            };
+            let vbytes = (verts.len() * std::mem::size_of::<Vertex>()) as u64;
+            if vbytes > ctx.limits.max_buffer_size {
+                return Err(Error::limit("texels_per_vertex", format!("the mesh needs a {vbytes}-byte vertex buffer; the device's max_buffer_size is {}", ctx.limits.max_buffer_size)));
+            }
             ctx.scoped(|| {
                 let vbuf = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some("vertices"),
@@ -436,10 +473,10 @@ impl Renderer {
                 });
                 let ibuf = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some("indices"),
-                    contents: bytemuck::cast_slice(&mesh.indices),
+                    contents: bytemuck::cast_slice(&indices),
                     usage: wgpu::BufferUsages::INDEX,
                 });
-                Ok(GpuMesh { vbuf, ibuf, count: mesh.indices.len() as u32 })
+                Ok(GpuMesh { vbuf, ibuf, count: indices.len() as u32 })
             })
         })
     }
@@ -536,7 +573,7 @@ impl Renderer {
             let pipeline = self.pipeline(&mut inner, key)?;
             let height = self.height_texture(&mut inner, &scene.material.height)?;
             let albedo = self.albedo_texture(&mut inner, scene.material.albedo.as_ref())?;
-            let mesh = self.gpu_mesh(&mut inner, &scene.mesh)?;
+            let mesh = self.gpu_mesh(&mut inner, scene, method)?;
             (pipeline, height, albedo, mesh)
         };
         let globals = self.globals(scene, method);

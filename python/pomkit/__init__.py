@@ -9,15 +9,23 @@
 from . import _core
 from ._core import DeviceLostError, GpuError, NoAdapterError
 from ._frame import Frame
-from ._methods import POM, Bump, Flat, Method
+from ._methods import POM, Bump, Flat, Method, Tessellated
 from ._render import Renderer, adapters, exact_uv
 from ._scene import Camera, DirectionalLight, Material, Mesh, Scene, SphereLight, linear_to_srgb, srgb_to_linear
-from . import textures
+from . import metrics, textures
 
 __version__ = _core.__version__
 
 __all__ = [
     "__version__", "Renderer", "adapters", "exact_uv", "Frame", "Scene", "Mesh", "Material", "Camera",
-    "DirectionalLight", "SphereLight", "Method", "Flat", "Bump", "POM", "textures",
-    "GpuError", "DeviceLostError", "NoAdapterError", "linear_to_srgb", "srgb_to_linear",
+    "DirectionalLight", "SphereLight", "Method", "Flat", "Bump", "POM", "Tessellated", "textures",
+    "metrics", "reference", "GpuError", "DeviceLostError", "NoAdapterError", "linear_to_srgb", "srgb_to_linear",
 ]
+
+
+def __getattr__(name):
+    # `pk.reference` imports lazily: it pulls in trimesh/Mitsuba only when used
+    if name == "reference":
+        import importlib
+        return importlib.import_module(".reference", __name__)
+    raise AttributeError(f"module 'pomkit' has no attribute {name!r}")

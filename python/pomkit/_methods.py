@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields
 
-__all__ = ["Method", "Flat", "Bump", "POM"]
+__all__ = ["Method", "Flat", "Bump", "POM", "Tessellated"]
 
 _SHADOWS = ("none", "hard", "soft")
 _FILTERING = ("hardware", "exact")
@@ -115,3 +115,20 @@ class POM(Method):
         for name in ("adaptive", "mip_filtering"):
             if not isinstance(getattr(self, name), bool):
                 raise TypeError(f"{name}: expected a bool, got {type(getattr(self, name)).__name__}")
+
+
+@dataclass(frozen=True)
+class Tessellated(Method):
+    """The displaced mesh itself (Chen & Chang 2008's "ground truth model"), rasterised by the
+    same pipeline and shaded the same way: vertices on a lattice through the texel centres,
+    `texels_per_vertex` texels apart (1: one vertex per texel; 0.5: two per texel, which matches
+    the exact bilinear field to about 0.001 texel). Displaced on the CPU once per
+    (mesh, height map, depth, tiling, spacing) and cached on the GPU. No shadows yet."""
+
+    texels_per_vertex: float = 1.0
+    _kind = "Tessellated"
+
+    def __post_init__(self):
+        v = self.texels_per_vertex
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (1 / 64 <= v <= 1024):
+            raise ValueError(f"texels_per_vertex: must be a number in [1/64, 1024], got {v!r}")

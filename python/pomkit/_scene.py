@@ -78,12 +78,13 @@ class Mesh:
     indices: np.ndarray
     tangents: np.ndarray
     uv_scale: np.ndarray
+    charts: np.ndarray
     kind: str = "arrays"
 
     @classmethod
     def _from_core(cls, arrays, kind: str) -> "Mesh":
-        p, n, uv, idx, t, s = arrays[:6]
-        return cls(*(_readonly(np.asarray(x)) for x in (p, n, uv, idx, t, s)), kind=kind)
+        p, n, uv, idx, t, s, c = arrays[:7]
+        return cls(*(_readonly(np.asarray(x)) for x in (p, n, uv, idx, t, s, c)), kind=kind)
 
     @classmethod
     def plane(cls, size: float = 2.0, segments: int = 1) -> "Mesh":
@@ -153,7 +154,7 @@ class Mesh:
         idx = np.ascontiguousarray(idx, dtype=np.uint32)
         t = None if tangents is None else _float_array("tangents", tangents, 4)
         out = _core.mesh_from_arrays(p, n, uv, idx, t)
-        degenerate, fallback = out[6], out[7]
+        degenerate, fallback = out[7], out[8]
         if degenerate:
             warnings.warn(
                 f"{degenerate} triangle(s) have degenerate uvs; {fallback} vertex(es) got a fallback tangent frame",
@@ -172,7 +173,7 @@ class Mesh:
 
     def _describe(self) -> dict:
         return dict(positions=self.positions, normals=self.normals, uvs=self.uvs, indices=self.indices,
-                    tangents=self.tangents, uv_scale=self.uv_scale)
+                    tangents=self.tangents, uv_scale=self.uv_scale, charts=self.charts)
 
 
 def _pos(name: str, x) -> float:

@@ -17,7 +17,13 @@ pub struct Mesh {
     pub tangents: Vec<[f32; 4]>,
     pub uv_scale: Vec<[f32; 2]>,
     pub indices: Vec<u32>,
+    /// Regular uv grids the mesh is made of, as (nu, nv, first_vertex): (nu+1) x (nv+1) vertices
+    /// row-major from uv (0,0) to (1,1), quads split along the (i+1,j)-(i,j+1) diagonal. Empty for
+    /// meshes from arrays. Lets the tessellation place vertices exactly on texel centres.
+    pub charts: Vec<[u32; 3]>,
 }
+
+pub mod tessellate;
 
 /// What `compute_frames` found: triangles whose uvs are degenerate get a fallback frame.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -241,6 +247,7 @@ impl Mesh {
         }
         m.orient_outward();
         m.compute_frames(None).expect("generated meshes have uvs");
+        m.charts = vec![[nu, nv, 0]];
         m
     }
 
@@ -339,6 +346,7 @@ impl Mesh {
                 (n * h + du * ((u - 0.5) * size) + dv * ((v - 0.5) * size), n)
             });
             let base = out.positions.len() as u32;
+            out.charts.push([f.charts[0][0], f.charts[0][1], base]);
             out.positions.extend(f.positions);
             out.normals.extend(f.normals);
             out.uvs.extend(f.uvs);

@@ -1,0 +1,108 @@
+"""Error metrics between a Frame and a reference Frame.
+
+uv_error and depth_error compare geometry where both frames hit; flip, psnr and ssim compare
+colour as displayed (sRGB, clamped to [0, 1]). Each returns plain floats or dicts; pass
+`image=True` to the colour metrics to also get a per-pixel error image for plotting (uv_error's
+dict always holds one under "image").
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._frame import Frame
+from ._scene import Scene, linear_to_srgb
+
+__all__ = ["uv_error", "depth_error", "mask_iou", "flip", "psnr", "ssim"]
+
+
+def _check(frame, ref):
+    for name, f in (("frame", frame), ("ref", ref)):
+        if not isinstance(f, Frame):
+            raise TypeError(f"{name}: expected a pomkit.Frame, got {type(f).__name__}")
+    if frame.mask.shape != ref.mask.shape:
+        raise ValueError(f"ref: frame is {frame.mask.shape} but ref is {ref.mask.shape}; render both at one size")
+
+
+def mask_iou(frame: Frame, ref: Frame) -> float:
+    """Intersection over union of the coverage masks (1.0 when both are empty)."""
+    _check(frame, ref)
+    inter = np.logical_and(frame.mask, ref.mask).sum()
+    union = np.logical_or(frame.mask, ref.mask).sum()
+    return float(inter / union) if union else 1.0
+
+
+def _stats(e: np.ndarray) -> dict:
+    if e.size == 0:
+        return dict(mean=float("nan"), p50=float("nan"), p95=float("nan"), p99=float("nan"), max=float("nan"), n=0)
+    return dict(mean=float(e.mean()), p50=float(np.percentile(e, 50)), p95=float(np.percentile(e, 95)),
+                p99=float(np.percentile(e, 99)), max=float(e.max()), n=int(e.size))
+
+
+def uv_error(frame: Frame, ref: Frame, scene: Scene) -> dict:
+    """uv error in texels (|du| W t, |dv| H t, Euclidean) over the pixels both frames hit:
+    mean, p50, p95, p99, max, n, plus mask_iou and the per-pixel "image" (NaN elsewhere)."""
+    _check(frame, ref)
+    both = frame.mask & ref.mask & np.isfinite(frame.uv).all(-1) & np.isfinite(ref.uv).all(-1)
+    h, w = scene.material.height.shape
+    t = scene.material.tiling
+    d = (np.asarray(frame.uv, np.float64) - np.asarray(ref.uv, np.float64)) * np.array([w * t, h * t])
+    err = np.linalg.norm(d, axis=-1)
+    img = np.where(both, err, np.nan)
+    out = _stats(err[both])
+    out["mask_iou"] = mask_iou(frame, ref)
+    out["image"] = img
+    return out
+
+
+def depth_error(frame: Frame, ref: Frame, relative: bool = True) -> dict:
+    """Distance error where both hit: |d - d_ref| / d_ref (relative, default) or world units."""
+    _check(frame, ref)
+    both = frame.mask & ref.mask
+    e = np.abs(np.asarray(frame.depth, np.float64) - ref.depth)
+    if relative:
+        e = e / np.abs(ref.depth)
+    out = _stats(e[both])
+    out["image"] = np.where(both, e, np.nan)
+    return out
+
+
+def _ldr(f: Frame) -> np.ndarray:
+    if f.color is None:
+        raise ValueError("frame: has no colour to compare")
+    return linear_to_srgb(f.color).astype(np.float32)
+
+
+def flip(frame: Frame, ref: Frame, image: bool = False, ppd: float = 67.0):
+    """NVIDIA FLIP (flip-evaluator, LDR, on the sRGB images), mean over the image.
+    With image=True returns (mean, error map)."""
+    _check(frame, ref)
+    try:
+        import flip_evaluator
+    except ImportError:
+        raise ImportError("flip needs flip-evaluator: pip install pomkit[reference]") from None
+    emap, mean, _ = flip_evaluator.evaluate(_ldr(ref), _ldr(frame), "LDR", inputsRGB=True, applyMagma=False,
+                                            parameters={"ppd": ppd})
+    mean = float(mean)
+    return (mean, np.asarray(emap)) if image else mean
+
+
+def psnr(frame: Frame, ref: Frame, image: bool = False):
+    """Peak signal-to-noise ratio of the sRGB images in dB (inf when identical).
+    With image=True returns (psnr, squared-error image)."""
+    _check(frame, ref)
+    se = ((_ldr(frame) - _ldr(ref)) ** 2).mean(-1)
+    mse = float(se.mean())
+    v = float("inf") if mse == 0 else float(10 * np.log10(1.0 / mse))
+    return (v, se) if image else v
+
+
+def ssim(frame: Frame, ref: Frame, image: bool = False):
+    """Structural similarity (scikit-image) of the sRGB images. With image=True returns (ssim, map)."""
+    _check(frame, ref)
+    try:
+        from skimage.metrics import structural_similarity
+    except ImportError:
+        raise ImportError("ssim needs scikit-image: pip install pomkit[reference]") from None
+    v, full = structural_similarity(_ldr(ref), _ldr(frame), channel_axis=-1, data_range=1.0, full=True)
+    return (float(v), full.mean(-1)) if image else float(v)

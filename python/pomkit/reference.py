@@ -1,0 +1,303 @@
+"""Ground truth: the displaced mesh, Mitsuba 3 and pyrender renders of it.
+
+These need the `reference` extra: `pip install pomkit[reference]` (mitsuba, trimesh,
+flip-evaluator, scikit-image, pyrender). Results are cached on disk (see `pomkit._cache`).
+"""
+
+from __future__ import annotations
+
+import glob
+import math
+import os
+import time
+
+import numpy as np
+
+from . import _core
+from ._cache import cached, scene_hash
+from ._frame import Frame
+from ._scene import DirectionalLight, Scene, SphereLight
+
+__all__ = ["displaced_mesh", "render_mitsuba", "render_pyrender", "mitsuba_variant"]
+
+_EXTRA = "pip install pomkit[reference]"
+
+
+def _require(module: str):
+    try:
+        return __import__(module)
+    except ImportError as e:
+        raise ImportError(f"{module} is needed for references: {_EXTRA} ({e})") from None
+
+
+def displaced_arrays(scene: Scene, resolution: float = 2.0) -> dict:
+    """positions, normals, uvs, faces of the displaced surface; `resolution` vertices per texel."""
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
+    if isinstance(resolution, bool) or not isinstance(resolution, (int, float)) or not (1 / 1024 <= resolution <= 64):
+        raise ValueError(f"resolution: vertices per texel must lie in [1/1024, 64], got {resolution!r}")
+    return dict(_core.tessellate(scene._describe(), 1.0 / float(resolution)))
+
+
+def displaced_mesh(scene: Scene, resolution: float | None = None):
+    """The displaced surface `S = P + depth*(h-1)*N` as a `trimesh.Trimesh`.
+
+    Heights are sampled bilinearly exactly as the shaders sample them (level 0). `resolution` is
+    vertices per texel along each axis (default 2): on the generated meshes the vertices lie on a
+    lattice through the texel centres, so that the bilinear field's creases are mesh edges; 2 per
+    texel matches the exact field to about 0.001 texel. The mesh carries uvs (`visual.uv`) and
+    vertex normals from the height field (central differences, as the shaders shade)."""
+    trimesh = _require("trimesh")
+    a = displaced_arrays(scene, 2.0 if resolution is None else resolution)
+    m = trimesh.Trimesh(vertices=a["positions"], faces=a["faces"], vertex_normals=a["normals"],
+                        visual=trimesh.visual.TextureVisuals(uv=a["uvs"]), process=False)
+    return m
+
+
+# ---------------------------------------------------------------- Mitsuba
+
+_VARIANT = None
+
+
+def _llvm_path() -> str | None:
+    pats = ["/usr/lib/llvm-19/lib/libLLVM.so*", "/usr/lib/*/libLLVM-19.so*", "/usr/lib/*/libLLVM.so.19*"]
+    for p in pats:
+        hits = sorted(glob.glob(p))
+        if hits:
+            return hits[0]
+    return None
+
+
+def mitsuba_variant(variant: str | None = None) -> str:
+    """Choose and set Mitsuba's variant: `llvm_ad_rgb` when it loads (it needs LLVM >= 16, on
+    Debian `apt-get install libllvm19`; the project's set-up installs it), else `scalar_rgb`."""
+    global _VARIANT
+    if variant is None and _VARIANT is not None:
+        return _VARIANT
+    if "DRJIT_LIBLLVM_PATH" not in os.environ:
+        p = _llvm_path()
+        if p:
+            os.environ["DRJIT_LIBLLVM_PATH"] = p
+    mi = _require("mitsuba")
+    tried = [variant] if variant else ["llvm_ad_rgb", "scalar_rgb"]
+    errors = []
+    for v in tried:
+        if v == "llvm_ad_rgb" and "DRJIT_LIBLLVM_PATH" not in os.environ:
+            errors.append("llvm_ad_rgb: no libLLVM >= 16 found (Debian: apt-get install libllvm19)")
+            continue
+        try:
+            mi.set_variant(v)
+            _VARIANT = v
+            return v
+        except Exception as e:  # pragma: no cover - depends on the machine
+            errors.append(f"{v}: {e}")
+    raise RuntimeError("no usable Mitsuba variant: " + "; ".join(errors))
+
+
+def _mi_mesh(mi, arrays: dict, bsdf):
+    props = mi.Properties()
+    props["bsdf"] = bsdf
+    n, f = len(arrays["positions"]), len(arrays["faces"])
+    m = mi.Mesh("displaced", n, f, props=props, has_vertex_normals=True, has_vertex_texcoords=True)
+    p = mi.traverse(m)
+    p["vertex_positions"] = np.ascontiguousarray(arrays["positions"], np.float32).ravel()
+    p["vertex_normals"] = np.ascontiguousarray(arrays["normals"], np.float32).ravel()
+    p["vertex_texcoords"] = np.ascontiguousarray(arrays["uvs"], np.float32).ravel()
+    p["faces"] = np.ascontiguousarray(arrays["faces"], np.uint32).ravel()
+    p.update()
+    return m
+
+
+def _look_at(mi, cam):
+    return mi.ScalarTransform4f().look_at(origin=list(cam.eye), target=list(cam.target), up=list(cam.up))
+
+
+def _scene_radius(scene: Scene) -> tuple[np.ndarray, float]:
+    p = scene.mesh.positions
+    lo, hi = p.min(0), p.max(0)
+    return (lo + hi) / 2, float(np.linalg.norm(hi - lo) / 2 + scene.material.depth)
+
+
+def _emitters(mi, scene: Scene) -> dict:
+    out = {}
+    centre, radius = _scene_radius(scene)
+    for i, l in enumerate(scene.lights):
+        if isinstance(l, DirectionalLight):
+            d = np.asarray(l.direction, float)
+            d = d / np.linalg.norm(d)
+            if l.angular_diameter <= 0:
+                out[f"light{i}"] = {"type": "directional", "direction": d.tolist(),
+                                    "irradiance": {"type": "rgb", "value": list(l.irradiance)}}
+            else:
+                # a distant disk source of the same angular diameter: a sphere far away whose
+                # radiance gives the same irradiance on a surface facing it, E = L pi sin^2(a)
+                a = math.radians(l.angular_diameter) / 2
+                dist = 1000.0 * radius
+                pos = centre - d * dist
+                L = np.asarray(l.irradiance) / (math.pi * math.sin(a) ** 2)
+                out[f"light{i}"] = {"type": "sphere", "center": pos.tolist(), "radius": dist * math.sin(a),
+                                    "emitter": {"type": "area", "radiance": {"type": "rgb", "value": L.tolist()}}}
+        elif isinstance(l, SphereLight):
+            if l.radius <= 0:
+                out[f"light{i}"] = {"type": "point", "position": list(l.position),
+                                    "intensity": {"type": "rgb", "value": list(l.intensity)}}
+            else:
+                L = np.asarray(l.intensity) / (math.pi * l.radius ** 2)
+                out[f"light{i}"] = {"type": "sphere", "center": list(l.position), "radius": l.radius,
+                                    "emitter": {"type": "area", "radiance": {"type": "rgb", "value": L.tolist()}}}
+    if max(scene.ambient) > 0:
+        out["ambient"] = {"type": "constant", "radiance": {"type": "rgb", "value": list(scene.ambient)}}
+    return out
+
+
+def _bsdf(mi, scene: Scene):
+    m = scene.material
+    if m.albedo is None:
+        refl = {"type": "rgb", "value": [0.5, 0.5, 0.5]}
+    else:
+        refl = {"type": "bitmap", "bitmap": mi.Bitmap(np.ascontiguousarray(m.albedo, np.float32)), "raw": True,
+                "filter_type": "bilinear", "wrap_mode": "repeat",
+                "to_uv": mi.ScalarTransform3f().scale([m.tiling, m.tiling])}
+    return mi.load_dict({"type": "diffuse", "reflectance": refl})
+
+
+def render_mitsuba(scene: Scene, spp: int = 64, seed: int = 0, variant: str | None = None,
+                   resolution: float = 2.0, cache: bool = True) -> Frame:
+    """Mitsuba 3's render of the displaced mesh: colour from the `direct` integrator (`spp`
+    samples, box filter) and pixel-centre `uv`, `depth` (distance along the ray) and `mask` from
+    the `aov` integrator (a `stratified` sampler, one sample, no jitter). Same camera, emitters
+    and Lambertian shading as pomkit; see docs/references.md for each convention's test.
+    `Frame.wall_ms` is the time of the render (0 when it came from the cache)."""
+    if isinstance(spp, bool) or not isinstance(spp, int) or spp < 1:
+        raise ValueError(f"spp: must be a positive integer, got {spp!r}")
+    key = scene_hash(scene, kind="mitsuba", spp=spp, seed=seed, variant=variant, resolution=resolution)
+
+    def compute():
+        t0 = time.perf_counter()
+        v = mitsuba_variant(variant)
+        mi = _require("mitsuba")
+        arrays = displaced_arrays(scene, resolution)
+        mesh = _mi_mesh(mi, arrays, _bsdf(mi, scene))
+        cam = scene.camera
+        film = {"type": "hdrfilm", "width": cam.width, "height": cam.height, "rfilter": {"type": "box"},
+                "pixel_format": "rgb", "component_format": "float32"}
+        base = {"type": "scene", "mesh": mesh, **_emitters(mi, scene)}
+        sensor = {"type": "perspective", "fov": cam.fov_y, "fov_axis": "y", "to_world": _look_at(mi, cam),
+                  "near_clip": 1e-3, "far_clip": 1e5, "film": film}
+        sc = mi.load_dict({**base, "integrator": {"type": "direct", "emitter_samples": 1, "bsdf_samples": 1},
+                           "sensor": {**sensor, "sampler": {"type": "independent", "sample_count": spp}}})
+        color = np.array(mi.render(sc, spp=spp, seed=seed), dtype=np.float32)[..., :3]
+        sc2 = mi.load_dict({**base, "integrator": {"type": "aov", "aovs": "dd:depth,uv:uv"},
+                            "sensor": {**sensor, "sampler": {"type": "stratified", "sample_count": 1, "jitter": False}}})
+        aov = np.array(mi.render(sc2, spp=1, seed=seed), dtype=np.float32)
+        depth = aov[..., 0]
+        mask = depth > 0
+        uv = np.where(mask[..., None], aov[..., 1:3], np.nan).astype(np.float32)
+        return dict(color=color, uv=uv, depth=np.where(mask, depth, np.nan).astype(np.float32), mask=mask,
+                    ms=np.array((time.perf_counter() - t0) * 1e3), variant=np.array(v))
+
+    t0 = time.perf_counter()
+    a = cached("mitsuba", key, compute, use_cache=cache)
+    return Frame(color=a["color"], uv=a["uv"], depth=a["depth"], mask=a["mask"], wall_ms=float(a["ms"]),
+                 timing="wall", method=f"mitsuba[{a['variant']}] spp={spp} (took {float(a['ms']):.0f} ms, "
+                 f"this call {1e3 * (time.perf_counter() - t0):.0f} ms)")
+
+
+# ---------------------------------------------------------------- pyrender
+
+def render_pyrender(scene: Scene, resolution: float = 2.0, cache: bool = True) -> Frame:
+    """pyrender 0.1.45's render of the displaced mesh, headless (EGL, else OSMesa).
+
+    A loose reference: pyrender shades with a metallic-roughness PBR model (here roughness 1,
+    metallic 0, which is close to but not Lambertian) with shadow maps, and writes sRGB, which is
+    decoded back to linear here. Its directional lights have no angular size and sphere lights
+    become point lights. Texture v-flip and numpy 2's missing `np.infty` are handled here.
+    uv comes from the displaced mesh by barycentric lookup of pyrender's depth (not provided):
+    this Frame carries colour, depth and mask."""
+    key = scene_hash(scene, kind="pyrender", resolution=resolution)
+
+    def compute():
+        t0 = time.perf_counter()
+        if not hasattr(np, "infty"):
+            np.infty = np.inf  # pyrender 0.1.45 uses np.infty, removed in numpy 2
+        os.environ.setdefault("PYOPENGL_PLATFORM", "egl")
+        try:
+            import pyrender  # noqa: F401
+            r, pr = _pyrender_render(scene, resolution)
+        except Exception as first:
+            if os.environ.get("PYOPENGL_PLATFORM") == "egl":
+                # retry with OSMesa in a clean interpreter state is not possible once OpenGL is
+                # imported; report both remedies
+                raise RuntimeError(
+                    f"pyrender could not render headless with EGL ({first}). Install "
+                    "`libegl1 libegl-mesa0 libgl1-mesa-dri` (EGL) or `libosmesa6` and set "
+                    "PYOPENGL_PLATFORM=osmesa before importing pomkit.reference") from first
+            raise
+        color, depth = r
+        mask = depth > 0
+        return dict(color=color, depth=np.where(mask, depth, np.nan).astype(np.float32), mask=mask,
+                    ms=np.array((time.perf_counter() - t0) * 1e3))
+
+    a = cached("pyrender", key, compute, use_cache=cache)
+    nan_uv = np.full(a["mask"].shape + (2,), np.nan, np.float32)
+    return Frame(color=a["color"], uv=nan_uv, depth=a["depth"], mask=a["mask"], wall_ms=float(a["ms"]),
+                 timing="wall", method="pyrender")
+
+
+def _pyrender_render(scene: Scene, resolution: float):
+    import pyrender
+    import trimesh
+    from ._scene import srgb_to_linear
+
+    tm = displaced_mesh(scene, resolution)
+    m = scene.material
+    if m.albedo is not None:
+        from PIL import Image
+        srgb = np.round(np.clip(_linear_to_srgb(m.albedo), 0, 1) * 255).astype(np.uint8)
+        # pyrender samples images with v flipped (OpenGL's origin is the bottom row)
+        img = Image.fromarray(srgb[::-1])
+        uv = np.asarray(tm.visual.uv) * m.tiling
+        mat = pyrender.MetallicRoughnessMaterial(baseColorTexture=img, metallicFactor=0.0, roughnessFactor=1.0)
+        tm.visual = trimesh.visual.TextureVisuals(uv=uv)
+    else:
+        mat = pyrender.MetallicRoughnessMaterial(baseColorFactor=[0.5, 0.5, 0.5, 1.0], metallicFactor=0.0, roughnessFactor=1.0)
+    mesh = pyrender.Mesh.from_trimesh(tm, material=mat, smooth=True)
+    ps = pyrender.Scene(ambient_light=np.array(list(scene.ambient)) if max(scene.ambient) > 0 else np.zeros(3),
+                        bg_color=[0, 0, 0, 0])
+    ps.add(mesh)
+    cam = scene.camera
+    pc = pyrender.PerspectiveCamera(yfov=math.radians(cam.fov_y), aspectRatio=cam.width / cam.height, znear=0.01)
+    f, r, u = cam.basis()
+    pose = np.eye(4)
+    pose[:3, 0], pose[:3, 1], pose[:3, 2], pose[:3, 3] = r, u, -f, cam.eye
+    ps.add(pc, pose=pose)
+    for l in scene.lights:
+        if isinstance(l, DirectionalLight):
+            d = np.asarray(l.direction, float)
+            d /= np.linalg.norm(d)
+            z = -d
+            x = np.cross([0, 1, 0], z) if abs(z[1]) < 0.99 else np.cross([1, 0, 0], z)
+            x /= np.linalg.norm(x)
+            lp = np.eye(4)
+            lp[:3, 0], lp[:3, 1], lp[:3, 2] = x, np.cross(z, x), z
+            ps.add(pyrender.DirectionalLight(color=np.ones(3), intensity=float(np.mean(l.irradiance))), pose=lp)
+        else:
+            lp = np.eye(4)
+            lp[:3, 3] = l.position
+            ps.add(pyrender.PointLight(color=np.ones(3), intensity=float(np.mean(l.intensity)) * 4 * math.pi), pose=lp)
+    rend = pyrender.OffscreenRenderer(cam.width, cam.height)
+    try:
+        flags = pyrender.RenderFlags.SHADOWS_DIRECTIONAL | pyrender.RenderFlags.RGBA
+        color, zbuf = rend.render(ps, flags=flags)
+    finally:
+        rend.delete()
+    lin = srgb_to_linear(color[..., :3].astype(np.float32) / 255.0)
+    # z-buffer depth -> distance along the ray
+    rays = cam.rays()
+    dist = np.where(zbuf > 0, zbuf / np.maximum((rays * f).sum(-1), 1e-9), 0.0).astype(np.float32)
+    return (lin, dist), pyrender
+
+
+def _linear_to_srgb(x):
+    from ._scene import linear_to_srgb
+    return linear_to_srgb(x)

@@ -1,0 +1,263 @@
+//! The displaced surface as a triangle mesh: `S = P + depth * (h - 1) * N`, with h sampled from
+//! the bilinear, repeating height field exactly as the shaders sample it (level 0).
+//!
+//! On meshes made of regular uv grids (every generated mesh), vertices lie on a lattice in
+//! texture space with spacing tpv/W x tpv/H (tpv = texels per vertex, 0.5 for the references),
+//! offset so that it contains every texel centre (for tpv = 1/k or a whole number): the bilinear field's creases between texel centres are
+//! then edges of the mesh. P and N are interpolated inside the base triangle that contains each
+//! lattice point, as the rasteriser would. On meshes from arrays each triangle is subdivided
+//! barycentrically so that no edge spans more than tpv texels (vertices are not on texel centres
+//! there, and shared edges are not welded).
+
+use super::Mesh;
+use crate::error::{Error, Result};
+use crate::scene::Material;
+use glam::{DVec2, DVec3};
+
+/// The displaced surface plus, per vertex, the base frame it was displaced from (for the
+/// tessellated GPU reference, which shades with the base frame like the per-pixel methods).
+#[derive(Clone, Debug, Default)]
+pub struct Tessellation {
+    pub positions: Vec<[f32; 3]>,
+    /// shading normals of the displaced surface, from the height field's central differences
+    pub normals: Vec<[f32; 3]>,
+    pub uvs: Vec<[f32; 2]>,
+    pub indices: Vec<u32>,
+    pub base_normals: Vec<[f32; 3]>,
+    pub tangents: Vec<[f32; 4]>,
+    pub uv_scale: Vec<[f32; 2]>,
+}
+
+/// At most this many vertices (a 4096^2 map at k = 2 is 67M: refuse rather than exhaust memory).
+pub const MAX_VERTICES: usize = 40_000_000;
+
+#[derive(Clone, Copy)]
+struct BaseSample {
+    p: DVec3,
+    n: DVec3,
+    t: DVec3,
+    w: f64,
+    scale: DVec2,
+}
+
+fn v3(a: [f32; 3]) -> DVec3 {
+    DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)
+}
+
+fn lerp_vertex(m: &Mesh, ws: [(usize, f64); 3]) -> BaseSample {
+    let mut p = DVec3::ZERO;
+    let mut n = DVec3::ZERO;
+    let mut t = DVec3::ZERO;
+    let mut s = DVec2::ZERO;
+    for (i, w) in ws {
+        p += v3(m.positions[i]) * w;
+        n += v3(m.normals[i]) * w;
+        let tg = m.tangents[i];
+        t += DVec3::new(tg[0] as f64, tg[1] as f64, tg[2] as f64) * w;
+        s += DVec2::new(m.uv_scale[i][0] as f64, m.uv_scale[i][1] as f64) * w;
+    }
+    BaseSample { p, n: n.normalize_or_zero(), t, w: m.tangents[ws[0].0][3] as f64, scale: s }
+}
+
+/// Lattice coordinates along one axis of a chart: s = 0.5/texels + m * step (step = tpv/texels,
+/// so texel centres are lattice points whenever tpv divides 1 or is a whole number), plus the
+/// chart's ends s = 0 and s = tiling; returned as mesh-uv values in [0, 1].
+fn lattice(tiling: f64, texels: u32, tpv: f64) -> Vec<f64> {
+    let step = tpv / texels as f64;
+    let first = (0.5 / texels as f64) % step;
+    let mut out = vec![0.0];
+    let mut m = 0usize;
+    loop {
+        let s = first + m as f64 * step;
+        if s >= tiling - 1e-9 * step {
+            break;
+        }
+        if s > 1e-9 * step {
+            out.push(s / tiling);
+        }
+        m += 1;
+    }
+    out.push(1.0);
+    out
+}
+
+/// `texels_per_vertex`: lattice spacing in texels (0.5 = two vertices per texel).
+pub fn tessellate(mesh: &Mesh, mat: &Material, texels_per_vertex: f64) -> Result<Tessellation> {
+    if !(texels_per_vertex.is_finite() && (1.0 / 64.0..=1024.0).contains(&texels_per_vertex)) {
+        return Err(Error::arg("texels_per_vertex", format!("must lie in [1/64, 1024], got {texels_per_vertex}")));
+    }
+    let tpv = texels_per_vertex;
+    let hm = &mat.height;
+    let tiling = mat.tiling as f64;
+    let mut out = Tessellation::default();
+    let push = |out: &mut Tessellation, b: BaseSample, uv: DVec2| {
+        let s = uv * tiling;
+        let h = hm.sample(s.x, s.y);
+        let p = b.p + b.n * (mat.depth as f64 * (h - 1.0));
+        // the base frame, orthonormalised as the shader does
+        let n = b.n;
+        let mut t = b.t - n * n.dot(b.t);
+        if t.length_squared() < 1e-24 {
+            t = if n.x.abs() > 0.9 { n.cross(DVec3::Z) } else { n.cross(DVec3::X) };
+        }
+        let t = t.normalize();
+        let bt = n.cross(t) * if b.w < 0.0 { -1.0 } else { 1.0 };
+        let ex = 1.0 / hm.width as f64;
+        let ey = 1.0 / hm.height as f64;
+        let hx = hm.sample(s.x + ex, s.y) - hm.sample(s.x - ex, s.y);
+        let hy = hm.sample(s.x, s.y + ey) - hm.sample(s.x, s.y - ey);
+        let gx = mat.depth as f64 * hx / (2.0 * ex) * tiling / b.scale.x.max(1e-12);
+        let gy = mat.depth as f64 * hy / (2.0 * ey) * tiling / b.scale.y.max(1e-12);
+        let sn = (n - t * gx - bt * gy).normalize_or_zero();
+        out.positions.push([p.x as f32, p.y as f32, p.z as f32]);
+        out.normals.push([sn.x as f32, sn.y as f32, sn.z as f32]);
+        out.uvs.push([uv.x as f32, uv.y as f32]);
+        out.base_normals.push([n.x as f32, n.y as f32, n.z as f32]);
+        out.tangents.push([t.x as f32, t.y as f32, t.z as f32, if b.w < 0.0 { -1.0 } else { 1.0 }]);
+        out.uv_scale.push([b.scale.x as f32, b.scale.y as f32]);
+    };
+    let check = |n: usize| -> Result<()> {
+        if n > MAX_VERTICES {
+            return Err(Error::limit("resolution", format!("the displaced mesh would need {n} vertices (limit {MAX_VERTICES}); lower the resolution or the map size")));
+        }
+        Ok(())
+    };
+    if !mesh.charts.is_empty() {
+        let us = lattice(tiling, hm.width, tpv);
+        let vs = lattice(tiling, hm.height, tpv);
+        check(us.len() * vs.len() * mesh.charts.len())?;
+        for &[nu, nv, first] in &mesh.charts {
+            let base = out.positions.len() as u32;
+            let row = nu as usize + 1;
+            for &v in &vs {
+                for &u in &us {
+                    let x = u * nu as f64;
+                    let y = v * nv as f64;
+                    let i = (x.floor() as usize).min(nu as usize - 1);
+                    let j = (y.floor() as usize).min(nv as usize - 1);
+                    let (fx, fy) = (x - i as f64, y - j as f64);
+                    let a = first as usize + j * row + i;
+                    let (b, c, d) = (a + 1, a + row, a + row + 1);
+                    let bs = if fx + fy <= 1.0 {
+                        lerp_vertex(mesh, [(a, 1.0 - fx - fy), (b, fx), (c, fy)])
+                    } else {
+                        lerp_vertex(mesh, [(d, fx + fy - 1.0), (c, 1.0 - fx), (b, 1.0 - fy)])
+                    };
+                    push(&mut out, bs, DVec2::new(u, v));
+                }
+            }
+            let w = us.len() as u32;
+            for j in 0..vs.len() as u32 - 1 {
+                for i in 0..w - 1 {
+                    let a = base + j * w + i;
+                    let (b, c, d) = (a + 1, a + w, a + w + 1);
+                    out.indices.extend_from_slice(&[a, c, b, b, c, d]);
+                }
+            }
+        }
+    } else {
+        let kw = hm.width as f64 * tiling / tpv;
+        let kh = hm.height as f64 * tiling / tpv;
+        let mut total = 0usize;
+        let levels: Vec<usize> = mesh
+            .indices
+            .chunks_exact(3)
+            .map(|t| {
+                let uv = |i: u32| DVec2::new(mesh.uvs[i as usize][0] as f64, mesh.uvs[i as usize][1] as f64);
+                let mut n = 1.0f64;
+                for (x, y) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                    let d = uv(y) - uv(x);
+                    n = n.max((d.x.abs() * kw).max(d.y.abs() * kh).ceil());
+                }
+                let n = n as usize;
+                total += (n + 1) * (n + 2) / 2;
+                n
+            })
+            .collect();
+        check(total)?;
+        for (tri, &n) in mesh.indices.chunks_exact(3).zip(&levels) {
+            let base = out.positions.len() as u32;
+            let (i0, i1, i2) = (tri[0] as usize, tri[1] as usize, tri[2] as usize);
+            let uv = |i: usize| DVec2::new(mesh.uvs[i][0] as f64, mesh.uvs[i][1] as f64);
+            for a in 0..=n {
+                for b in 0..=(n - a) {
+                    let w1 = a as f64 / n as f64;
+                    let w2 = b as f64 / n as f64;
+                    let w0 = 1.0 - w1 - w2;
+                    let bs = lerp_vertex(mesh, [(i0, w0), (i1, w1), (i2, w2)]);
+                    push(&mut out, bs, uv(i0) * w0 + uv(i1) * w1 + uv(i2) * w2);
+                }
+            }
+            // vertex index of (a, b) in the row-by-row layout
+            let row_start: Vec<u32> = (0..=n).scan(base, |acc, a| {
+                let s = *acc;
+                *acc += (n + 1 - a) as u32;
+                Some(s)
+            }).collect();
+            for a in 0..n {
+                for b in 0..(n - a) {
+                    let p = row_start[a] + b as u32;
+                    let q = row_start[a] + b as u32 + 1;
+                    let r = row_start[a + 1] + b as u32;
+                    out.indices.extend_from_slice(&[p, r, q]);
+                    if b + 1 < n - a {
+                        let s = row_start[a + 1] + b as u32 + 1;
+                        out.indices.extend_from_slice(&[q, r, s]);
+                    }
+                }
+            }
+        }
+    }
+    // wind counter-clockwise about the base normal, like the base mesh
+    for tri in out.indices.chunks_exact_mut(3) {
+        let p = |i: u32| v3(out.positions[i as usize]);
+        let g = (p(tri[1]) - p(tri[0])).cross(p(tri[2]) - p(tri[0]));
+        let nb = v3(out.base_normals[tri[0] as usize]) + v3(out.base_normals[tri[1] as usize]) + v3(out.base_normals[tri[2] as usize]);
+        if g.dot(nb) < 0.0 {
+            tri.swap(1, 2);
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::HeightMap;
+
+    #[test]
+    fn plane_vertices_sit_on_texel_centres_and_displace_by_depth() {
+        let mut data = vec![0.0f32; 16];
+        data[5] = 1.0; // texel (row 1, col 1)
+        let hm = HeightMap::new(4, 4, data).unwrap();
+        let mat = Material { height: hm, depth: 0.5, tiling: 1.0, albedo: None };
+        let m = Mesh::plane(2.0, 1).unwrap();
+        let t = tessellate(&m, &mat, 0.5).unwrap();
+        assert_eq!(t.positions.len(), 9 * 9);
+        // the vertex at texel centre (1.5/4, 1.5/4) is at full height (y = 0), others below
+        let k = t.uvs.iter().position(|uv| (uv[0] - 0.375).abs() < 1e-6 && (uv[1] - 0.375).abs() < 1e-6).unwrap();
+        assert!(t.positions[k][1].abs() < 1e-6);
+        let k2 = t.uvs.iter().position(|uv| (uv[0] - 0.875).abs() < 1e-6 && (uv[1] - 0.875).abs() < 1e-6).unwrap();
+        assert!((t.positions[k2][1] + 0.5).abs() < 1e-6);
+        // x of that vertex is the base position: (u - 0.5) * 2
+        assert!((t.positions[k][0] - (-0.25)).abs() < 1e-6);
+    }
+
+    #[test]
+    fn arrays_mesh_is_subdivided() {
+        let (m, _) = Mesh::from_arrays(
+            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]],
+            vec![[0.0, 1.0, 0.0]; 3],
+            vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]],
+            vec![0, 2, 1],
+            None,
+        )
+        .unwrap();
+        let hm = HeightMap::new(4, 4, vec![1.0; 16]).unwrap();
+        let mat = Material { height: hm, depth: 0.5, tiling: 1.0, albedo: None };
+        let t = tessellate(&m, &mat, 0.5).unwrap();
+        assert_eq!(t.positions.len(), 9 * 10 / 2);
+        assert_eq!(t.indices.len() / 3, 64);
+        assert!(t.positions.iter().all(|p| p[1].abs() < 1e-6));
+    }
+}
