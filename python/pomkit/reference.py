@@ -100,7 +100,7 @@ def _mi_mesh(mi, arrays: dict, bsdf):
     n, f = len(arrays["positions"]), len(arrays["faces"])
     m = mi.Mesh("displaced", n, f, props=props, has_vertex_normals=True, has_vertex_texcoords=True)
     p = mi.traverse(m)
-    p["vertex_positions"] = np.ascontiguousarray(arrays["positions"], np.float32).ravel()
+    p["vertex_positions"] = np.array(arrays["positions"], np.float32).ravel()
     p["vertex_normals"] = np.ascontiguousarray(arrays["normals"], np.float32).ravel()
     p["vertex_texcoords"] = np.ascontiguousarray(arrays["uvs"], np.float32).ravel()
     p["faces"] = np.ascontiguousarray(arrays["faces"], np.uint32).ravel()
@@ -155,7 +155,7 @@ def _bsdf(mi, scene: Scene):
     if m.albedo is None:
         refl = {"type": "rgb", "value": [0.5, 0.5, 0.5]}
     else:
-        refl = {"type": "bitmap", "bitmap": mi.Bitmap(np.ascontiguousarray(m.albedo, np.float32)), "raw": True,
+        refl = {"type": "bitmap", "bitmap": mi.Bitmap(np.array(m.albedo, np.float32, copy=True)), "raw": True,
                 "filter_type": "bilinear", "wrap_mode": "repeat",
                 "to_uv": mi.ScalarTransform3f().scale([m.tiling, m.tiling])}
     return mi.load_dict({"type": "diffuse", "reflectance": refl})
@@ -184,7 +184,11 @@ def render_mitsuba(scene: Scene, spp: int = 64, seed: int = 0, variant: str | No
         base = {"type": "scene", "mesh": mesh, **_emitters(mi, scene)}
         sensor = {"type": "perspective", "fov": cam.fov_y, "fov_axis": "y", "to_world": _look_at(mi, cam),
                   "near_clip": 1e-3, "far_clip": 1e5, "film": film}
-        sc = mi.load_dict({**base, "integrator": {"type": "direct", "emitter_samples": 1, "bsdf_samples": 1},
+        sc = mi.load_dict({**base, "integrator": {"type": "direct", "emitter_samples": 1, "bsdf_samples": 1,
+                                                          # pomkit's background is black: emitters
+                                                          # seen directly (the constant ambient,
+                                                          # sphere lights) are hidden
+                                                          "hide_emitters": True},
                            "sensor": {**sensor, "sampler": {"type": "independent", "sample_count": spp}}})
         color = np.array(mi.render(sc, spp=spp, seed=seed), dtype=np.float32)[..., :3]
         sc2 = mi.load_dict({**base, "integrator": {"type": "aov", "aovs": "dd:depth,uv:uv"},

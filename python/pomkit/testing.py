@@ -1,0 +1,88 @@
+"""pytest helpers for your own test suite (registered as the `pomkit` pytest plugin).
+
+    def test_my_method(reference_frame):
+        ref = reference_frame(scene, kind="mitsuba")      # cached on disk
+        frame = pk.Renderer().render(scene, pk.POM())
+        pk.testing.assert_close(frame, ref, scene=scene, uv_p95=0.5, flip=0.05)
+
+`assert_close` fails with the measured numbers and writes a side-by-side image (frame | ref |
+error) to $POMKIT_DIFF_DIR (default ./pomkit-out/diffs).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Optional
+
+import numpy as np
+import pytest
+
+from ._frame import Frame
+from ._scene import Scene
+
+__all__ = ["assert_close", "reference_frame"]
+
+
+def _diff_image(frame: Frame, ref: Frame, name: str) -> Path:
+    from PIL import Image
+    a = frame.to_srgb8() if frame.color is not None else np.zeros(frame.mask.shape + (3,), np.uint8)
+    b = ref.to_srgb8() if ref.color is not None else np.zeros(ref.mask.shape + (3,), np.uint8)
+    d = np.abs(a.astype(np.int16) - b.astype(np.int16)).max(-1)
+    d = np.clip(d.astype(np.float32) * 4, 0, 255).astype(np.uint8)
+    err = np.stack([d, d // 3, 255 - d], -1) * (d[..., None] > 0)
+    out = Path(os.environ.get("POMKIT_DIFF_DIR", "pomkit-out/diffs"))
+    out.mkdir(parents=True, exist_ok=True)
+    p = out / f"{name}.png"
+    Image.fromarray(np.concatenate([a, b, err.astype(np.uint8)], 1)).save(p)
+    return p
+
+
+def assert_close(frame: Frame, ref: Frame, scene: Optional[Scene] = None, *, uv_p95: Optional[float] = None,
+                 uv_p99: Optional[float] = None, flip: Optional[float] = None, iou: Optional[float] = None,
+                 name: str = "assert_close") -> dict:
+    """Check a frame against a reference. Each given tolerance is asserted (uv in texels, needs
+    `scene`); the returned dict holds every measured number. On failure the message lists them
+    all and names the side-by-side diff image."""
+    from . import metrics
+
+    got: dict = {"mask_iou": metrics.mask_iou(frame, ref)}
+    fails = []
+    if uv_p95 is not None or uv_p99 is not None:
+        if scene is None:
+            raise ValueError("scene: uv tolerances need the scene (for the map size and tiling)")
+        e = metrics.uv_error(frame, ref, scene)
+        got.update(uv_p50=e["p50"], uv_p95=e["p95"], uv_p99=e["p99"], uv_max=e["max"])
+        if uv_p95 is not None and not e["p95"] <= uv_p95:
+            fails.append(f"uv p95 {e['p95']:.4f} > {uv_p95}")
+        if uv_p99 is not None and not e["p99"] <= uv_p99:
+            fails.append(f"uv p99 {e['p99']:.4f} > {uv_p99}")
+    if flip is not None:
+        got["flip"] = metrics.flip(frame, ref)
+        if not got["flip"] <= flip:
+            fails.append(f"FLIP {got['flip']:.4f} > {flip}")
+    if iou is not None and not got["mask_iou"] >= iou:
+        fails.append(f"mask IoU {got['mask_iou']:.4f} < {iou}")
+    if fails:
+        p = _diff_image(frame, ref, name)
+        measured = ", ".join(f"{k}={v:.4g}" for k, v in got.items())
+        raise AssertionError(f"{name}: {'; '.join(fails)} (measured: {measured}); diff image: {p}")
+    return got
+
+
+def _reference(scene: Scene, kind: str = "mitsuba", **kw) -> Frame:
+    from . import reference
+    if kind == "mitsuba":
+        return reference.render_mitsuba(scene, **kw)
+    if kind == "pyrender":
+        return reference.render_pyrender(scene, **kw)
+    if kind == "exact":
+        from ._render import exact_uv
+        return exact_uv(scene)
+    raise ValueError(f"kind: must be 'mitsuba', 'pyrender' or 'exact', got {kind!r}")
+
+
+@pytest.fixture
+def reference_frame():
+    """A function (scene, kind="mitsuba", **settings) -> Frame, cached on disk by scene hash."""
+    return _reference
