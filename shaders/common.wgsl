@@ -33,6 +33,10 @@ struct Globals {
     extra: vec4<f32>,      // method-specific: x adaptive(1)/fixed(0), y mip filtering(1)/level 0(0), z, w
     ambient: vec4<f32>,    // rgb constant environment radiance, w: number of mip levels
     lights: array<Light, 4>,
+    // Tessellated's shadow map: light view-projection, and x: index of the shadowed light
+    // (-1: none), y: world size of a shadow-map texel, z: map size in texels
+    shadow_vp: mat4x4<f32>,
+    shadow: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> G: Globals;
@@ -40,6 +44,8 @@ struct Globals {
 @group(0) @binding(2) var height_samp: sampler;
 @group(0) @binding(3) var albedo_tex: texture_2d<f32>;
 @group(0) @binding(4) var albedo_samp: sampler;
+@group(0) @binding(5) var shadow_tex: texture_depth_2d;
+@group(0) @binding(6) var shadow_samp: sampler_comparison;
 
 struct VsIn {
     @location(0) position: vec3<f32>,

@@ -35,9 +35,13 @@ fn shade(f: Frame, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, lod: f32, w
         }
         var vis = 1.0;
         if (SHADOWS != 0u && with_shadows) {
-            let sr = shadow_march(f, s, h, ls, lod);
-            vis = sr.visibility;
-            o.steps = o.steps + sr.steps;
+            if (METHOD == 6u) {
+                vis = shadow_map_visibility(i, p, n);
+            } else {
+                let sr = shadow_march(f, s, h, ls, lod);
+                vis = sr.visibility;
+                o.steps = o.steps + sr.steps;
+            }
         }
         sum = sum + ls.e * ndl * vis;
     }
@@ -95,7 +99,7 @@ fn fs_main(in: VsOut) -> FsOut {
     } else if (METHOD == 6u) {
         // Tessellated: the displaced mesh itself, shaded like the per-pixel methods (base frame,
         // height-field normal at the rasterised uv, level 0: this is the true surface)
-        let sh = shade(f, s0, 1.0, in.world, height_normal(f, s0, 0.0), lod, false);
+        let sh = shade(f, s0, 1.0, in.world, height_normal(f, s0, 0.0), lod, true);
         color = sh.color;
     }
 

@@ -94,7 +94,7 @@ impl Method {
             "Flat" => Self::flat(),
             "Bump" => Self::bump(),
             "POM" => Self::pom(),
-            "Tessellated" => Self { kind: Kind::Tessellated, shadows: Shadows::None, ..Self::pom() },
+            "Tessellated" => Self { kind: Kind::Tessellated, shadows: Shadows::Hard, ..Self::pom() },
             other => return Err(Error::arg("method", format!("unknown method {other:?}"))),
         };
         let steps = |name: &str, default: u32| -> Result<u32> {
@@ -143,7 +143,10 @@ impl Method {
                 o => return Err(Error::arg("filtering", format!("must be 'hardware' or 'exact', got {o:?}"))),
             };
         }
-        if m.kind != Kind::Pom {
+        if m.kind == Kind::Tessellated && m.shadows == Shadows::Soft {
+            return Err(Error::arg("shadows", "Tessellated has 'none' or 'hard' (a shadow map of the displaced mesh)"));
+        }
+        if !matches!(m.kind, Kind::Pom | Kind::Tessellated) {
             m.shadows = Shadows::None;
         }
         Ok(m)

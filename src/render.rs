@@ -67,7 +67,12 @@ struct Globals {
     extra: [f32; 4],
     ambient: [f32; 4],
     lights: [LightU; MAX_LIGHTS],
+    shadow_vp: [[f32; 4]; 4],
+    shadow: [f32; 4],
 }
+
+/// Shadow-map size for `Tessellated(shadows="hard")` (clamped to the device's limit).
+pub const SHADOW_MAP_SIZE: u32 = 2048;
 
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
 struct PipelineKey {
@@ -126,6 +131,9 @@ pub struct Renderer {
     pipeline_layout: wgpu::PipelineLayout,
     height_sampler: wgpu::Sampler,
     albedo_sampler: wgpu::Sampler,
+    shadow_sampler: wgpu::Sampler,
+    shadow_pipeline: wgpu::RenderPipeline,
+    dummy_shadow: wgpu::TextureView,
     inner: Mutex<Inner>,
     /// serialises GPU submissions so that error scopes and timings belong to one render
     submit: Mutex<()>,
@@ -183,7 +191,7 @@ impl Renderer {
     pub fn new(ctx: Arc<Context>) -> Result<Self> {
         let dev = &ctx.device;
         let filterable = ctx.float32_filterable;
-        let (module, bgl, pipeline_layout, height_sampler, albedo_sampler) = ctx.scoped(|| {
+        let (module, bgl, pipeline_layout, height_sampler, albedo_sampler, shadow_sampler, shadow_pipeline, dummy_shadow) = ctx.scoped(|| {
             let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("pomkit surface"),
                 source: wgpu::ShaderSource::Wgsl(SHADER_SOURCE.into()),
@@ -225,6 +233,22 @@ impl Renderer {
                     samp_entry(2, filterable),
                     tex_entry(3, true),
                     samp_entry(4, true),
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 5,
+                        visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX,
+                        ty: wgpu::BindingType::Texture {
+                            sample_type: wgpu::TextureSampleType::Depth,
+                            view_dimension: wgpu::TextureViewDimension::D2,
+                            multisampled: false,
+                        },
+                        count: None,
+                    },
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 6,
+                        visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX,
+                        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                        count: None,
+                    },
                 ],
             });
             let pipeline_layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -254,7 +278,52 @@ impl Renderer {
                 mipmap_filter: wgpu::MipmapFilterMode::Linear,
                 ..Default::default()
             });
-            Ok((module, bgl, pipeline_layout, height_sampler, albedo_sampler))
+            let shadow_sampler = dev.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("shadow"),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                compare: Some(wgpu::CompareFunction::LessEqual),
+                ..Default::default()
+            });
+            let shadow_pipeline = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("pomkit shadow map"),
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_shadow"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(wgpu::VertexBufferLayout {
+                        array_stride: std::mem::size_of::<Vertex>() as u64,
+                        step_mode: wgpu::VertexStepMode::Vertex,
+                        attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2],
+                    })],
+                },
+                primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleList, cull_mode: None, ..Default::default() },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: None,
+                multiview_mask: None,
+                cache: None,
+            });
+            let dummy_shadow = dev
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some("no shadow map"),
+                    size: wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: DEPTH_FORMAT,
+                    usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT,
+                    view_formats: &[],
+                })
+                .create_view(&Default::default());
+            Ok((module, bgl, pipeline_layout, height_sampler, albedo_sampler, shadow_sampler, shadow_pipeline, dummy_shadow))
         })?;
         Ok(Self {
             ctx,
@@ -263,6 +332,9 @@ impl Renderer {
             pipeline_layout,
             height_sampler,
             albedo_sampler,
+            shadow_sampler,
+            shadow_pipeline,
+            dummy_shadow,
             inner: Mutex::new(Inner {
                 pipelines: HashMap::new(),
                 heights: Cached::new(8),
@@ -547,6 +619,29 @@ impl Renderer {
             };
         }
         let hm = &scene.material.height;
+        let mut shadow_vp = [[0.0f32; 4]; 4];
+        let mut shadow = [-1.0f32, 0.0, 1.0, 0.0];
+        if method.kind == Kind::Tessellated && method.shadows != crate::methods::Shadows::None {
+            if let Some((i, dir)) = scene.lights.iter().enumerate().find_map(|(i, l)| match l {
+                Light::Directional { direction, .. } => Some((i, DVec3::from(*direction).normalize())),
+                _ => None,
+            }) {
+                let size = SHADOW_MAP_SIZE.min(self.ctx.limits.max_texture_dimension_2d);
+                let up = if dir.y.abs() < 0.99 { DVec3::Y } else { DVec3::X };
+                let right = dir.cross(up).normalize();
+                let up = right.cross(dir);
+                let eye = c - dir * (2.0 * r);
+                // orthographic: x, y in [-r, r], depth along dir from eye in [0, 4r]
+                let m = glam::DMat4::from_cols(
+                    glam::DVec4::new(right.x / r, up.x / r, dir.x / (4.0 * r), 0.0),
+                    glam::DVec4::new(right.y / r, up.y / r, dir.y / (4.0 * r), 0.0),
+                    glam::DVec4::new(right.z / r, up.z / r, dir.z / (4.0 * r), 0.0),
+                    glam::DVec4::new(-right.dot(eye) / r, -up.dot(eye) / r, -dir.dot(eye) / (4.0 * r), 1.0),
+                );
+                shadow_vp = m.as_mat4().to_cols_array_2d();
+                shadow = [i as f32, (2.0 * r / size as f64) as f32, size as f32, 0.0];
+            }
+        }
         Globals {
             view_proj: vp.to_cols_array_2d(),
             eye: [scene.camera.eye[0] as f32, scene.camera.eye[1] as f32, scene.camera.eye[2] as f32, scene.lights.len() as f32],
@@ -555,6 +650,8 @@ impl Renderer {
             extra: [if method.adaptive { 1.0 } else { 0.0 }, if method.mip_filtering { 1.0 } else { 0.0 }, 0.0, 0.0],
             ambient: [scene.ambient[0], scene.ambient[1], scene.ambient[2], mip_count(hm.width, hm.height) as f32],
             lights,
+            shadow_vp,
+            shadow,
         }
     }
 
@@ -610,8 +707,62 @@ impl Renderer {
                     wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.height_sampler) },
                     wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(albedo) },
                     wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&self.albedo_sampler) },
+                    wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::TextureView(&self.dummy_shadow) },
+                    wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
                 ],
             });
+            let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("render") });
+            // Tessellated's shadow map: the displaced mesh's depth from the light
+            let shadow_view = (globals.shadow[0] >= 0.0).then(|| {
+                let size = globals.shadow[2] as u32;
+                let t = dev.create_texture(&wgpu::TextureDescriptor {
+                    label: Some("shadow map"),
+                    size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: DEPTH_FORMAT,
+                    usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT,
+                    view_formats: &[],
+                });
+                let v = t.create_view(&Default::default());
+                {
+                    let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some("shadow map"),
+                        color_attachments: &[],
+                        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                            view: &v,
+                            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+                            stencil_ops: None,
+                        }),
+                        timestamp_writes: None,
+                        occlusion_query_set: None,
+                        multiview_mask: None,
+                    });
+                    pass.set_pipeline(&self.shadow_pipeline);
+                    pass.set_bind_group(0, &bind, &[]);
+                    pass.set_vertex_buffer(0, mesh.vbuf.slice(..));
+                    pass.set_index_buffer(mesh.ibuf.slice(..), wgpu::IndexFormat::Uint32);
+                    pass.draw_indexed(0..mesh.count, 0, 0..1);
+                }
+                v
+            });
+            let bind = match &shadow_view {
+                None => bind,
+                Some(v) => dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("surface + shadow map"),
+                    layout: &self.bgl,
+                    entries: &[
+                        wgpu::BindGroupEntry { binding: 0, resource: ubuf.as_entire_binding() },
+                        wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(height) },
+                        wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.height_sampler) },
+                        wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(albedo) },
+                        wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&self.albedo_sampler) },
+                        wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::TextureView(v) },
+                        wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
+                    ],
+                }),
+            };
             let target = |label| {
                 dev.create_texture(&wgpu::TextureDescriptor {
                     label: Some(label),
@@ -642,7 +793,6 @@ impl Renderer {
             let queries = ctx.timestamps.then(|| {
                 dev.create_query_set(&wgpu::QuerySetDescriptor { label: Some("pass time"), ty: wgpu::QueryType::Timestamp, count: 2 })
             });
-            let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("render") });
             {
                 let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("surface"),

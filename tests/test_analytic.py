@@ -146,6 +146,20 @@ def test_hard_shadow_behind_the_wall_only(renderer):
     assert g.color.mean(-1)[behind].min() > 0.1
 
 
+def test_tessellated_shadow_map_behind_the_wall_only(renderer):
+    scene, _ = wall_scene("hard")
+    f = renderer.render(scene, pk.Tessellated(texels_per_vertex=0.5))
+    u = f.uv[..., 0]
+    lum = f.color.mean(-1)
+    # the wall's top edge is 0.45..0.5 in u; its shadow on the floor reaches u = 0.7. Margins of
+    # 0.02 uv (2.5 map texels, 1.3 shadow-map texels) keep PCF edges out of the test.
+    behind = f.mask & (u > 0.52) & (u < 0.68)
+    front = f.mask & (u > 0.25) & (u < 0.43)
+    far = f.mask & (u > 0.72) & (u < 0.95)
+    assert lum[behind].max() < 1e-6
+    assert lum[front].min() > 0.1 and lum[far].min() > 0.1
+
+
 def test_soft_shadow_penumbra_grows_with_angular_diameter(renderer):
     scene, _ = wall_scene("soft")
     dark = []

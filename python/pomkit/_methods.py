@@ -123,12 +123,18 @@ class Tessellated(Method):
     same pipeline and shaded the same way: vertices on a lattice through the texel centres,
     `texels_per_vertex` texels apart (1: one vertex per texel; 0.5: two per texel, which matches
     the exact bilinear field to about 0.001 texel). Displaced on the CPU once per
-    (mesh, height map, depth, tiling, spacing) and cached on the GPU. No shadows yet."""
+    (mesh, height map, depth, tiling, spacing) and cached on the GPU.
+
+    shadows: "hard" (default) tests the first directional light against a 2048^2 shadow map of
+    the displaced mesh itself (3x3 PCF, boundaries good to ~1.5 shadow-map texels, no area-light
+    penumbra); "none" turns it off. Other lights are unshadowed."""
 
     texels_per_vertex: float = 1.0
+    shadows: str = "hard"
     _kind = "Tessellated"
 
     def __post_init__(self):
+        _choice(self, "shadows", ("none", "hard"))
         v = self.texels_per_vertex
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not (1 / 64 <= v <= 1024):
             raise ValueError(f"texels_per_vertex: must be a number in [1/64, 1024], got {v!r}")
