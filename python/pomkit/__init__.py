@@ -12,14 +12,14 @@ from ._frame import Frame
 from ._methods import POM, Bump, Flat, Method, Tessellated
 from ._render import Renderer, adapters, exact_uv
 from ._scene import Camera, DirectionalLight, Material, Mesh, Scene, SphereLight, linear_to_srgb, srgb_to_linear
-from . import metrics, textures
+from . import metrics, testing, textures
 
 __version__ = _core.__version__
 
 __all__ = [
     "__version__", "Renderer", "adapters", "exact_uv", "Frame", "Scene", "Mesh", "Material", "Camera",
     "DirectionalLight", "SphereLight", "Method", "Flat", "Bump", "POM", "Tessellated", "textures",
-    "metrics", "reference", "GpuError", "DeviceLostError", "NoAdapterError", "linear_to_srgb", "srgb_to_linear",
+    "metrics", "reference", "testing", "GpuError", "DeviceLostError", "NoAdapterError", "linear_to_srgb", "srgb_to_linear",
 ]
 
 

@@ -16,6 +16,8 @@ def main(argv=None) -> int:
     b.add_argument("--out", default="pomkit-out/bench")
     b.add_argument("--quick", action="store_true", help="a small sweep (minutes)")
     sub.add_parser("info", help="print the adapters and the one pomkit would use")
+    t = sub.add_parser("tables", help="regenerate the measured tables in docs/tables/")
+    t.add_argument("--out", default="docs/tables")
     a = p.parse_args(argv)
     if a.cmd == "demo":
         from .demo import run_demo
@@ -23,6 +25,9 @@ def main(argv=None) -> int:
     elif a.cmd == "bench":
         from .bench import run_bench
         run_bench(a.out, quick=a.quick)
+    elif a.cmd == "tables":
+        from .tables import run_tables
+        run_tables(a.out)
     elif a.cmd == "info":
         import pomkit as pk
         for i, ad in enumerate(pk.adapters()):
