@@ -12,7 +12,7 @@ from ._frame import Frame
 from ._methods import POM, Bump, Flat, Method, Tessellated
 from ._render import Renderer, adapters, exact_uv
 from ._scene import Camera, DirectionalLight, Material, Mesh, Scene, SphereLight, linear_to_srgb, srgb_to_linear
-from . import metrics, testing, textures
+from . import metrics, textures
 
 __version__ = _core.__version__
 
@@ -24,8 +24,8 @@ __all__ = [
 
 
 def __getattr__(name):
-    # `pk.reference` imports lazily: it pulls in trimesh/Mitsuba only when used
-    if name == "reference":
+    # `pk.reference` and `pk.testing` import lazily: trimesh, Mitsuba and pytest only when used
+    if name in ("reference", "testing"):
         import importlib
-        return importlib.import_module(".reference", __name__)
+        return importlib.import_module("." + name, __name__)
     raise AttributeError(f"module 'pomkit' has no attribute {name!r}")
