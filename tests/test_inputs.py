@@ -238,3 +238,15 @@ def test_gil_released_during_render(renderer):
     # the spinning thread ran while the render (tens of ms on this adapter) was in flight
     assert f.wall_ms > 5
     assert during > 10, during
+
+
+def test_missing_adapter_names_the_package():
+    # no Vulkan driver visible and only the Vulkan backend allowed: a clear error, no crash
+    code = (
+        "import pomkit as pk\n"
+        "print(len(pk.adapters()))\n"
+        "try:\n    pk.Renderer()\nexcept pk.NoAdapterError as e:\n    print('NoAdapterError', e)\n"
+    )
+    p = _run(code, POMKIT_BACKEND="vulkan", VK_ICD_FILENAMES="/nonexistent.json", VK_DRIVER_FILES="/nonexistent.json")
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.startswith("0\nNoAdapterError") and "mesa-vulkan-drivers" in p.stdout, p.stdout
