@@ -46,6 +46,9 @@ struct Globals {
 @group(0) @binding(4) var albedo_samp: sampler;
 @group(0) @binding(5) var shadow_tex: texture_depth_2d;
 @group(0) @binding(6) var shadow_samp: sampler_comparison;
+// max-mip pyramid: level 0 holds the max of the bilinear field over each cell between texel
+// centres (cell (i, j) spans texel centres i..i+1, j..j+1), level k the max over 2^k x 2^k cells
+@group(0) @binding(7) var max_tex: texture_2d<f32>;
 
 struct VsIn {
     @location(0) position: vec3<f32>,

@@ -1,6 +1,9 @@
 //! Mip pyramids of the height map (box-filtered mean for sampling; max-reduced for the
-//! hierarchical methods).
+//! hierarchical methods), on the CPU (reference, tests) and on the GPU (what renders use, so
+//! that a dynamic height field costs a level-0 upload and a few compute dispatches).
 
+use crate::error::{Error, Result};
+use crate::gpu::Context;
 use crate::scene::HeightMap;
 
 /// Size of mip level `k` of a `w x h` map (wgpu's rule: halve, floor, at least 1).
@@ -48,6 +51,171 @@ pub fn mean_pyramid(map: &HeightMap) -> Vec<Vec<f32>> {
 
 pub fn max_pyramid(map: &HeightMap) -> Vec<Vec<f32>> {
     pyramid(map, |q| q[0].max(q[1]).max(q[2]).max(q[3]))
+}
+
+/// Level 0 of the max pyramid: the max of the bilinear field over each cell between texel
+/// centres (the four corner texels, wrapping), then 2x2 max reduction above it.
+pub fn cell_max_pyramid(map: &HeightMap) -> Vec<Vec<f32>> {
+    let (w, h) = (map.width as i64, map.height as i64);
+    let mut l0 = Vec::with_capacity((w * h) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let v = map.texel(x, y).max(map.texel(x + 1, y)).max(map.texel(x, y + 1)).max(map.texel(x + 1, y + 1));
+            l0.push(v as f32);
+        }
+    }
+    max_pyramid(&HeightMap { width: map.width, height: map.height, data: l0 })
+}
+
+/// The height map on the GPU: the sampling texture (mean mips) and the max-mip texture.
+pub struct GpuHeight {
+    pub width: u32,
+    pub height: u32,
+    pub mips: u32,
+    pub tex: wgpu::Texture,
+    pub max_tex: wgpu::Texture,
+    pub view: wgpu::TextureView,
+    pub max_view: wgpu::TextureView,
+}
+
+/// Compute pipelines that fill the pyramids.
+pub struct MipBuilder {
+    layout: wgpu::BindGroupLayout,
+    mean: wgpu::ComputePipeline,
+    max: wgpu::ComputePipeline,
+    cell_max: wgpu::ComputePipeline,
+}
+
+pub const MIPS_SHADER: &str = include_str!("../shaders/mips.wgsl");
+
+impl MipBuilder {
+    pub fn new(ctx: &Context) -> Result<Self> {
+        let dev = &ctx.device;
+        ctx.scoped(|| {
+            let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("pomkit mips"),
+                source: wgpu::ShaderSource::Wgsl(MIPS_SHADER.into()),
+            });
+            let layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("mips"),
+                entries: &[
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 0,
+                        visibility: wgpu::ShaderStages::COMPUTE,
+                        ty: wgpu::BindingType::Texture {
+                            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                            view_dimension: wgpu::TextureViewDimension::D2,
+                            multisampled: false,
+                        },
+                        count: None,
+                    },
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 1,
+                        visibility: wgpu::ShaderStages::COMPUTE,
+                        ty: wgpu::BindingType::StorageTexture {
+                            access: wgpu::StorageTextureAccess::WriteOnly,
+                            format: wgpu::TextureFormat::R32Float,
+                            view_dimension: wgpu::TextureViewDimension::D2,
+                        },
+                        count: None,
+                    },
+                ],
+            });
+            let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("mips"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+            let make = |mode: f64| {
+                dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some("mips reduce"),
+                    layout: Some(&pl),
+                    module: &module,
+                    entry_point: Some("reduce"),
+                    compilation_options: wgpu::PipelineCompilationOptions { constants: &[("REDUCE", mode)], ..Default::default() },
+                    cache: None,
+                })
+            };
+            Ok(Self { mean: make(0.0), max: make(1.0), cell_max: make(2.0), layout })
+        })
+    }
+
+    fn texture(ctx: &Context, label: &str, map: &HeightMap) -> wgpu::Texture {
+        ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d { width: map.width, height: map.height, depth_or_array_layers: 1 },
+            mip_level_count: mip_count(map.width, map.height),
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R32Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        })
+    }
+
+    /// Upload a height map and build both pyramids.
+    pub fn create(&self, ctx: &Context, map: &HeightMap) -> Result<GpuHeight> {
+        let g = ctx.scoped(|| {
+            let tex = Self::texture(ctx, "height", map);
+            let max_tex = Self::texture(ctx, "height max-mip", map);
+            Ok(GpuHeight {
+                width: map.width,
+                height: map.height,
+                mips: mip_count(map.width, map.height),
+                view: tex.create_view(&Default::default()),
+                max_view: max_tex.create_view(&Default::default()),
+                tex,
+                max_tex,
+            })
+        })?;
+        self.update(ctx, &g, map)?;
+        Ok(g)
+    }
+
+    /// Replace the map's texels (same size) and rebuild both pyramids on the GPU.
+    pub fn update(&self, ctx: &Context, g: &GpuHeight, map: &HeightMap) -> Result<()> {
+        if map.width != g.width || map.height != g.height {
+            return Err(Error::arg(
+                "height",
+                format!("update needs the same size: {}x{} vs {}x{}", map.width, map.height, g.width, g.height),
+            ));
+        }
+        ctx.scoped(|| {
+            ctx.queue.write_texture(
+                g.tex.as_image_copy(),
+                bytemuck::cast_slice(&map.data),
+                wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(4 * map.width), rows_per_image: Some(map.height) },
+                wgpu::Extent3d { width: map.width, height: map.height, depth_or_array_layers: 1 },
+            );
+            let dev = &ctx.device;
+            let level = |t: &wgpu::Texture, k: u32| {
+                t.create_view(&wgpu::TextureViewDescriptor { base_mip_level: k, mip_level_count: Some(1), ..Default::default() })
+            };
+            let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("mips") });
+            let mut dispatch = |pipe: &wgpu::ComputePipeline, src: wgpu::TextureView, dst: wgpu::TextureView, k: u32| {
+                let bg = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("mips"),
+                    layout: &self.layout,
+                    entries: &[
+                        wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&src) },
+                        wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&dst) },
+                    ],
+                });
+                let (w, h) = level_size(map.width, map.height, k);
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("reduce"), timestamp_writes: None });
+                pass.set_pipeline(pipe);
+                pass.set_bind_group(0, &bg, &[]);
+                pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+            };
+            dispatch(&self.cell_max, level(&g.tex, 0), level(&g.max_tex, 0), 0);
+            for k in 1..g.mips {
+                dispatch(&self.mean, level(&g.tex, k - 1), level(&g.tex, k), k);
+                dispatch(&self.max, level(&g.max_tex, k - 1), level(&g.max_tex, k), k);
+            }
+            ctx.queue.submit([enc.finish()]);
+            Ok(())
+        })
+    }
 }
 
 #[cfg(test)]

@@ -3,7 +3,7 @@
 
 use crate::error::{Error, Result};
 use crate::gpu::Context;
-use crate::heightmap::{mean_pyramid, mip_count};
+use crate::heightmap::{mip_count, GpuHeight, MipBuilder};
 use crate::methods::{Filtering, Kind, Method};
 use crate::mesh::tessellate::tessellate;
 use crate::mesh::{Mesh, Vertex};
@@ -82,7 +82,7 @@ struct PipelineKey {
 }
 
 struct Cached<T> {
-    entries: Vec<(u64, Arc<T>)>,
+    pub(crate) entries: Vec<(u64, Arc<T>)>,
     cap: usize,
 }
 
@@ -115,7 +115,7 @@ struct GpuMesh {
 
 struct Inner {
     pipelines: HashMap<PipelineKey, Arc<wgpu::RenderPipeline>>,
-    heights: Cached<wgpu::TextureView>,
+    heights: Cached<GpuHeight>,
     albedos: Cached<wgpu::TextureView>,
     meshes: Cached<GpuMesh>,
 }
@@ -134,6 +134,7 @@ pub struct Renderer {
     shadow_sampler: wgpu::Sampler,
     shadow_pipeline: wgpu::RenderPipeline,
     dummy_shadow: wgpu::TextureView,
+    mips: MipBuilder,
     inner: Mutex<Inner>,
     /// serialises GPU submissions so that error scopes and timings belong to one render
     submit: Mutex<()>,
@@ -142,6 +143,10 @@ pub struct Renderer {
 /// float32 bits in uint targets: exact on every backend (GL cannot render to Rgba32Float)
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+fn height_key(map: &HeightMap) -> u64 {
+    hash_bytes(&[&map.width.to_le_bytes(), &map.height.to_le_bytes(), bytemuck::cast_slice(&map.data)])
+}
 
 fn hash_bytes(parts: &[&[u8]]) -> u64 {
     let mut h = DefaultHasher::new();
@@ -249,6 +254,7 @@ impl Renderer {
                         ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
                         count: None,
                     },
+                    tex_entry(7, false),
                 ],
             });
             let pipeline_layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -325,6 +331,7 @@ impl Renderer {
                 .create_view(&Default::default());
             Ok((module, bgl, pipeline_layout, height_sampler, albedo_sampler, shadow_sampler, shadow_pipeline, dummy_shadow))
         })?;
+        let mips = MipBuilder::new(&ctx)?;
         Ok(Self {
             ctx,
             module,
@@ -335,6 +342,7 @@ impl Renderer {
             shadow_sampler,
             shadow_pipeline,
             dummy_shadow,
+            mips,
             inner: Mutex::new(Inner {
                 pipelines: HashMap::new(),
                 heights: Cached::new(8),
@@ -423,31 +431,31 @@ impl Renderer {
         Ok(p)
     }
 
-    fn height_texture(&self, inner: &mut Inner, map: &HeightMap) -> Result<Arc<wgpu::TextureView>> {
-        let key = hash_bytes(&[&map.width.to_le_bytes(), &map.height.to_le_bytes(), bytemuck::cast_slice(&map.data)]);
-        let ctx = &self.ctx;
-        inner.heights.get_or(key, || {
-            let levels = mean_pyramid(map);
-            let data: Vec<f32> = levels.concat();
-            ctx.scoped(|| {
-                let tex = ctx.device.create_texture_with_data(
-                    &ctx.queue,
-                    &wgpu::TextureDescriptor {
-                        label: Some("height"),
-                        size: wgpu::Extent3d { width: map.width, height: map.height, depth_or_array_layers: 1 },
-                        mip_level_count: mip_count(map.width, map.height),
-                        sample_count: 1,
-                        dimension: wgpu::TextureDimension::D2,
-                        format: wgpu::TextureFormat::R32Float,
-                        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-                        view_formats: &[],
-                    },
-                    wgpu::util::TextureDataOrder::LayerMajor,
-                    bytemuck::cast_slice(&data),
-                );
-                Ok(tex.create_view(&Default::default()))
-            })
-        })
+    fn height_texture(&self, inner: &mut Inner, map: &HeightMap) -> Result<Arc<GpuHeight>> {
+        let key = height_key(map);
+        inner.heights.get_or(key, || self.mips.create(&self.ctx, map))
+    }
+
+    /// Dynamic height fields: write `new` into the GPU texture that holds `old` (same size),
+    /// rebuild both pyramids on the GPU, and re-key the cache entry. No pipeline is rebuilt and
+    /// nothing is allocated. Returns false when `old` was not resident (it will upload on the
+    /// next render instead).
+    pub fn update_height(&self, old: &HeightMap, new: &HeightMap) -> Result<bool> {
+        let mut inner = self.inner.lock().map_err(|_| Error::Gpu("renderer lock poisoned".into()))?;
+        let old_key = height_key(old);
+        let new_key = height_key(new);
+        let Some(pos) = inner.heights.entries.iter().position(|(k, _)| *k == old_key) else {
+            return Ok(false);
+        };
+        let g = inner.heights.entries[pos].1.clone();
+        if g.width != new.width || g.height != new.height {
+            return Ok(false);
+        }
+        let _guard = self.submit.lock().map_err(|_| Error::Gpu("renderer lock poisoned".into()))?;
+        self.mips.update(&self.ctx, &g, new)?;
+        self.ctx.wait()?;
+        inner.heights.entries[pos].0 = new_key;
+        Ok(true)
     }
 
     fn albedo_texture(&self, inner: &mut Inner, albedo: Option<&Albedo>) -> Result<Arc<wgpu::TextureView>> {
@@ -678,11 +686,28 @@ impl Renderer {
         self.draw(scene, &pipeline, &height, &albedo, &mesh, &globals)
     }
 
+    fn bind_group(&self, ubuf: &wgpu::Buffer, height: &GpuHeight, albedo: &wgpu::TextureView, shadow: &wgpu::TextureView) -> wgpu::BindGroup {
+        self.ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("surface"),
+            layout: &self.bgl,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: ubuf.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&height.view) },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.height_sampler) },
+                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(albedo) },
+                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&self.albedo_sampler) },
+                wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::TextureView(shadow) },
+                wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
+                wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::TextureView(&height.max_view) },
+            ],
+        })
+    }
+
     fn draw(
         &self,
         scene: &Scene,
         pipeline: &wgpu::RenderPipeline,
-        height: &wgpu::TextureView,
+        height: &GpuHeight,
         albedo: &wgpu::TextureView,
         mesh: &GpuMesh,
         globals: &Globals,
@@ -698,19 +723,7 @@ impl Renderer {
                 contents: bytemuck::bytes_of(globals),
                 usage: wgpu::BufferUsages::UNIFORM,
             });
-            let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("surface"),
-                layout: &self.bgl,
-                entries: &[
-                    wgpu::BindGroupEntry { binding: 0, resource: ubuf.as_entire_binding() },
-                    wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(height) },
-                    wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.height_sampler) },
-                    wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(albedo) },
-                    wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&self.albedo_sampler) },
-                    wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::TextureView(&self.dummy_shadow) },
-                    wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
-                ],
-            });
+            let bind = self.bind_group(&ubuf, height, albedo, &self.dummy_shadow);
             let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("render") });
             // Tessellated's shadow map: the displaced mesh's depth from the light
             let shadow_view = (globals.shadow[0] >= 0.0).then(|| {
@@ -749,19 +762,7 @@ impl Renderer {
             });
             let bind = match &shadow_view {
                 None => bind,
-                Some(v) => dev.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("surface + shadow map"),
-                    layout: &self.bgl,
-                    entries: &[
-                        wgpu::BindGroupEntry { binding: 0, resource: ubuf.as_entire_binding() },
-                        wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(height) },
-                        wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&self.height_sampler) },
-                        wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(albedo) },
-                        wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&self.albedo_sampler) },
-                        wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::TextureView(v) },
-                        wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
-                    ],
-                }),
+                Some(v) => self.bind_group(&ubuf, height, albedo, v),
             };
             let target = |label| {
                 dev.create_texture(&wgpu::TextureDescriptor {
