@@ -10,9 +10,10 @@ const PI: f32 = 3.14159265358979;
 const MAX_LIGHTS: u32 = 4u;
 
 // ---- pipeline-specialisation constants (one pipeline per combination) ----
-// METHOD: 0 Flat, 1 Bump, 2 POM, 6 Tessellated (the displaced mesh, rasterised)
+// METHOD: 0 Flat, 1 Bump, 2 POM, 3 Parallax, 4 SteepParallax, 5 Relief,
+//         6 Tessellated (the displaced mesh, rasterised), 7 Exact (max-mip traversal)
 override METHOD: u32 = 0u;
-// SHADOWS: 0 none, 1 hard, 2 soft
+// SHADOWS: 0 none, 1 hard, 2 soft, 3 horizon (max-mip horizon angle), 4 exact (Exact only)
 override SHADOWS: u32 = 0u;
 // FILTERING: 0 hardware (sampler bilinear/trilinear), 1 exact (4 textureLoads, f32 lerp)
 override FILTERING: u32 = 0u;
@@ -30,13 +31,17 @@ struct Globals {
     eye: vec4<f32>,        // xyz eye, w: number of lights
     tex: vec4<f32>,        // height W, H, tiling, depth
     march: vec4<f32>,      // min_steps, max_steps, shadow_steps, lod_threshold
-    extra: vec4<f32>,      // method-specific: x adaptive(1)/fixed(0), y mip filtering(1)/level 0(0), z, w
+    extra: vec4<f32>,      // x adaptive(1)/fixed(0), y mip filtering(1)/level 0(0), z ao directions, w horizon samples
+    params: vec4<f32>,     // x parallax scale, y parallax bias, z offset limiting, w max iterations (Exact)
+    params2: vec4<f32>,    // x binary steps (Relief), y depth bias (Relief), z top max-mip level, w
     ambient: vec4<f32>,    // rgb constant environment radiance, w: number of mip levels
     lights: array<Light, 4>,
     // Tessellated's shadow map: light view-projection, and x: index of the shadowed light
     // (-1: none), y: world size of a shadow-map texel, z: map size in texels
     shadow_vp: mat4x4<f32>,
     shadow: vec4<f32>,
+    // element offset of each max-pyramid level in max_buf
+    max_offsets: array<vec4<u32>, 4>,
 }
 
 @group(0) @binding(0) var<uniform> G: Globals;
@@ -46,9 +51,14 @@ struct Globals {
 @group(0) @binding(4) var albedo_samp: sampler;
 @group(0) @binding(5) var shadow_tex: texture_depth_2d;
 @group(0) @binding(6) var shadow_samp: sampler_comparison;
-// max-mip pyramid: level 0 holds the max of the bilinear field over each cell between texel
-// centres (cell (i, j) spans texel centres i..i+1, j..j+1), level k the max over 2^k x 2^k cells
-@group(0) @binding(7) var max_tex: texture_2d<f32>;
+// max-mip pyramid, levels back to back: level 0 holds the max of the bilinear field over each
+// cell between texel centres (cell (i, j) spans texel centres i..i+1, j..j+1), level k the max
+// over 2^k x 2^k cells
+@group(0) @binding(7) var<storage, read> max_buf: array<f32>;
+
+fn max_level_dims(level: i32) -> vec2<i32> {
+    return max(vec2<i32>(G.tex.xy) >> vec2<u32>(u32(level)), vec2<i32>(1));
+}
 
 struct VsIn {
     @location(0) position: vec3<f32>,
@@ -71,15 +81,19 @@ struct VsOut {
 // Targets are Rgba32Uint holding float32 bits: exact float32 AOVs on every backend (GL cannot
 // render to Rgba32Float). See `write_aovs`.
 struct FsOut {
-    // rgb: linear radiance, a: height-map samples taken (view + shadow rays)
+    // rgb: linear radiance (float bits), a: steps (low 28 bits) | flags << 28
     @location(0) color: vec4<u32>,
     // xy: hit uv (mesh space, unwrapped), z: distance eye -> hit, w: mip level used
     @location(1) geo: vec4<u32>,
 }
 
-fn write_aovs(color: vec3<f32>, steps: f32, uv: vec2<f32>, dist: f32, lod: f32) -> FsOut {
+// flags (AOV `flags`): 1 = the march hit its iteration bound (Exact) or ended early
+const FLAG_BOUND: u32 = 1u;
+
+fn write_aovs(color: vec3<f32>, steps: u32, flags: u32, uv: vec2<f32>, dist: f32, lod: f32) -> FsOut {
     var o: FsOut;
-    o.color = bitcast<vec4<u32>>(vec4<f32>(color, steps));
+    let c = bitcast<vec3<u32>>(color);
+    o.color = vec4<u32>(c, min(steps, 0x0fffffffu) | (flags << 28u));
     o.geo = bitcast<vec4<u32>>(vec4<f32>(uv, dist, lod));
     return o;
 }
@@ -127,8 +141,11 @@ fn num_mips() -> f32 {
 // The height field is bilinear between texel centres and repeats. Both paths agree up to the
 // adapter's filter-weight precision; FILTERING = 1 removes that source of error.
 
+// x mod n in [0, n), also for negative x. Written with f32 floor: on lavapipe (Mesa 22.3)
+// integer `%` and `>>` on negative i32 gave wrong results in the max-mip traversal.
 fn wrap_i(x: i32, n: i32) -> i32 {
-    return ((x % n) + n) % n;
+    let q = i32(floor(f32(x) / f32(n)));
+    return clamp(x - q * n, 0, n - 1);
 }
 
 fn height_exact_level(s: vec2<f32>, level: i32) -> f32 {

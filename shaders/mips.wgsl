@@ -39,3 +39,51 @@ fn reduce(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     textureStore(dst, p, vec4<f32>(v, 0.0, 0.0, 0.0));
 }
+
+// ---- the max pyramid in a storage buffer (levels back to back, row-major) ----
+// A buffer, not a texture: the traversal reads a different level in each lane, and a texel
+// fetch whose level varies across lanes was seen returning other lanes' texels on lavapipe.
+
+struct MaxLevel {
+    src_w: u32,
+    src_h: u32,
+    dst_w: u32,
+    dst_h: u32,
+    src_off: u32,
+    dst_off: u32,
+    pad0: u32,
+    pad1: u32,
+}
+
+@group(1) @binding(0) var level0: texture_2d<f32>;
+@group(1) @binding(1) var<storage, read_write> maxbuf: array<f32>;
+@group(1) @binding(2) var<uniform> ML: MaxLevel;
+
+// level 0: the max of the four texel centres around each cell (wrapping)
+@compute @workgroup_size(8, 8)
+fn max_cells(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= ML.dst_w || id.y >= ML.dst_h) {
+        return;
+    }
+    let x1 = (id.x + 1u) % ML.dst_w;
+    let y1 = (id.y + 1u) % ML.dst_h;
+    let v = max(max(textureLoad(level0, vec2<u32>(id.x, id.y), 0).r, textureLoad(level0, vec2<u32>(x1, id.y), 0).r),
+                max(textureLoad(level0, vec2<u32>(id.x, y1), 0).r, textureLoad(level0, vec2<u32>(x1, y1), 0).r));
+    maxbuf[ML.dst_off + id.y * ML.dst_w + id.x] = v;
+}
+
+// level k from level k - 1: 2x2 max, clamped at odd edges
+@compute @workgroup_size(8, 8)
+fn max_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= ML.dst_w || id.y >= ML.dst_h) {
+        return;
+    }
+    let x0 = min(2u * id.x, ML.src_w - 1u);
+    let x1 = min(2u * id.x + 1u, ML.src_w - 1u);
+    let y0 = min(2u * id.y, ML.src_h - 1u);
+    let y1 = min(2u * id.y + 1u, ML.src_h - 1u);
+    let o = ML.src_off;
+    let v = max(max(maxbuf[o + y0 * ML.src_w + x0], maxbuf[o + y0 * ML.src_w + x1]),
+                max(maxbuf[o + y1 * ML.src_w + x0], maxbuf[o + y1 * ML.src_w + x1]));
+    maxbuf[ML.dst_off + id.y * ML.dst_w + id.x] = v;
+}

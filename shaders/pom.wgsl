@@ -5,7 +5,8 @@
 struct Hit {
     s: vec2<f32>,   // texture coordinate of the hit (tiled units)
     h: f32,         // height of the hit in [0, 1]
-    steps: f32,     // height-map samples taken
+    steps: f32,     // height-map samples (or max-mip fetches) taken
+    flags: u32,
 }
 
 struct Bracket {
@@ -81,9 +82,37 @@ fn refine_linear(s0: vec2<f32>, dsdh: vec2<f32>, b: Bracket) -> Hit {
     return hit;
 }
 
-fn pom_march(s0: vec2<f32>, v_ts: vec3<f32>, ndotv: f32, lod: f32) -> Hit {
-    let dsdh = v_ts.xy / max(-v_ts.z, 1e-6);
+fn pom_march(s0: vec2<f32>, dsdh: vec2<f32>, ndotv: f32, lod: f32) -> Hit {
     let n = pom_sample_count(ndotv);
     let b = linear_search(s0, dsdh, n, lod);
     return refine_linear(s0, dsdh, b);
+}
+
+// Steep parallax mapping (McGuire & McGuire 2005): the same fixed-step search, stopping at the
+// first sample below the surface, with no refinement: its stair-steps are the baseline.
+fn steep_march(s0: vec2<f32>, dsdh: vec2<f32>, lod: f32) -> Hit {
+    let b = linear_search(s0, dsdh, G.march.y, lod);
+    var hit: Hit;
+    hit.steps = b.steps;
+    hit.h = b.h_cur;
+    hit.s = s0 + dsdh * (1.0 - b.h_cur);
+    return hit;
+}
+
+// Parallax mapping (Kaneko 2001): one sample, s += (scale * (1 - h) + bias) * P. P is the exact
+// parallax vector per unit of height (exact for a constant height with scale 1, bias 0). With
+// offset limiting (Welsh 2004) P is not divided by V.z: the offset is multiplied by N.V, which
+// bounds it by the height difference at grazing angles.
+fn parallax_offset(s0: vec2<f32>, dsdh: vec2<f32>, ndotv: f32, lod: f32) -> Hit {
+    let h0 = height_at(s0, lod);
+    var d = G.params.x * (1.0 - h0) + G.params.y;
+    var p = dsdh;
+    if (G.params.z > 0.5) {
+        p = dsdh * clamp(ndotv, 0.0, 1.0);
+    }
+    var hit: Hit;
+    hit.steps = 1.0;
+    hit.h = clamp(1.0 - d, 0.0, 1.0);
+    hit.s = s0 + p * d;
+    return hit;
 }

@@ -73,17 +73,30 @@ pub struct GpuHeight {
     pub height: u32,
     pub mips: u32,
     pub tex: wgpu::Texture,
-    pub max_tex: wgpu::Texture,
     pub view: wgpu::TextureView,
-    pub max_view: wgpu::TextureView,
+    /// the max pyramid, levels back to back (offsets from `max_offsets`)
+    pub max_buf: wgpu::Buffer,
+}
+
+/// Element offset of each level of the max pyramid in its buffer, and the total length.
+pub fn max_offsets(w: u32, h: u32) -> (Vec<u32>, u32) {
+    let mut off = Vec::new();
+    let mut acc = 0;
+    for k in 0..mip_count(w, h) {
+        off.push(acc);
+        let (lw, lh) = level_size(w, h, k);
+        acc += lw * lh;
+    }
+    (off, acc)
 }
 
 /// Compute pipelines that fill the pyramids.
 pub struct MipBuilder {
     layout: wgpu::BindGroupLayout,
+    max_layout: wgpu::BindGroupLayout,
     mean: wgpu::ComputePipeline,
-    max: wgpu::ComputePipeline,
-    cell_max: wgpu::ComputePipeline,
+    max_cells: wgpu::ComputePipeline,
+    max_reduce: wgpu::ComputePipeline,
 }
 
 pub const MIPS_SHADER: &str = include_str!("../shaders/mips.wgsl");
@@ -126,17 +139,57 @@ impl MipBuilder {
                 bind_group_layouts: &[Some(&layout)],
                 immediate_size: 0,
             });
-            let make = |mode: f64| {
+            let mean = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("mips mean"),
+                layout: Some(&pl),
+                module: &module,
+                entry_point: Some("reduce"),
+                compilation_options: wgpu::PipelineCompilationOptions { constants: &[("REDUCE", 0.0)], ..Default::default() },
+                cache: None,
+            });
+            let max_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("max pyramid"),
+                entries: &[
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 0,
+                        visibility: wgpu::ShaderStages::COMPUTE,
+                        ty: wgpu::BindingType::Texture {
+                            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                            view_dimension: wgpu::TextureViewDimension::D2,
+                            multisampled: false,
+                        },
+                        count: None,
+                    },
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 1,
+                        visibility: wgpu::ShaderStages::COMPUTE,
+                        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: false }, has_dynamic_offset: false, min_binding_size: None },
+                        count: None,
+                    },
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 2,
+                        visibility: wgpu::ShaderStages::COMPUTE,
+                        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+                        count: None,
+                    },
+                ],
+            });
+            let mpl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("max pyramid"),
+                bind_group_layouts: &[None, Some(&max_layout)],
+                immediate_size: 0,
+            });
+            let make = |entry: &str| {
                 dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some("mips reduce"),
-                    layout: Some(&pl),
+                    label: Some(entry),
+                    layout: Some(&mpl),
                     module: &module,
-                    entry_point: Some("reduce"),
-                    compilation_options: wgpu::PipelineCompilationOptions { constants: &[("REDUCE", mode)], ..Default::default() },
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
                     cache: None,
                 })
             };
-            Ok(Self { mean: make(0.0), max: make(1.0), cell_max: make(2.0), layout })
+            Ok(Self { mean, max_cells: make("max_cells"), max_reduce: make("max_reduce"), layout, max_layout })
         })
     }
 
@@ -148,7 +201,7 @@ impl MipBuilder {
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: wgpu::TextureFormat::R32Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_DST,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         })
     }
@@ -157,19 +210,75 @@ impl MipBuilder {
     pub fn create(&self, ctx: &Context, map: &HeightMap) -> Result<GpuHeight> {
         let g = ctx.scoped(|| {
             let tex = Self::texture(ctx, "height", map);
-            let max_tex = Self::texture(ctx, "height max-mip", map);
+            let (_, len) = max_offsets(map.width, map.height);
+            let max_buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("height max pyramid"),
+                size: len as u64 * 4,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
             Ok(GpuHeight {
                 width: map.width,
                 height: map.height,
                 mips: mip_count(map.width, map.height),
                 view: tex.create_view(&Default::default()),
-                max_view: max_tex.create_view(&Default::default()),
                 tex,
-                max_tex,
+                max_buf,
             })
         })?;
         self.update(ctx, &g, map)?;
         Ok(g)
+    }
+
+    /// Read a pyramid back (tests): `max` selects the max-mip texture, else the sampling one.
+    pub fn read_back(&self, ctx: &Context, g: &GpuHeight, max: bool) -> Result<Vec<Vec<f32>>> {
+        if max {
+            let (offs, len) = max_offsets(g.width, g.height);
+            let buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("max readback"),
+                size: len as u64 * 4,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            enc.copy_buffer_to_buffer(&g.max_buf, 0, &buf, 0, len as u64 * 4);
+            ctx.queue.submit([enc.finish()]);
+            let raw = ctx.read_buffer(&buf)?;
+            let all: &[f32] = bytemuck::cast_slice(&raw);
+            return Ok((0..g.mips as usize)
+                .map(|k| {
+                    let (w, h) = level_size(g.width, g.height, k as u32);
+                    all[offs[k] as usize..(offs[k] + w * h) as usize].to_vec()
+                })
+                .collect());
+        }
+        let tex = &g.tex;
+        let mut out = Vec::new();
+        for k in 0..g.mips {
+            let (w, h) = level_size(g.width, g.height, k);
+            let row = (w as u64 * 4).div_ceil(256) * 256;
+            let buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("mip readback"),
+                size: row * h as u64,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            enc.copy_texture_to_buffer(
+                wgpu::TexelCopyTextureInfo { texture: tex, mip_level: k, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
+                wgpu::TexelCopyBufferInfo { buffer: &buf, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row as u32), rows_per_image: Some(h) } },
+                wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+            );
+            ctx.queue.submit([enc.finish()]);
+            let raw = ctx.read_buffer(&buf)?;
+            let mut lvl = Vec::with_capacity((w * h) as usize);
+            for y in 0..h as usize {
+                let r: &[f32] = bytemuck::cast_slice(&raw[y * row as usize..y * row as usize + 4 * w as usize]);
+                lvl.extend_from_slice(r);
+            }
+            out.push(lvl);
+        }
+        Ok(out)
     }
 
     /// Replace the map's texels (same size) and rebuild both pyramids on the GPU.
@@ -207,10 +316,34 @@ impl MipBuilder {
                 pass.set_bind_group(0, &bg, &[]);
                 pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
             };
-            dispatch(&self.cell_max, level(&g.tex, 0), level(&g.max_tex, 0), 0);
             for k in 1..g.mips {
                 dispatch(&self.mean, level(&g.tex, k - 1), level(&g.tex, k), k);
-                dispatch(&self.max, level(&g.max_tex, k - 1), level(&g.max_tex, k), k);
+            }
+            // the max pyramid: cell maxima, then 2x2 max levels, one dispatch per level
+            let (offs, _) = max_offsets(map.width, map.height);
+            let l0 = level(&g.tex, 0);
+            for k in 0..g.mips {
+                let (sw, sh) = level_size(map.width, map.height, k.saturating_sub(1));
+                let (dw, dh) = level_size(map.width, map.height, k);
+                let params: [u32; 8] = [sw, sh, dw, dh, offs[k.saturating_sub(1) as usize], offs[k as usize], 0, 0];
+                let ubuf = wgpu::util::DeviceExt::create_buffer_init(dev, &wgpu::util::BufferInitDescriptor {
+                    label: Some("max level"),
+                    contents: bytemuck::cast_slice(&params),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                });
+                let bg = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("max level"),
+                    layout: &self.max_layout,
+                    entries: &[
+                        wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&l0) },
+                        wgpu::BindGroupEntry { binding: 1, resource: g.max_buf.as_entire_binding() },
+                        wgpu::BindGroupEntry { binding: 2, resource: ubuf.as_entire_binding() },
+                    ],
+                });
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("max level"), timestamp_writes: None });
+                pass.set_pipeline(if k == 0 { &self.max_cells } else { &self.max_reduce });
+                pass.set_bind_group(1, &bg, &[]);
+                pass.dispatch_workgroups(dw.div_ceil(8), dh.div_ceil(8), 1);
             }
             ctx.queue.submit([enc.finish()]);
             Ok(())

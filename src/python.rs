@@ -197,6 +197,7 @@ fn frame_to_py<'py>(py: Python<'py>, f: Frame) -> PyResult<Bound<'py, PyDict>> {
     d.set_item("mask", Array::from_shape_vec((h, w), f.mask).map_err(e)?.into_pyarray(py))?;
     d.set_item("steps", Array::from_shape_vec((h, w), f.steps).map_err(e)?.into_pyarray(py))?;
     d.set_item("lod", Array::from_shape_vec((h, w), f.lod).map_err(e)?.into_pyarray(py))?;
+    d.set_item("flags", Array::from_shape_vec((h, w), f.flags).map_err(e)?.into_pyarray(py))?;
     d.set_item("gpu_ms", f.gpu_ms)?;
     d.set_item("wall_ms", f.wall_ms)?;
     Ok(d)

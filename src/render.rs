@@ -25,6 +25,12 @@ pub const SHADER_SOURCE: &str = concat!(
     "\n",
     include_str!("../shaders/shadows.wgsl"),
     "\n",
+    include_str!("../shaders/relief.wgsl"),
+    "\n",
+    include_str!("../shaders/exact.wgsl"),
+    "\n",
+    include_str!("../shaders/horizon.wgsl"),
+    "\n",
     include_str!("../shaders/surface.wgsl"),
 );
 
@@ -44,6 +50,8 @@ pub struct Frame {
     pub steps: Vec<u32>,
     /// mip level used, NaN where no hit
     pub lod: Vec<f32>,
+    /// bit 0: the march hit its iteration bound (Exact)
+    pub flags: Vec<u8>,
     /// GPU time of the render pass from timestamp queries, if the adapter has them
     pub gpu_ms: Option<f64>,
     /// wall time of submit-and-wait, always measured
@@ -65,10 +73,14 @@ struct Globals {
     tex: [f32; 4],
     march: [f32; 4],
     extra: [f32; 4],
+    params: [f32; 4],
+    params2: [f32; 4],
     ambient: [f32; 4],
     lights: [LightU; MAX_LIGHTS],
     shadow_vp: [[f32; 4]; 4],
     shadow: [f32; 4],
+    /// element offsets of the max pyramid's levels in its buffer
+    max_offsets: [[u32; 4]; 4],
 }
 
 /// Shadow-map size for `Tessellated(shadows="hard")` (clamped to the device's limit).
@@ -143,6 +155,15 @@ pub struct Renderer {
 /// float32 bits in uint targets: exact on every backend (GL cannot render to Rgba32Float)
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// The highest max-mip level whose nodes tile the map exactly (its size divides both sides).
+pub fn top_maxmip_level(w: u32, h: u32) -> u32 {
+    let mut l = 0;
+    while l + 1 < mip_count(w, h) && w % (1 << (l + 1)) == 0 && h % (1 << (l + 1)) == 0 {
+        l += 1;
+    }
+    l
+}
 
 fn height_key(map: &HeightMap) -> u64 {
     hash_bytes(&[&map.width.to_le_bytes(), &map.height.to_le_bytes(), bytemuck::cast_slice(&map.data)])
@@ -254,7 +275,12 @@ impl Renderer {
                         ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
                         count: None,
                     },
-                    tex_entry(7, false),
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 7,
+                        visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX,
+                        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: true }, has_dynamic_offset: false, min_binding_size: None },
+                        count: None,
+                    },
                 ],
             });
             let pipeline_layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -366,6 +392,15 @@ impl Renderer {
             });
             Ok(())
         })
+    }
+
+    /// The GPU's pyramids for a map (tests): (mean mips, max mips).
+    pub fn read_pyramids(&self, map: &HeightMap) -> Result<(Vec<Vec<f32>>, Vec<Vec<f32>>)> {
+        let g = {
+            let mut inner = self.inner.lock().map_err(|_| Error::Gpu("renderer lock poisoned".into()))?;
+            self.height_texture(&mut inner, map)?
+        };
+        Ok((self.mips.read_back(&self.ctx, &g, false)?, self.mips.read_back(&self.ctx, &g, true)?))
     }
 
     /// The filtering a method actually gets: exact where the adapter cannot filter float32.
@@ -655,11 +690,26 @@ impl Renderer {
             eye: [scene.camera.eye[0] as f32, scene.camera.eye[1] as f32, scene.camera.eye[2] as f32, scene.lights.len() as f32],
             tex: [hm.width as f32, hm.height as f32, scene.material.tiling, scene.material.depth],
             march: [method.min_steps as f32, method.max_steps as f32, method.shadow_steps as f32, method.lod_threshold],
-            extra: [if method.adaptive { 1.0 } else { 0.0 }, if method.mip_filtering { 1.0 } else { 0.0 }, 0.0, 0.0],
+            extra: [
+                if method.adaptive { 1.0 } else { 0.0 },
+                if method.mip_filtering { 1.0 } else { 0.0 },
+                method.ao_directions as f32,
+                method.horizon_samples as f32,
+            ],
+            params: [method.scale, method.bias, if method.offset_limiting { 1.0 } else { 0.0 }, method.max_iterations as f32],
+            params2: [method.binary_steps as f32, if method.depth_bias { 1.0 } else { 0.0 }, top_maxmip_level(hm.width, hm.height) as f32, 0.0],
             ambient: [scene.ambient[0], scene.ambient[1], scene.ambient[2], mip_count(hm.width, hm.height) as f32],
             lights,
             shadow_vp,
             shadow,
+            max_offsets: {
+                let (o, _) = crate::heightmap::max_offsets(hm.width, hm.height);
+                let mut a = [[0u32; 4]; 4];
+                for (k, v) in o.iter().enumerate().take(16) {
+                    a[k / 4][k % 4] = *v;
+                }
+                a
+            },
         }
     }
 
@@ -698,7 +748,7 @@ impl Renderer {
                 wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&self.albedo_sampler) },
                 wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::TextureView(shadow) },
                 wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
-                wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::TextureView(&height.max_view) },
+                wgpu::BindGroupEntry { binding: 7, resource: height.max_buf.as_entire_binding() },
             ],
         })
     }
@@ -903,16 +953,20 @@ fn unpack(w: u32, h: u32, row_bytes: usize, color_raw: &[u8], geo_raw: &[u8], gp
         mask: Vec::with_capacity(n),
         steps: Vec::with_capacity(n),
         lod: Vec::with_capacity(n),
+        flags: Vec::with_capacity(n),
         gpu_ms,
         wall_ms,
     };
     for y in 0..h as usize {
         let c: &[f32] = bytemuck::cast_slice(&color_raw[y * row_bytes..y * row_bytes + w as usize * 16]);
+        let cu: &[u32] = bytemuck::cast_slice(&color_raw[y * row_bytes..y * row_bytes + w as usize * 16]);
         let g: &[f32] = bytemuck::cast_slice(&geo_raw[y * row_bytes..y * row_bytes + w as usize * 16]);
         for x in 0..w as usize {
             let hit = g[x * 4 + 2] >= 0.0;
             f.color.extend_from_slice(&c[x * 4..x * 4 + 3]);
-            f.steps.push(if hit { c[x * 4 + 3].max(0.0) as u32 } else { 0 });
+            let raw = cu[x * 4 + 3];
+            f.steps.push(if hit { raw & 0x0fff_ffff } else { 0 });
+            f.flags.push(if hit { (raw >> 28) as u8 } else { 0 });
             f.mask.push(hit);
             if hit {
                 f.uv.extend_from_slice(&g[x * 4..x * 4 + 2]);

@@ -76,3 +76,21 @@ fn validation_errors_become_errors_and_the_renderer_survives() {
     let hm = HeightMap::new(8, 8, vec![0.5; 64]).unwrap();
     assert!(r.render(&scene(hm, 30.0, 8), &Method::pom()).is_ok());
 }
+
+#[test]
+fn gpu_pyramids_equal_the_cpu_ones() {
+    use pomkit::heightmap::{cell_max_pyramid, mean_pyramid};
+    let r = renderer();
+    for (w, h) in [(64u32, 64u32), (48, 20)] {
+        let map = HeightMap::from_fn(w, h, |u, v| (0.5 + 0.5 * (13.0 * u).sin() * (7.0 * v).cos()).fract());
+        let (mean, max) = r.read_pyramids(&map).unwrap();
+        let (cm, cx) = (mean_pyramid(&map), cell_max_pyramid(&map));
+        assert_eq!(mean.len(), cm.len());
+        for k in 0..cm.len() {
+            for (a, b) in mean[k].iter().zip(&cm[k]) {
+                assert!((a - b).abs() < 1e-6, "mean level {k}: {a} vs {b}");
+            }
+            assert_eq!(max[k], cx[k], "max level {k} of {w}x{h}");
+        }
+    }
+}

@@ -23,6 +23,7 @@ class Frame:
     mask:  (H, W) bool, the pixel shows the surface
     steps: (H, W) uint32 height-map samples taken (view ray + shadow rays)
     lod:   (H, W) float32 mip level the LOD system used, NaN where no hit
+    flags: (H, W) uint8, bit 0: the march hit its iteration bound (Exact)
     gpu_ms: GPU time of the render pass from timestamp queries, None where the adapter has none
     wall_ms: wall time of submit-and-wait (always measured)
     timing: "gpu" when gpu_ms holds a timestamp measurement, "wall" when only wall_ms exists;
@@ -35,6 +36,7 @@ class Frame:
     mask: np.ndarray
     steps: Optional[np.ndarray] = None
     lod: Optional[np.ndarray] = None
+    flags: Optional[np.ndarray] = None
     gpu_ms: Optional[float] = None
     wall_ms: Optional[float] = None
     timing: str = "gpu"

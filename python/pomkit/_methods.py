@@ -2,16 +2,25 @@
 
 Each maps onto the shared surface pipeline of the Rust core (`kind` plus numeric and text
 parameters). See docs/methods.md for what each implements and which paper it follows.
+
+Every per-pixel method (Parallax, SteepParallax, POM, Relief, Exact) also takes, by keyword:
+  shadows: "none" | "hard" (horizon test along the light ray, `shadow_steps` samples) |
+           "soft" (penumbra estimate from the light's angular diameter) |
+           "horizon" (max-mip horizon angle, Dachsbacher & Tatarchuk 2007) | "exact" (Exact only)
+  filtering: "hardware" (the sampler's bilinear filter) | "exact" (four loads, float32 lerp)
+  mip_filtering: sample the footprint's mip level (True) or level 0 (False)
+  ao_directions: 0, 4 or 8 horizon directions for ambient occlusion of Scene.ambient
+  horizon_samples: samples at 2^k texels, k < horizon_samples, for "horizon" shadows and AO
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 
-__all__ = ["Method", "Flat", "Bump", "POM", "Tessellated"]
+__all__ = ["Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "Tessellated"]
 
-_SHADOWS = ("none", "hard", "soft")
+_SHADOWS = ("none", "hard", "soft", "horizon")
 _FILTERING = ("hardware", "exact")
 
 
@@ -31,6 +40,17 @@ def _choice(obj, name: str, options) -> None:
     v = getattr(obj, name)
     if not isinstance(v, str) or v not in options:
         raise ValueError(f"{name}: must be one of {', '.join(repr(o) for o in options)}, got {v!r}")
+
+
+def _bool_field(obj, name: str) -> None:
+    if not isinstance(getattr(obj, name), bool):
+        raise TypeError(f"{name}: expected a bool, got {type(getattr(obj, name)).__name__}")
+
+
+def _real_field(obj, name: str, lo: float = -1e6, hi: float = 1e6) -> None:
+    v = getattr(obj, name)
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or not lo <= v <= hi:
+        raise ValueError(f"{name}: must be a finite number in [{lo}, {hi}], got {v!r}")
 
 
 class Method:
@@ -76,45 +96,121 @@ class Bump(Method):
 
 
 @dataclass(frozen=True)
-class POM(Method):
+class _PerPixel(Method):
+    """Options shared by the per-pixel methods (keyword-only)."""
+
+    shadows: str = field(default="none", kw_only=True)
+    shadow_steps: int = field(default=8, kw_only=True)
+    filtering: str = field(default="hardware", kw_only=True)
+    mip_filtering: bool = field(default=True, kw_only=True)
+    ao_directions: int = field(default=0, kw_only=True)
+    horizon_samples: int = field(default=8, kw_only=True)
+
+    _shadow_options = _SHADOWS
+
+    def __post_init__(self):
+        _choice(self, "shadows", self._shadow_options)
+        _int_field(self, "shadow_steps")
+        _choice(self, "filtering", _FILTERING)
+        _bool_field(self, "mip_filtering")
+        _int_field(self, "ao_directions", 0, 64)
+        _int_field(self, "horizon_samples", 1, 16)
+        self._validate()
+
+    def _validate(self) -> None:
+        pass
+
+
+@dataclass(frozen=True)
+class POM(_PerPixel):
     """Parallax occlusion mapping (Brawley & Tatarchuk 2004; Tatarchuk 2006).
 
     A linear search in n = max_steps + (N.V)(min_steps - max_steps) equal height steps
-    (max_steps at grazing angles, min_steps head-on; `adaptive=False` always takes max_steps),
-    with an early out, then the exact intersection with the piecewise-linear height profile
-    between the last two samples. Shadows: "none", "hard" (horizon test over `shadow_steps`
-    samples toward the light) or "soft" (penumbra estimate from the light's angular diameter).
-    In-shader LOD: full POM at mip levels <= lod_threshold - 1, bump mapping above
-    lod_threshold, blended in between. `mip_filtering=True` samples the height field at the
-    footprint's mip level (the paper's tex2Dgrad); False samples level 0, the exact bilinear
-    field the oracle uses (no prefiltering: aliases under minification).
-    `filtering`: "hardware" (the sampler's bilinear filter) or "exact" (four loads and a
-    float32 lerp).
+    (max_steps at grazing angles, min_steps head-on; `adaptive=False` always takes max_steps,
+    e.g. POM(adaptive=False, min_steps=8, max_steps=8) is Brawley & Tatarchuk 2004's fixed
+    profile), an early out, then the exact intersection with the piecewise-linear height
+    profile between the last two samples. In-shader LOD: full POM at mip levels <=
+    lod_threshold - 1, bump mapping above lod_threshold, blended in between. Default shadows:
+    "soft".
     """
 
     min_steps: int = 8
     max_steps: int = 50
-    shadows: str = "soft"
-    shadow_steps: int = 8
+    shadows: str = field(default="soft", kw_only=True)
     lod_threshold: float = 4.0
     adaptive: bool = True
-    filtering: str = "hardware"
-    mip_filtering: bool = True
     _kind = "POM"
 
-    def __post_init__(self):
+    def _validate(self):
         _int_field(self, "min_steps")
         _int_field(self, "max_steps")
-        _int_field(self, "shadow_steps")
         if self.min_steps > self.max_steps:
             raise ValueError(f"min_steps: must not exceed max_steps ({self.min_steps} > {self.max_steps})")
-        _choice(self, "shadows", _SHADOWS)
-        _choice(self, "filtering", _FILTERING)
         if isinstance(self.lod_threshold, bool) or not isinstance(self.lod_threshold, (int, float)) or not math.isfinite(self.lod_threshold):
             raise ValueError(f"lod_threshold: must be a finite number, got {self.lod_threshold!r}")
-        for name in ("adaptive", "mip_filtering"):
-            if not isinstance(getattr(self, name), bool):
-                raise TypeError(f"{name}: expected a bool, got {type(getattr(self, name)).__name__}")
+        _bool_field(self, "adaptive")
+
+
+@dataclass(frozen=True)
+class Parallax(_PerPixel):
+    """Parallax mapping (Kaneko 2001): one sample, s += (scale * (1 - h) + bias) * P, P the
+    parallax vector per unit of height. With `offset_limiting` (Welsh 2004) P is not divided by
+    V.z, which bounds the offset at grazing angles."""
+
+    offset_limiting: bool = True
+    scale: float = 1.0
+    bias: float = 0.0
+    _kind = "Parallax"
+
+    def _validate(self):
+        _bool_field(self, "offset_limiting")
+        _real_field(self, "scale", -100, 100)
+        _real_field(self, "bias", -100, 100)
+
+
+@dataclass(frozen=True)
+class SteepParallax(_PerPixel):
+    """Steep parallax mapping (McGuire & McGuire 2005): `steps` fixed height steps, the first
+    sample below the surface is the hit, no refinement (stair-steps expected)."""
+
+    steps: int = 32
+    _kind = "SteepParallax"
+
+    def _validate(self):
+        _int_field(self, "steps")
+
+
+@dataclass(frozen=True)
+class Relief(_PerPixel):
+    """Relief mapping (Policarpo et al. 2005): `linear_steps` fixed steps, then `binary_steps`
+    bisections. `depth_bias` scales the search by 1 - (1 - N.V)^8, flattening toward the horizon
+    (Tatarchuk 2006 fig. 2b)."""
+
+    linear_steps: int = 16
+    binary_steps: int = 6
+    depth_bias: bool = False
+    _kind = "Relief"
+
+    def _validate(self):
+        _int_field(self, "linear_steps")
+        _int_field(self, "binary_steps", 0, 64)
+        _bool_field(self, "depth_bias")
+
+
+@dataclass(frozen=True)
+class Exact(_PerPixel):
+    """Maximum mipmaps (Tevs, Ihrke & Seidel 2008): hierarchical traversal of the max-reduced
+    pyramid (built on the GPU), the exact ray/bilinear-patch intersection at the finest level.
+    No step count to tune; `max_iterations` bounds the traversal and `Frame.flags & 1` marks rays
+    that hit the bound. Always samples level 0 with exact filtering. Shadows may also be "exact":
+    the same traversal along the light ray."""
+
+    max_iterations: int = 4096
+    _kind = "Exact"
+    _shadow_options = _SHADOWS + ("exact",)
+
+    def _validate(self):
+        _int_field(self, "max_iterations", 1, 1 << 24)
 
 
 @dataclass(frozen=True)
@@ -122,12 +218,12 @@ class Tessellated(Method):
     """The displaced mesh itself (Chen & Chang 2008's "ground truth model"), rasterised by the
     same pipeline and shaded the same way: vertices on a lattice through the texel centres,
     `texels_per_vertex` texels apart (1: one vertex per texel; 0.5: two per texel, which matches
-    the exact bilinear field to about 0.001 texel). Displaced on the CPU once per
+    the exact bilinear field to about 0.001-0.03 texel). Displaced on the CPU once per
     (mesh, height map, depth, tiling, spacing) and cached on the GPU.
 
     shadows: "hard" (default) tests the first directional light against a 2048^2 shadow map of
     the displaced mesh itself (3x3 PCF, boundaries good to ~1.5 shadow-map texels, no area-light
-    penumbra); "none" turns it off. Other lights are unshadowed."""
+    penumbra); "none" turns it off. Other lights are unshadowed; no ambient occlusion."""
 
     texels_per_vertex: float = 1.0
     shadows: str = "hard"
@@ -138,3 +234,7 @@ class Tessellated(Method):
         v = self.texels_per_vertex
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not (1 / 64 <= v <= 1024):
             raise ValueError(f"texels_per_vertex: must be a number in [1/64, 1024], got {v!r}")
+
+
+#: every method class, for sweeps
+ALL_METHODS = (Flat, Bump, Parallax, SteepParallax, POM, Relief, Exact, Tessellated)

@@ -50,7 +50,7 @@ class Renderer:
         d = self._r.render(scene._describe(), kind, num, text)
         gpu = d["gpu_ms"]
         return Frame(
-            color=d["color"], uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["steps"], lod=d["lod"],
+            color=d["color"], uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["steps"], lod=d["lod"], flags=d["flags"],
             gpu_ms=gpu, wall_ms=d["wall_ms"], timing="gpu" if gpu is not None else "wall", method=repr(method),
         )
 

@@ -1,0 +1,227 @@
+// exact.wgsl: maximum mipmaps (Tevs, Ihrke & Seidel 2008). The ray walks the max-mip pyramid
+// of the cells between texel centres: where it passes above a node's max it skips the node and
+// ascends; where it dips below it descends; at level 0 it meets the bilinear patch of the cell
+// exactly (a quadratic along the ray). No step count to tune, no feature missed; iterations are
+// bounded by `max_iterations` (rays that hit the bound are flagged).
+//
+// The pyramid is read from a storage buffer, not a mipmapped texture: each lane reads a
+// different level, and on lavapipe (Mesa 22.3) textureLoad/textureDimensions with a level that
+// varies across the lanes of a SIMD vector returned other lanes' levels (rays then skipped
+// whole regions). A buffer read has no level.
+//
+// Cell space: X = s.x * W - 0.5, Y = s.y * H - 0.5; cell (i, j) spans texel centres i..i+1,
+// j..j+1 (wrapping). The pyramid is used up to the highest level whose size divides the map
+// (all levels for power-of-two maps), so that nodes tile the map exactly.
+
+fn max_at(node: vec2<i32>, level: i32) -> f32 {
+    let dims = max_level_dims(level);
+    let off = G.max_offsets[level / 4][level % 4];
+    return max_buf[off + u32(wrap_i(node.y, dims.y) * dims.x + wrap_i(node.x, dims.x))];
+}
+
+// First t in [t0, t1] where the ray (x(t), y(t), h(t)) = (X0 + dX t, Y0 + dY t, h0 + dh t) meets
+// the bilinear patch of cell c, or -1.
+fn cell_intersect(c: vec2<i32>, x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32, t0: f32, t1: f32) -> f32 {
+    let dims = vec2<i32>(textureDimensions(height_tex, 0));
+    let x1 = wrap_i(c.x + 1, dims.x);
+    let y1 = wrap_i(c.y + 1, dims.y);
+    let xa0 = wrap_i(c.x, dims.x);
+    let ya0 = wrap_i(c.y, dims.y);
+    let a = textureLoad(height_tex, vec2<i32>(xa0, ya0), 0).r;
+    let b = textureLoad(height_tex, vec2<i32>(x1, ya0), 0).r;
+    let cc = textureLoad(height_tex, vec2<i32>(xa0, y1), 0).r;
+    let d = textureLoad(height_tex, vec2<i32>(x1, y1), 0).r;
+    let a1 = b - a;
+    let a2 = cc - a;
+    let a3 = a - b - cc + d;
+    let xa = x0 + dx * t0 - f32(c.x);
+    let ya = y0 + dy * t0 - f32(c.y);
+    let hra = h0 + dh * t0;
+    let qc = a + a1 * xa + a2 * ya + a3 * xa * ya - hra;
+    let qb = a1 * dx + a2 * dy + a3 * (xa * dy + ya * dx) - dh;
+    let qa = a3 * dx * dy;
+    let len = t1 - t0;
+    if (qc >= 0.0) {
+        return t0;
+    }
+    var r = 1e30;
+    if (abs(qa) < 1e-9 * (abs(qb) + 1e-12)) {
+        if (qb > 0.0) {
+            r = -qc / qb;
+        }
+    } else {
+        let disc = qb * qb - 4.0 * qa * qc;
+        if (disc >= 0.0) {
+            let sq = sqrt(disc);
+            let q = -0.5 * (qb + select(-sq, sq, qb >= 0.0));
+            let r1 = q / qa;
+            let r2 = select(1e30, qc / q, q != 0.0);
+            let lo = min(r1, r2);
+            let hi = max(r1, r2);
+            if (lo >= 0.0) {
+                r = lo;
+            } else {
+                r = hi;
+            }
+        }
+    }
+    if (r >= 0.0 && r <= len) {
+        return t0 + r;
+    }
+    // tangent or rounding at the far end
+    let fe = (qa * len + qb) * len + qc;
+    if (fe >= 0.0) {
+        return t1;
+    }
+    return -1.0;
+}
+
+struct Traversal {
+    hit: bool,
+    t: f32,
+    iters: f32,
+    bound: bool,
+}
+
+// Walk the ray from (X0, Y0, h0) with per-t slope (dX, dY) and dh = -1 (view ray, down to the
+// floor) or +1 (light ray, up to the top of the shell). The current node is integer state:
+// a skipped node hands over to its neighbour across the face the ray leaves by, and a descent
+// picks the child that holds the ray, clamped to the parent, so that no boundary case depends on
+// floating-point rounding of the ray's position.
+fn maxmip_traverse(x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32) -> Traversal {
+    var r: Traversal;
+    r.hit = false;
+    r.bound = false;
+    r.iters = 0.0;
+    let t_end = select(1.0 - h0, h0, dh < 0.0);
+    let top = i32(G.params2.z);
+    var level = top;
+    var t = 0.0;
+    let max_it = u32(G.params.w);
+    let step = vec2<i32>(select(-1, 1, dx >= 0.0), select(-1, 1, dy >= 0.0));
+    var node = vec2<i32>(floor(vec2<f32>(x0, y0) / f32(1 << u32(top))));
+    var it = 0u;
+    var found = false;
+    var t_hit = 0.0;
+    loop {
+        if (t >= t_end) {
+            break;
+        }
+        if (it >= max_it) {
+            r.bound = true;
+            break;
+        }
+        it = it + 1u;
+        let size = f32(1 << u32(level));
+        var tx = 1e30;
+        if (dx > 0.0) {
+            tx = ((f32(node.x) + 1.0) * size - x0) / dx;
+        } else if (dx < 0.0) {
+            tx = (f32(node.x) * size - x0) / dx;
+        }
+        var ty = 1e30;
+        if (dy > 0.0) {
+            ty = ((f32(node.y) + 1.0) * size - y0) / dy;
+        } else if (dy < 0.0) {
+            ty = (f32(node.y) * size - y0) / dy;
+        }
+        let t_exit = clamp(min(tx, ty), t, t_end);
+        let m = max_at(node, level);
+        // the ray's lowest point over [t, t_exit]
+        let low = min(h0 + dh * t, h0 + dh * t_exit);
+        // 0: skip the node, 1: descend into it, 2: intersect the cell (level 0)
+        var action = 0u;
+        if (low <= m) {
+            if (dh < 0.0) {
+                // descending: jump to where the ray dips below the node's max
+                t = max(t, h0 - m);
+            }
+            action = select(2u, 1u, level > 0);
+        }
+        if (action == 2u) {
+            let th = cell_intersect(node, x0, y0, h0, dx, dy, dh, t, t_exit);
+            if (th >= 0.0) {
+                found = true;
+                t_hit = th;
+                break;
+            }
+            action = 0u;
+        }
+        if (action == 1u) {
+            level = level - 1;
+            let cs = f32(1 << u32(level));
+            let p = vec2<f32>(x0 + dx * t, y0 + dy * t) / cs;
+            // the child the ray is about to travel through: on a boundary, the one ahead
+            let c = vec2<i32>(i32(select(ceil(p.x) - 1.0, floor(p.x), dx >= 0.0)), i32(select(ceil(p.y) - 1.0, floor(p.y), dy >= 0.0)));
+            node = clamp(c, 2 * node, 2 * node + vec2<i32>(1, 1));
+        } else {
+            // leave the node across the face the ray exits by, then look at the coarser level
+            t = t_exit;
+            if (tx <= ty) {
+                node.x = node.x + step.x;
+            }
+            if (ty <= tx) {
+                node.y = node.y + step.y;
+            }
+            if (level < top) {
+                level = level + 1;
+                // the parent: floor(node / 2), in f32 (see wrap_i in common.wgsl)
+                node = vec2<i32>(floor(vec2<f32>(node) * 0.5));
+            }
+        }
+    }
+    if (found) {
+        r.hit = true;
+        r.t = t_hit;
+        r.iters = f32(it);
+        return r;
+    }
+    r.iters = f32(it);
+    r.t = t_end;
+    // a view ray always meets the floor (heights >= 0) at t_end
+    r.hit = dh < 0.0;
+    return r;
+}
+
+// The ray's start in cell space, moved by whole periods of the (repeating) map so that every
+// node it visits over its whole length has non-negative indices. With negative indices the
+// traversal looped to its bound on lavapipe (integer ops on negative i32 in lane-divergent
+// loops); with non-negative ones every index operation is plain.
+fn positive_start(s0: vec2<f32>, d: vec2<f32>) -> vec2<f32> {
+    let p = s0 * G.tex.xy - 0.5;
+    let q = p - floor(p / G.tex.xy) * G.tex.xy;
+    let periods = floor(abs(d) / G.tex.xy) + 2.0;
+    return q + periods * G.tex.xy;
+}
+
+fn exact_march(s0: vec2<f32>, dsdh: vec2<f32>) -> Hit {
+    let d = dsdh * G.tex.xy;
+    let p0 = positive_start(s0, d);
+    let tr = maxmip_traverse(p0.x, p0.y, 1.0, d.x, d.y, -1.0);
+    var hit: Hit;
+    hit.steps = tr.iters;
+    hit.flags = select(0u, FLAG_BOUND, tr.bound);
+    hit.h = clamp(1.0 - tr.t, 0.0, 1.0);
+    hit.s = s0 + dsdh * tr.t;
+    return hit;
+}
+
+// Exact shadows: the same traversal along the light ray; visible if it leaves the shell.
+fn exact_shadow(f: Frame, s: vec2<f32>, h: f32, ls: LightSample) -> ShadowResult {
+    var r: ShadowResult;
+    let l_ts = to_texture_space(f, ls.dir);
+    if (l_ts.z <= 1e-7) {
+        r.visibility = 0.0;
+        r.steps = 0.0;
+        return r;
+    }
+    let dsdh = l_ts.xy / l_ts.z;
+    // start a hair above the surface so that the hit point does not shadow itself
+    let h0 = min(h + 1e-4, 1.0);
+    let d = dsdh * G.tex.xy;
+    let p0 = positive_start(s, d);
+    let tr = maxmip_traverse(p0.x, p0.y, h0, d.x, d.y, 1.0);
+    r.visibility = select(1.0, 0.0, tr.hit);
+    r.steps = tr.iters;
+    return r;
+}
