@@ -240,6 +240,18 @@ impl PyRenderer {
         frame_to_py(py, frame)
     }
 
+    /// Dynamic height fields: write `new` into the GPU texture holding `old` (same size) and
+    /// rebuild the pyramids on the GPU. False when `old` is not resident.
+    fn update_height(&self, py: Python<'_>, old: PyReadonlyArray2<'_, f32>, new: PyReadonlyArray2<'_, f32>) -> PyResult<bool> {
+        let conv = |a: &PyReadonlyArray2<'_, f32>| {
+            let v = a.as_array();
+            HeightMap::new(v.shape()[1] as u32, v.shape()[0] as u32, v.iter().copied().collect())
+        };
+        let (o, n) = (conv(&old).map_err(to_py)?, conv(&new).map_err(to_py)?);
+        let r = self.inner.clone();
+        py.detach(move || r.update_height(&o, &n)).map_err(to_py)
+    }
+
     /// Adapter name, backend, device type, driver and the features pomkit uses.
     fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let c = &self.inner.ctx;

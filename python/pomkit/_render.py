@@ -55,6 +55,25 @@ class Renderer:
         )
 
 
+def _update_height(self, material, height):
+    """Dynamic height fields: a new Material with `height` in place of `material.height` (same
+    depth, albedo, tiling). When the old map is resident on the GPU and the sizes match, the new
+    texels are written into the same texture and the mean and max pyramids are rebuilt by
+    compute passes: no pipeline is rebuilt and nothing is allocated. Otherwise the new map
+    uploads on the next render. Normals need no update: they are computed per pixel from the
+    height field."""
+    from ._scene import Material
+    if not isinstance(material, Material):
+        raise TypeError(f"material: expected a pomkit.Material, got {type(material).__name__}")
+    new = Material(height, depth=material.depth, albedo=material.albedo, tiling=material.tiling)
+    if new.height.shape == material.height.shape:
+        self._r.update_height(material.height, new.height)
+    return new
+
+
+Renderer.update_height = _update_height  # type: ignore[attr-defined]
+
+
 def exact_uv(scene: Scene) -> Frame:
     """CPU float64 oracle: the exact first hit of each pixel's ray against the bilinear height
     field, for planar meshes (each triangle's plane is taken as the base surface under it).
