@@ -18,7 +18,7 @@ demo: setup
 
 test: setup-test
 	cargo test --release --lib --tests 2>&1 | tee .cargo-test.log | grep -E "^(test result|running|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
-	$(VENV)/python -m pytest tests
+	$(VENV)/python -m pytest tests notebooks --nbmake
 
 bench: setup
 	$(VENV)/python -m pomkit bench

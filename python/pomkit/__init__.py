@@ -12,20 +12,20 @@ from ._frame import Frame
 from ._methods import ALL_METHODS, POM, Bump, Exact, Flat, Method, Parallax, Relief, SteepParallax, Tessellated
 from ._render import Renderer, adapters, exact_uv
 from ._scene import Camera, DirectionalLight, Material, Mesh, Scene, SphereLight, linear_to_srgb, srgb_to_linear
-from . import metrics, textures
+from . import metrics, presets, textures
 
 __version__ = _core.__version__
 
 __all__ = [
     "__version__", "Renderer", "adapters", "exact_uv", "Frame", "Scene", "Mesh", "Material", "Camera",
     "DirectionalLight", "SphereLight", "Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "Tessellated", "ALL_METHODS", "textures",
-    "metrics", "reference", "testing", "GpuError", "DeviceLostError", "NoAdapterError", "linear_to_srgb", "srgb_to_linear",
+    "metrics", "presets", "bench", "reference", "testing", "GpuError", "DeviceLostError", "NoAdapterError", "linear_to_srgb", "srgb_to_linear",
 ]
 
 
 def __getattr__(name):
     # `pk.reference` and `pk.testing` import lazily: trimesh, Mitsuba and pytest only when used
-    if name in ("reference", "testing"):
+    if name in ("reference", "testing", "bench"):
         import importlib
         return importlib.import_module("." + name, __name__)
     raise AttributeError(f"module 'pomkit' has no attribute {name!r}")

@@ -1,0 +1,41 @@
+"""What engines ship, rebuilt from pomkit's own methods and parameters, for the Pareto chart.
+
+Each preset follows the engine's published shader source or documentation as far as pomkit's
+parameters can express it; where they cannot, the docstring says what differs.
+"""
+
+from __future__ import annotations
+
+from ._methods import POM, Relief
+
+__all__ = ["bevy_pom", "bevy_relief", "godot_deep_parallax", "ALL_PRESETS"]
+
+NO_LOD = 1000.0  # engines without a POM -> bump hand-over
+
+
+def bevy_pom() -> POM:
+    """Bevy's `ParallaxMappingMethod::Occlusion` (pbr `parallax_mapping.wgsl`): the layer count
+    is interpolated by |V.z| from `max_parallax_layer_count` (16) head-on... to 1, with the
+    depth map sampled at level 0 and a linear interpolation between the last two layers; no
+    self-shadowing, no LOD hand-over."""
+    return POM(min_steps=1, max_steps=16, shadows="none", lod_threshold=NO_LOD, mip_filtering=False)
+
+
+def bevy_relief() -> Relief:
+    """Bevy's `ParallaxMappingMethod::Relief { max_steps: 5 }`: the linear search of the
+    occlusion method, then 5 binary-search steps. Difference: Bevy's linear layer count adapts
+    with |V.z| (16 to 1); pomkit's Relief takes a fixed 16."""
+    return Relief(linear_steps=16, binary_steps=5, mip_filtering=False)
+
+
+def godot_deep_parallax() -> POM:
+    """Godot's StandardMaterial3D `heightmap_deep_parallax`: layers interpolated between
+    `heightmap_min_layers` (8) and `heightmap_max_layers` (32) by the view angle, linear
+    interpolation between the last two layers, hardware mip selection, no self-shadowing."""
+    return POM(min_steps=8, max_steps=32, shadows="none", lod_threshold=NO_LOD, mip_filtering=True)
+
+
+#: name -> factory. Unreal's ParallaxOcclusionMapping material function is not included: its
+#: algorithm is only available in the engine's own sources, which are not public material we can
+#: verify here.
+ALL_PRESETS = {"bevy_pom": bevy_pom, "bevy_relief": bevy_relief, "godot_deep_parallax": godot_deep_parallax}
