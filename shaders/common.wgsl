@@ -11,7 +11,7 @@ const MAX_LIGHTS: u32 = 4u;
 
 // ---- pipeline-specialisation constants (one pipeline per combination) ----
 // METHOD: 0 Flat, 1 Bump, 2 POM, 3 Parallax, 4 SteepParallax, 5 Relief,
-//         6 Tessellated (the displaced mesh, rasterised), 7 Exact (max-mip traversal)
+//         6 Tessellated (the displaced mesh, rasterised), 7 Exact (max-mip traversal), 8 NCS
 override METHOD: u32 = 0u;
 // SHADOWS: 0 none, 1 hard, 2 soft, 3 horizon (max-mip horizon angle), 4 exact (Exact only)
 override SHADOWS: u32 = 0u;

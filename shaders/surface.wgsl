@@ -109,6 +109,20 @@ fn fs_main(in: VsOut) -> FsOut {
     } else if (METHOD == 1u) {
         // Bump (Blinn 1978): normal from the height field, uv unchanged
         color = shade(f, s0, 1.0, in.world, height_normal(f, s0, lod), lod, false, px).color;
+    } else if (METHOD == 8u) {
+        // NCS: the march follows the curved base surface; leaving the shell is a silhouette
+        let hl = height_lod(lod);
+        let r = ncs_march(in.uv, view, hl);
+        if (r.exited) {
+            discard;
+        }
+        let p = in.world + view * r.len;
+        let sh = shade(r.f, r.uv * tiling, r.h, p, height_normal(r.f, r.uv * tiling, hl), hl, true, px);
+        color = sh.color;
+        steps = r.steps + sh.steps;
+        flags = r.flags;
+        s_hit = r.uv * tiling;
+        dist = base_dist + r.len;
     } else if (METHOD == 6u) {
         // Tessellated: the displaced mesh itself, shaded like the per-pixel methods (base frame,
         // height-field normal at the rasterised uv, level 0: this is the true surface)

@@ -12,6 +12,7 @@ pub mod mesh;
 pub mod methods;
 pub mod render;
 pub mod scene;
+pub mod texspace;
 
 #[cfg(feature = "python")]
 mod python;

@@ -16,11 +16,13 @@ pub enum Kind {
     Tessellated,
     /// maximum mipmaps (Tevs et al. 2008)
     Exact,
+    /// normal-based curved silhouettes (Chen & Chang 2008)
+    Ncs,
 }
 
 impl Kind {
-    pub const ALL: [Kind; 8] =
-        [Kind::Flat, Kind::Bump, Kind::Pom, Kind::Parallax, Kind::SteepParallax, Kind::Relief, Kind::Tessellated, Kind::Exact];
+    pub const ALL: [Kind; 9] =
+        [Kind::Flat, Kind::Bump, Kind::Pom, Kind::Parallax, Kind::SteepParallax, Kind::Relief, Kind::Tessellated, Kind::Exact, Kind::Ncs];
 
     pub fn shader_id(self) -> u32 {
         match self {
@@ -32,6 +34,7 @@ impl Kind {
             Kind::Relief => 5,
             Kind::Tessellated => 6,
             Kind::Exact => 7,
+            Kind::Ncs => 8,
         }
     }
     pub fn name(self) -> &'static str {
@@ -44,11 +47,12 @@ impl Kind {
             Kind::Relief => "Relief",
             Kind::Tessellated => "Tessellated",
             Kind::Exact => "Exact",
+            Kind::Ncs => "NCS",
         }
     }
     /// Methods that march a ray per pixel (and so take shadows and AO).
     pub fn per_pixel(self) -> bool {
-        matches!(self, Kind::Pom | Kind::Parallax | Kind::SteepParallax | Kind::Relief | Kind::Exact)
+        matches!(self, Kind::Pom | Kind::Parallax | Kind::SteepParallax | Kind::Relief | Kind::Exact | Kind::Ncs)
     }
 }
 
@@ -189,6 +193,17 @@ impl Method {
         if k == Kind::Relief && !num.contains_key("linear_steps") {
             m.max_steps = 16;
         }
+        if k == Kind::Ncs {
+            // P_{i+1} = P_i + c * delta * S * TBN * V: c is `step_scale` (the paper's 2.5)
+            if !num.contains_key("max_steps") {
+                m.max_steps = 64;
+            }
+            m.scale = match num.get("step_scale") {
+                None => 2.5,
+                Some(x) if x.is_finite() && *x > 0.0 && *x <= 1000.0 => *x as f32,
+                Some(x) => return Err(Error::arg("step_scale", format!("must lie in (0, 1000], got {x}"))),
+            };
+        }
         m.shadow_steps = int("shadow_steps", m.shadow_steps, 1, MAX_STEPS_LIMIT)?;
         m.binary_steps = int("binary_steps", m.binary_steps, 0, 64)?;
         m.max_iterations = int("max_iterations", m.max_iterations, 1, 1 << 24)?;
@@ -202,7 +217,9 @@ impl Method {
         m.offset_limiting = flag("offset_limiting", m.offset_limiting);
         m.depth_bias = flag("depth_bias", m.depth_bias);
         m.lod_threshold = real("lod_threshold", m.lod_threshold)?;
-        m.scale = real("scale", m.scale)?;
+        if k != Kind::Ncs {
+            m.scale = real("scale", m.scale)?;
+        }
         m.bias = real("bias", m.bias)?;
         if let Some(t) = num.get("texels_per_vertex") {
             if !(t.is_finite() && (1.0 / 64.0..=1024.0).contains(t)) {

@@ -8,6 +8,7 @@ use crate::methods::{Filtering, Kind, Method};
 use crate::mesh::tessellate::tessellate;
 use crate::mesh::{Mesh, Vertex};
 use crate::scene::{Albedo, HeightMap, Light, Scene, MAX_LIGHTS};
+use crate::texspace::{FrameMaps, TexSpace};
 use glam::DVec3;
 use std::collections::hash_map::DefaultHasher;
 use std::collections::HashMap;
@@ -30,6 +31,8 @@ pub const SHADER_SOURCE: &str = concat!(
     include_str!("../shaders/exact.wgsl"),
     "\n",
     include_str!("../shaders/horizon.wgsl"),
+    "\n",
+    include_str!("../shaders/ncs.wgsl"),
     "\n",
     include_str!("../shaders/surface.wgsl"),
 );
@@ -130,6 +133,7 @@ struct Inner {
     heights: Cached<GpuHeight>,
     albedos: Cached<wgpu::TextureView>,
     meshes: Cached<GpuMesh>,
+    frame_maps: Cached<FrameMaps>,
 }
 
 fn mesh_key(mesh: &Mesh) -> u64 {
@@ -147,6 +151,8 @@ pub struct Renderer {
     shadow_pipeline: wgpu::RenderPipeline,
     dummy_shadow: wgpu::TextureView,
     mips: MipBuilder,
+    texspace: TexSpace,
+    dummy_maps: FrameMaps,
     inner: Mutex<Inner>,
     /// serialises GPU submissions so that error scopes and timings belong to one render
     submit: Mutex<()>,
@@ -242,6 +248,16 @@ impl Renderer {
                 }),
                 count: None,
             };
+            let uint_entry = |binding: u32| wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Uint,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            };
             let bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("pomkit surface"),
                 entries: &[
@@ -275,6 +291,8 @@ impl Renderer {
                         ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
                         count: None,
                     },
+                    uint_entry(8),
+                    uint_entry(9),
                     wgpu::BindGroupLayoutEntry {
                         binding: 7,
                         visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX,
@@ -358,6 +376,24 @@ impl Renderer {
             Ok((module, bgl, pipeline_layout, height_sampler, albedo_sampler, shadow_sampler, shadow_pipeline, dummy_shadow))
         })?;
         let mips = MipBuilder::new(&ctx)?;
+        let texspace = TexSpace::new(&ctx)?;
+        let dummy_maps = ctx.scoped(|| {
+            let t = |label| {
+                ctx.device
+                    .create_texture(&wgpu::TextureDescriptor {
+                        label: Some(label),
+                        size: wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
+                        mip_level_count: 1,
+                        sample_count: 1,
+                        dimension: wgpu::TextureDimension::D2,
+                        format: wgpu::TextureFormat::Rgba32Uint,
+                        usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                        view_formats: &[],
+                    })
+                    .create_view(&Default::default())
+            };
+            Ok(FrameMaps { n: t("no frame map N"), t: t("no frame map T") })
+        })?;
         Ok(Self {
             ctx,
             module,
@@ -369,11 +405,14 @@ impl Renderer {
             shadow_pipeline,
             dummy_shadow,
             mips,
+            texspace,
+            dummy_maps,
             inner: Mutex::new(Inner {
                 pipelines: HashMap::new(),
                 heights: Cached::new(8),
                 albedos: Cached::new(8),
                 meshes: Cached::new(8),
+                frame_maps: Cached::new(4),
             }),
             submit: Mutex::new(()),
         })
@@ -723,20 +762,27 @@ impl Renderer {
             shadows: method.shadow_id(),
             filtering: if filtering == Filtering::Exact { 1 } else { 0 },
         };
-        let (pipeline, height, albedo, mesh) = {
+        let (pipeline, height, albedo, mesh, maps) = {
             let mut inner = self.inner.lock().map_err(|_| Error::Gpu("renderer lock poisoned".into()))?;
             let pipeline = self.pipeline(&mut inner, key)?;
             let height = self.height_texture(&mut inner, &scene.material.height)?;
             let albedo = self.albedo_texture(&mut inner, scene.material.albedo.as_ref())?;
             let mesh = self.gpu_mesh(&mut inner, scene, method)?;
-            (pipeline, height, albedo, mesh)
+            let maps = if method.kind == Kind::Ncs {
+                let key = mesh_key(&scene.mesh);
+                let (tx, m) = (&self.texspace, &mesh);
+                Some(inner.frame_maps.get_or(key, || tx.maps(&self.ctx, &m.vbuf, &m.ibuf, m.count))?)
+            } else {
+                None
+            };
+            (pipeline, height, albedo, mesh, maps)
         };
         let globals = self.globals(scene, method);
         let _guard = self.submit.lock().map_err(|_| Error::Gpu("renderer lock poisoned".into()))?;
-        self.draw(scene, &pipeline, &height, &albedo, &mesh, &globals)
+        self.draw(scene, &pipeline, &height, &albedo, &mesh, maps.as_deref().unwrap_or(&self.dummy_maps), &globals)
     }
 
-    fn bind_group(&self, ubuf: &wgpu::Buffer, height: &GpuHeight, albedo: &wgpu::TextureView, shadow: &wgpu::TextureView) -> wgpu::BindGroup {
+    fn bind_group(&self, ubuf: &wgpu::Buffer, height: &GpuHeight, albedo: &wgpu::TextureView, shadow: &wgpu::TextureView, maps: &FrameMaps) -> wgpu::BindGroup {
         self.ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("surface"),
             layout: &self.bgl,
@@ -749,6 +795,8 @@ impl Renderer {
                 wgpu::BindGroupEntry { binding: 5, resource: wgpu::BindingResource::TextureView(shadow) },
                 wgpu::BindGroupEntry { binding: 6, resource: wgpu::BindingResource::Sampler(&self.shadow_sampler) },
                 wgpu::BindGroupEntry { binding: 7, resource: height.max_buf.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(&maps.n) },
+                wgpu::BindGroupEntry { binding: 9, resource: wgpu::BindingResource::TextureView(&maps.t) },
             ],
         })
     }
@@ -760,6 +808,7 @@ impl Renderer {
         height: &GpuHeight,
         albedo: &wgpu::TextureView,
         mesh: &GpuMesh,
+        maps: &FrameMaps,
         globals: &Globals,
     ) -> Result<Frame> {
         let ctx = &self.ctx;
@@ -773,7 +822,7 @@ impl Renderer {
                 contents: bytemuck::bytes_of(globals),
                 usage: wgpu::BufferUsages::UNIFORM,
             });
-            let bind = self.bind_group(&ubuf, height, albedo, &self.dummy_shadow);
+            let bind = self.bind_group(&ubuf, height, albedo, &self.dummy_shadow, maps);
             let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("render") });
             // Tessellated's shadow map: the displaced mesh's depth from the light
             let shadow_view = (globals.shadow[0] >= 0.0).then(|| {
@@ -812,7 +861,7 @@ impl Renderer {
             });
             let bind = match &shadow_view {
                 None => bind,
-                Some(v) => self.bind_group(&ubuf, height, albedo, v),
+                Some(v) => self.bind_group(&ubuf, height, albedo, v, maps),
             };
             let target = |label| {
                 dev.create_texture(&wgpu::TextureDescriptor {

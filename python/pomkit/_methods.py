@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, fields
 
-__all__ = ["Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "Tessellated"]
+__all__ = ["Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "NCS", "Tessellated"]
 
 _SHADOWS = ("none", "hard", "soft", "horizon")
 _FILTERING = ("hardware", "exact")
@@ -214,6 +214,25 @@ class Exact(_PerPixel):
 
 
 @dataclass(frozen=True)
+class NCS(_PerPixel):
+    """Normal-based curved silhouettes (Chen & Chang 2008): no prisms. The base mesh's normals,
+    tangents and scale factors (S_tangent, S_binormal) are rendered into 512^2 texture-space
+    maps on the GPU once per mesh (and dilated past the charts); the view ray is marched in
+    texture space, looking up the local frame at each step: P += c * delta * S * TBN * V with
+    delta = depth / max_steps and c = `step_scale` (the paper's 2.5). A ray leaving the shell
+    through its top is discarded (`mask` false: the silhouette); a ray still inside after
+    `max_steps` is an early termination, flagged in `Frame.flags & 2` (the paper's red pixels)."""
+
+    step_scale: float = 2.5
+    max_steps: int = 64
+    _kind = "NCS"
+
+    def _validate(self):
+        _real_field(self, "step_scale", 1e-6, 1000)
+        _int_field(self, "max_steps")
+
+
+@dataclass(frozen=True)
 class Tessellated(Method):
     """The displaced mesh itself (Chen & Chang 2008's "ground truth model"), rasterised by the
     same pipeline and shaded the same way: vertices on a lattice through the texel centres,
@@ -237,4 +256,4 @@ class Tessellated(Method):
 
 
 #: every method class, for sweeps
-ALL_METHODS = (Flat, Bump, Parallax, SteepParallax, POM, Relief, Exact, Tessellated)
+ALL_METHODS = (Flat, Bump, Parallax, SteepParallax, POM, Relief, Exact, NCS, Tessellated)

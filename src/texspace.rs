@@ -1,0 +1,174 @@
+//! Texture-space maps of the base mesh's frame for NCS (Chen & Chang 2008, Algorithm 1),
+//! rendered on the GPU once per mesh and dilated past the chart borders.
+
+use crate::error::Result;
+use crate::gpu::Context;
+use crate::mesh::Vertex;
+
+pub const TEXSPACE_SHADER: &str = include_str!("../shaders/texspace.wgsl");
+
+/// Size of the maps (texels per side).
+pub const MAP_SIZE: u32 = 512;
+/// Dilation passes: each extends the charts by one texel.
+pub const DILATE_PASSES: u32 = 8;
+
+pub struct FrameMaps {
+    pub n: wgpu::TextureView,
+    pub t: wgpu::TextureView,
+}
+
+pub struct TexSpace {
+    bake: wgpu::RenderPipeline,
+    dilate: wgpu::ComputePipeline,
+    dilate_layout: wgpu::BindGroupLayout,
+}
+
+const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+
+impl TexSpace {
+    pub fn new(ctx: &Context) -> Result<Self> {
+        let dev = &ctx.device;
+        ctx.scoped(|| {
+            let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("pomkit texspace"),
+                source: wgpu::ShaderSource::Wgsl(TEXSPACE_SHADER.into()),
+            });
+            let bake_layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("bake"),
+                bind_group_layouts: &[],
+                immediate_size: 0,
+            });
+            let target = Some(wgpu::ColorTargetState { format: FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL });
+            let bake = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("ncs bake"),
+                layout: Some(&bake_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_bake"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(wgpu::VertexBufferLayout {
+                        array_stride: std::mem::size_of::<Vertex>() as u64,
+                        step_mode: wgpu::VertexStepMode::Vertex,
+                        attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2],
+                    })],
+                },
+                primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleList, cull_mode: None, ..Default::default() },
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_bake"),
+                    compilation_options: Default::default(),
+                    targets: &[target.clone(), target],
+                }),
+                multiview_mask: None,
+                cache: None,
+            });
+            let tex = |b: u32| wgpu::BindGroupLayoutEntry {
+                binding: b,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Uint,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            };
+            let sto = |b: u32| wgpu::BindGroupLayoutEntry {
+                binding: b,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::StorageTexture {
+                    access: wgpu::StorageTextureAccess::WriteOnly,
+                    format: FORMAT,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                },
+                count: None,
+            };
+            let dilate_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("dilate"),
+                entries: &[tex(0), tex(1), sto(2), sto(3)],
+            });
+            let dpl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("dilate"),
+                bind_group_layouts: &[Some(&dilate_layout)],
+                immediate_size: 0,
+            });
+            let dilate = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("dilate"),
+                layout: Some(&dpl),
+                module: &module,
+                entry_point: Some("dilate"),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            Ok(Self { bake, dilate, dilate_layout })
+        })
+    }
+
+    /// Bake and dilate the maps of a mesh.
+    pub fn maps(&self, ctx: &Context, vbuf: &wgpu::Buffer, ibuf: &wgpu::Buffer, count: u32) -> Result<FrameMaps> {
+        let dev = &ctx.device;
+        ctx.scoped(|| {
+            let make = |label| {
+                dev.create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d { width: MAP_SIZE, height: MAP_SIZE, depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: FORMAT,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
+                    view_formats: &[],
+                })
+            };
+            let a = [make("ncs N a"), make("ncs T a")];
+            let b = [make("ncs N b"), make("ncs T b")];
+            let va: Vec<wgpu::TextureView> = a.iter().map(|t| t.create_view(&Default::default())).collect();
+            let vb: Vec<wgpu::TextureView> = b.iter().map(|t| t.create_view(&Default::default())).collect();
+            let mut enc = dev.create_command_encoder(&Default::default());
+            {
+                let att = |v| {
+                    Some(wgpu::RenderPassColorAttachment {
+                        view: v,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                    })
+                };
+                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("ncs bake"),
+                    color_attachments: &[att(&va[0]), att(&va[1])],
+                    depth_stencil_attachment: None,
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_pipeline(&self.bake);
+                pass.set_vertex_buffer(0, vbuf.slice(..));
+                pass.set_index_buffer(ibuf.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..count, 0, 0..1);
+            }
+            for k in 0..DILATE_PASSES {
+                let (src, dst) = if k % 2 == 0 { (&va, &vb) } else { (&vb, &va) };
+                let bg = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("dilate"),
+                    layout: &self.dilate_layout,
+                    entries: &[
+                        wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&src[0]) },
+                        wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&src[1]) },
+                        wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&dst[0]) },
+                        wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&dst[1]) },
+                    ],
+                });
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("dilate"), timestamp_writes: None });
+                pass.set_pipeline(&self.dilate);
+                pass.set_bind_group(0, &bg, &[]);
+                pass.dispatch_workgroups(MAP_SIZE.div_ceil(8), MAP_SIZE.div_ceil(8), 1);
+            }
+            ctx.queue.submit([enc.finish()]);
+            // DILATE_PASSES is even: the result is back in `a`
+            let [n, t] = a;
+            Ok(FrameMaps { n: n.create_view(&Default::default()), t: t.create_view(&Default::default()) })
+        })
+    }
+}
