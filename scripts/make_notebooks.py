@@ -25,9 +25,11 @@ NB = {
 ("md", "Parallax flattens, steep parallax and relief with few steps miss the thin spikes, POM's LOD hands over to bump mapping far away; the max-mip traversal stays exact."),
 ],
 "04_silhouettes": [
-("md", "# Silhouettes on curved meshes\nPer-pixel methods displace inside the base mesh's footprint: on a torus the silhouette stays the low-poly one. Tessellated (the displaced mesh) and Mitsuba show the true outline. (NCS and prism methods are not implemented yet; this notebook shows the baseline they must beat.)"),
+("md", "# Silhouettes on curved meshes\nPer-pixel methods displace inside the base mesh's footprint: on a torus the silhouette stays the low-poly one. NCS (Chen & Chang 2008) marches along the curved base surface and discards rays that leave the shell; Tessellated (the displaced mesh) and Mitsuba show the true outline. (Prism POM is not implemented yet.)"),
 ("code", "import matplotlib.pyplot as plt\nimport pomkit as pk\nr = pk.Renderer()\nscene = pk.Scene(mesh=pk.Mesh.torus(segments=48, tube_segments=24), material=pk.Material(pk.textures.cobblestones(128, cells=8), depth=0.12),\n                 camera=pk.Camera.look_at((0.0, 1.0, 2.8), fov_y=40, width=128, height=128), lights=[pk.DirectionalLight((-0.4, -1, -0.3), 3.0)])\nref = pk.reference.render_mitsuba(scene, spp=16)"),
-("code", "fig, ax = plt.subplots(1, 3, figsize=(12, 4))\nfor a, (name, f) in zip(ax, [('POM', r.render(scene, pk.POM())), ('Tessellated', r.render(scene, pk.Tessellated(0.5))), ('Mitsuba', ref)]):\n    a.imshow(f.to_srgb8()); a.axis('off')\n    a.set_title(f\"{name}  IoU {pk.metrics.mask_iou(f, ref):.3f}\")"),
+("code", "fig, ax = plt.subplots(1, 4, figsize=(16, 4))\nfor a, (name, f) in zip(ax, [('POM', r.render(scene, pk.POM())), ('NCS', r.render(scene, pk.NCS())), ('Tessellated', r.render(scene, pk.Tessellated(0.5))), ('Mitsuba', ref)]):\n    a.imshow(f.to_srgb8()); a.axis('off')\n    a.set_title(f\"{name}  IoU {pk.metrics.mask_iou(f, ref):.3f}\")"),
+("md", "## The step-scale trade-off (the paper's fig. 7)\nEarly terminations (rays still inside the shell after `max_steps`, red) fall as c grows; the error then rises."),
+("code", "import numpy as np\nfig, ax = plt.subplots(1, 3, figsize=(12, 4))\nfor a, c in zip(ax, (1.0, 2.5, 10.0)):\n    f = r.render(scene, pk.NCS(step_scale=c))\n    img = f.to_srgb8().copy(); img[(f.flags & 2) > 0] = (255, 0, 0)\n    a.imshow(img); a.axis('off'); a.set_title(f'c = {c}: {((f.flags & 2) > 0)[f.mask].mean():.1%} early')"),
 ],
 "05_lod_and_shadows": [
 ("md", "# LOD and shadows\nThe LOD tint (full POM, blend, bump) on a receding plane, and POM's hard and soft shadows against Mitsuba's area light of the same angular size."),
