@@ -1,12 +1,8 @@
 // mips.wgsl: the height map's pyramids, built on the GPU so that dynamic height fields need only
 // a level-0 upload.
-//   REDUCE 0: mean of each 2x2 footprint (the sampling pyramid; clamped at odd edges)
-//   REDUCE 1: max of each 2x2 footprint (the max-mip pyramid of Tevs et al. 2008)
-//   REDUCE 2: cell max: the max of the four texel centres around each cell (i, i+1) x (j, j+1)
-//             with wrap-around, i.e. the max of the bilinear field over that cell: level 0 of
-//             the max pyramid.
-
-override REDUCE: u32 = 0u;
+//   reduce:               level k of the sampling pyramid: the mean of each 2x2 footprint of
+//                         level k - 1 (clamped at odd edges)
+//   max_cells/max_reduce: the max pyramid of Tevs et al. 2008, in a storage buffer (below)
 
 @group(0) @binding(0) var src: texture_2d<f32>;
 @group(0) @binding(1) var dst: texture_storage_2d<r32float, write>;
@@ -18,26 +14,12 @@ fn reduce(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let sd = vec2<i32>(textureDimensions(src));
-    let p = vec2<i32>(id.xy);
-    var v: f32;
-    if (REDUCE == 2u) {
-        let x1 = (p.x + 1) % sd.x;
-        let y1 = (p.y + 1) % sd.y;
-        v = max(max(textureLoad(src, p, 0).r, textureLoad(src, vec2<i32>(x1, p.y), 0).r),
-                max(textureLoad(src, vec2<i32>(p.x, y1), 0).r, textureLoad(src, vec2<i32>(x1, y1), 0).r));
-    } else {
-        let q = 2 * p;
-        let a = textureLoad(src, min(q, sd - 1), 0).r;
-        let b = textureLoad(src, min(q + vec2<i32>(1, 0), sd - 1), 0).r;
-        let c = textureLoad(src, min(q + vec2<i32>(0, 1), sd - 1), 0).r;
-        let d = textureLoad(src, min(q + vec2<i32>(1, 1), sd - 1), 0).r;
-        if (REDUCE == 1u) {
-            v = max(max(a, b), max(c, d));
-        } else {
-            v = (a + b + c + d) * 0.25;
-        }
-    }
-    textureStore(dst, p, vec4<f32>(v, 0.0, 0.0, 0.0));
+    let q = 2 * vec2<i32>(id.xy);
+    let a = textureLoad(src, min(q, sd - 1), 0).r;
+    let b = textureLoad(src, min(q + vec2<i32>(1, 0), sd - 1), 0).r;
+    let c = textureLoad(src, min(q + vec2<i32>(0, 1), sd - 1), 0).r;
+    let d = textureLoad(src, min(q + vec2<i32>(1, 1), sd - 1), 0).r;
+    textureStore(dst, vec2<i32>(id.xy), vec4<f32>((a + b + c + d) * 0.25, 0.0, 0.0, 0.0));
 }
 
 // ---- the max pyramid in a storage buffer (levels back to back, row-major) ----

@@ -144,7 +144,7 @@ impl MipBuilder {
                 layout: Some(&pl),
                 module: &module,
                 entry_point: Some("reduce"),
-                compilation_options: wgpu::PipelineCompilationOptions { constants: &[("REDUCE", 0.0)], ..Default::default() },
+                compilation_options: Default::default(),
                 cache: None,
             });
             let max_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

@@ -162,6 +162,17 @@ pub struct Renderer {
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
+/// Depth test and write, less-than: the surface pass and the shadow-map pass.
+fn depth_state() -> Option<wgpu::DepthStencilState> {
+    Some(wgpu::DepthStencilState {
+        format: DEPTH_FORMAT,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(wgpu::CompareFunction::Less),
+        stencil: Default::default(),
+        bias: Default::default(),
+    })
+}
+
 /// The highest max-mip level whose nodes tile the map exactly (its size divides both sides).
 pub fn top_maxmip_level(w: u32, h: u32) -> u32 {
     let mut l = 0;
@@ -342,20 +353,10 @@ impl Renderer {
                     module: &module,
                     entry_point: Some("vs_shadow"),
                     compilation_options: Default::default(),
-                    buffers: &[Some(wgpu::VertexBufferLayout {
-                        array_stride: std::mem::size_of::<Vertex>() as u64,
-                        step_mode: wgpu::VertexStepMode::Vertex,
-                        attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2],
-                    })],
+                    buffers: &[Some(Vertex::layout())],
                 },
                 primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleList, cull_mode: None, ..Default::default() },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
+                depth_stencil: depth_state(),
                 multisample: Default::default(),
                 fragment: None,
                 multiview_mask: None,
@@ -456,7 +457,6 @@ impl Renderer {
             ("SHADOWS", key.shadows as f64),
             ("FILTERING", key.filtering as f64),
         ];
-        let attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2];
         let target = Some(wgpu::ColorTargetState {
             format: COLOR_FORMAT,
             blend: None,
@@ -470,11 +470,7 @@ impl Renderer {
                     module: &self.module,
                     entry_point: Some("vs_main"),
                     compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
-                    buffers: &[Some(wgpu::VertexBufferLayout {
-                        array_stride: std::mem::size_of::<Vertex>() as u64,
-                        step_mode: wgpu::VertexStepMode::Vertex,
-                        attributes: &attrs,
-                    })],
+                    buffers: &[Some(Vertex::layout())],
                 },
                 primitive: wgpu::PrimitiveState {
                     topology: wgpu::PrimitiveTopology::TriangleList,
@@ -482,13 +478,7 @@ impl Renderer {
                     cull_mode: Some(wgpu::Face::Back),
                     ..Default::default()
                 },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
+                depth_stencil: depth_state(),
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
                     module: &self.module,

@@ -42,6 +42,20 @@ pub struct Vertex {
     pub uv_scale: [f32; 2],
 }
 
+impl Vertex {
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 5] =
+        wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2];
+
+    /// The vertex buffer layout every pipeline (surface, shadow map, NCS bake) uses.
+    pub fn layout() -> wgpu::VertexBufferLayout<'static> {
+        wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &Self::ATTRIBUTES,
+        }
+    }
+}
+
 impl Mesh {
     /// Build a mesh from arrays, validating them and computing the tangent frames (and the
     /// uv scales) when `tangents` is None.
