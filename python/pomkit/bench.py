@@ -69,7 +69,14 @@ def variants(cls, **grid) -> list:
 
 
 def _label(m) -> str:
-    return repr(m)
+    """The method with only the fields that differ from its defaults: POM(max_steps=16)."""
+    from dataclasses import fields
+    try:
+        default = type(m)()
+    except Exception:
+        return repr(m)
+    diff = [f"{f.name}={getattr(m, f.name)!r}" for f in fields(m) if getattr(m, f.name) != getattr(default, f.name)]
+    return f"{m.name}({', '.join(diff)})"
 
 
 def _method_name(m) -> str:
