@@ -10,6 +10,7 @@ pub mod gpu;
 pub mod heightmap;
 pub mod mesh;
 pub mod methods;
+pub mod prism;
 pub mod render;
 pub mod scene;
 pub mod texspace;

@@ -18,11 +18,23 @@ pub enum Kind {
     Exact,
     /// normal-based curved silhouettes (Chen & Chang 2008)
     Ncs,
+    /// prism POM (Dachsbacher & Tatarchuk 2007)
+    Prism,
 }
 
 impl Kind {
-    pub const ALL: [Kind; 9] =
-        [Kind::Flat, Kind::Bump, Kind::Pom, Kind::Parallax, Kind::SteepParallax, Kind::Relief, Kind::Tessellated, Kind::Exact, Kind::Ncs];
+    pub const ALL: [Kind; 10] = [
+        Kind::Flat,
+        Kind::Bump,
+        Kind::Pom,
+        Kind::Parallax,
+        Kind::SteepParallax,
+        Kind::Relief,
+        Kind::Tessellated,
+        Kind::Exact,
+        Kind::Ncs,
+        Kind::Prism,
+    ];
 
     pub fn shader_id(self) -> u32 {
         match self {
@@ -35,6 +47,7 @@ impl Kind {
             Kind::Tessellated => 6,
             Kind::Exact => 7,
             Kind::Ncs => 8,
+            Kind::Prism => 9,
         }
     }
     pub fn name(self) -> &'static str {
@@ -48,11 +61,12 @@ impl Kind {
             Kind::Tessellated => "Tessellated",
             Kind::Exact => "Exact",
             Kind::Ncs => "NCS",
+            Kind::Prism => "Prism",
         }
     }
     /// Methods that march a ray per pixel (and so take shadows and AO).
     pub fn per_pixel(self) -> bool {
-        matches!(self, Kind::Pom | Kind::Parallax | Kind::SteepParallax | Kind::Relief | Kind::Exact | Kind::Ncs)
+        matches!(self, Kind::Pom | Kind::Parallax | Kind::SteepParallax | Kind::Relief | Kind::Exact | Kind::Ncs | Kind::Prism)
     }
 }
 
@@ -112,6 +126,8 @@ pub struct Method {
     /// horizon AO directions (0 = off) and horizon samples (2^k texels, k < horizon_samples)
     pub ao_directions: u32,
     pub horizon_samples: u32,
+    /// Prism: extrude outward (the paper's shell) instead of inward
+    pub outward: bool,
 }
 
 pub const MAX_STEPS_LIMIT: u32 = 4096;
@@ -150,6 +166,7 @@ impl Method {
             max_iterations: 4096,
             ao_directions: 0,
             horizon_samples: 8,
+            outward: false,
         }
     }
     pub fn exact() -> Self {
@@ -164,7 +181,7 @@ impl Method {
             .ok_or_else(|| Error::arg("method", format!("unknown method {kind:?}")))?;
         let mut m = Self { kind: k, ..Self::pom() };
         m.shadows = match k {
-            Kind::Pom => Shadows::Soft,
+            Kind::Pom | Kind::Prism => Shadows::Soft,
             Kind::Tessellated => Shadows::Hard,
             _ => Shadows::None,
         };
@@ -216,6 +233,7 @@ impl Method {
         m.mip_filtering = flag("mip_filtering", m.mip_filtering);
         m.offset_limiting = flag("offset_limiting", m.offset_limiting);
         m.depth_bias = flag("depth_bias", m.depth_bias);
+        m.outward = flag("outward", m.outward);
         m.lod_threshold = real("lod_threshold", m.lod_threshold)?;
         if k != Kind::Ncs {
             m.scale = real("scale", m.scale)?;

@@ -34,6 +34,8 @@ pub const SHADER_SOURCE: &str = concat!(
     "\n",
     include_str!("../shaders/ncs.wgsl"),
     "\n",
+    include_str!("../shaders/prism.wgsl"),
+    "\n",
     include_str!("../shaders/surface.wgsl"),
 );
 
@@ -124,8 +126,11 @@ impl<T> Cached<T> {
 
 struct GpuMesh {
     vbuf: wgpu::Buffer,
-    ibuf: wgpu::Buffer,
+    /// None: a non-indexed draw (prisms)
+    ibuf: Option<wgpu::Buffer>,
     count: u32,
+    /// Prism: the per-prism data the fragment shader reads
+    prisms: Option<wgpu::Buffer>,
 }
 
 struct Inner {
@@ -134,6 +139,19 @@ struct Inner {
     albedos: Cached<wgpu::TextureView>,
     meshes: Cached<GpuMesh>,
     frame_maps: Cached<FrameMaps>,
+}
+
+impl GpuMesh {
+    fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_vertex_buffer(0, self.vbuf.slice(..));
+        match &self.ibuf {
+            Some(ib) => {
+                pass.set_index_buffer(ib.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..self.count, 0, 0..1);
+            }
+            None => pass.draw(0..self.count, 0..1),
+        }
+    }
 }
 
 fn mesh_key(mesh: &Mesh) -> u64 {
@@ -153,6 +171,7 @@ pub struct Renderer {
     mips: MipBuilder,
     texspace: TexSpace,
     dummy_maps: FrameMaps,
+    dummy_prisms: wgpu::Buffer,
     inner: Mutex<Inner>,
     /// serialises GPU submissions so that error scopes and timings belong to one render
     submit: Mutex<()>,
@@ -305,6 +324,12 @@ impl Renderer {
                     uint_entry(8),
                     uint_entry(9),
                     wgpu::BindGroupLayoutEntry {
+                        binding: 10,
+                        visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX,
+                        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: true }, has_dynamic_offset: false, min_binding_size: None },
+                        count: None,
+                    },
+                    wgpu::BindGroupLayoutEntry {
                         binding: 7,
                         visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX,
                         ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: true }, has_dynamic_offset: false, min_binding_size: None },
@@ -395,6 +420,14 @@ impl Renderer {
             };
             Ok(FrameMaps { n: t("no frame map N"), t: t("no frame map T") })
         })?;
+        let dummy_prisms = ctx.scoped(|| {
+            Ok(ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("no prisms"),
+                size: std::mem::size_of::<crate::prism::PrismData>() as u64,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            }))
+        })?;
         Ok(Self {
             ctx,
             module,
@@ -408,6 +441,7 @@ impl Renderer {
             mips,
             texspace,
             dummy_maps,
+            dummy_prisms,
             inner: Mutex::new(Inner {
                 pipelines: HashMap::new(),
                 heights: Cached::new(8),
@@ -462,15 +496,21 @@ impl Renderer {
             blend: None,
             write_mask: wgpu::ColorWrites::ALL,
         });
+        let prism = key.method == Kind::Prism.shader_id();
+        let (vs, fs, layout) = if prism {
+            ("vs_prism", "fs_prism", crate::prism::PrismVertex::layout())
+        } else {
+            ("vs_main", "fs_main", Vertex::layout())
+        };
         let p = self.ctx.scoped(|| {
             Ok(self.ctx.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("pomkit surface"),
                 layout: Some(&self.pipeline_layout),
                 vertex: wgpu::VertexState {
                     module: &self.module,
-                    entry_point: Some("vs_main"),
+                    entry_point: Some(vs),
                     compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
-                    buffers: &[Some(Vertex::layout())],
+                    buffers: &[Some(layout)],
                 },
                 primitive: wgpu::PrimitiveState {
                     topology: wgpu::PrimitiveTopology::TriangleList,
@@ -482,7 +522,7 @@ impl Renderer {
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
                     module: &self.module,
-                    entry_point: Some("fs_main"),
+                    entry_point: Some(fs),
                     compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
                     targets: &[target.clone(), target],
                 }),
@@ -589,6 +629,31 @@ impl Renderer {
             ]);
         }
         let ctx = &self.ctx;
+        if method.kind == Kind::Prism {
+            let m = &scene.material;
+            let key = hash_bytes(&[&mesh_key(mesh).to_le_bytes(), &height_key(&m.height).to_le_bytes(), &m.depth.to_le_bytes(),
+                &m.tiling.to_le_bytes(), &[method.outward as u8]]);
+            return inner.meshes.get_or(key, || {
+                let (verts, data) = crate::prism::build(mesh, m.depth, method.outward, &m.height, m.tiling);
+                let vbytes = (verts.len() * std::mem::size_of::<crate::prism::PrismVertex>()) as u64;
+                if vbytes > ctx.limits.max_buffer_size || (data.len() * std::mem::size_of::<crate::prism::PrismData>()) as u64 > ctx.limits.max_storage_buffer_binding_size as u64 {
+                    return Err(Error::limit("mesh", format!("the prisms need {vbytes} bytes of vertices; over the device's buffer limits")));
+                }
+                ctx.scoped(|| {
+                    let vbuf = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("prism vertices"),
+                        contents: bytemuck::cast_slice(&verts),
+                        usage: wgpu::BufferUsages::VERTEX,
+                    });
+                    let pbuf = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("prisms"),
+                        contents: bytemuck::cast_slice(&data),
+                        usage: wgpu::BufferUsages::STORAGE,
+                    });
+                    Ok(GpuMesh { vbuf, ibuf: None, count: verts.len() as u32, prisms: Some(pbuf) })
+                })
+            });
+        }
         inner.meshes.get_or(key, || {
             let (verts, indices) = if tess {
                 let t = tessellate(mesh, &scene.material, method.texels_per_vertex)?;
@@ -620,7 +685,7 @@ impl Renderer {
                     contents: bytemuck::cast_slice(&indices),
                     usage: wgpu::BufferUsages::INDEX,
                 });
-                Ok(GpuMesh { vbuf, ibuf, count: indices.len() as u32 })
+                Ok(GpuMesh { vbuf, ibuf: Some(ibuf), count: indices.len() as u32, prisms: None })
             })
         })
     }
@@ -761,7 +826,7 @@ impl Renderer {
             let maps = if method.kind == Kind::Ncs {
                 let key = mesh_key(&scene.mesh);
                 let (tx, m) = (&self.texspace, &mesh);
-                Some(inner.frame_maps.get_or(key, || tx.maps(&self.ctx, &m.vbuf, &m.ibuf, m.count))?)
+                Some(inner.frame_maps.get_or(key, || tx.maps(&self.ctx, &m.vbuf, m.ibuf.as_ref().expect("indexed"), m.count))?)
             } else {
                 None
             };
@@ -772,7 +837,8 @@ impl Renderer {
         self.draw(scene, &pipeline, &height, &albedo, &mesh, maps.as_deref().unwrap_or(&self.dummy_maps), &globals)
     }
 
-    fn bind_group(&self, ubuf: &wgpu::Buffer, height: &GpuHeight, albedo: &wgpu::TextureView, shadow: &wgpu::TextureView, maps: &FrameMaps) -> wgpu::BindGroup {
+    #[allow(clippy::too_many_arguments)]
+    fn bind_group(&self, ubuf: &wgpu::Buffer, height: &GpuHeight, albedo: &wgpu::TextureView, shadow: &wgpu::TextureView, maps: &FrameMaps, prisms: &wgpu::Buffer) -> wgpu::BindGroup {
         self.ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("surface"),
             layout: &self.bgl,
@@ -787,6 +853,7 @@ impl Renderer {
                 wgpu::BindGroupEntry { binding: 7, resource: height.max_buf.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 8, resource: wgpu::BindingResource::TextureView(&maps.n) },
                 wgpu::BindGroupEntry { binding: 9, resource: wgpu::BindingResource::TextureView(&maps.t) },
+                wgpu::BindGroupEntry { binding: 10, resource: prisms.as_entire_binding() },
             ],
         })
     }
@@ -812,7 +879,8 @@ impl Renderer {
                 contents: bytemuck::bytes_of(globals),
                 usage: wgpu::BufferUsages::UNIFORM,
             });
-            let bind = self.bind_group(&ubuf, height, albedo, &self.dummy_shadow, maps);
+            let prisms = mesh.prisms.as_ref().unwrap_or(&self.dummy_prisms);
+            let bind = self.bind_group(&ubuf, height, albedo, &self.dummy_shadow, maps, prisms);
             let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("render") });
             // Tessellated's shadow map: the displaced mesh's depth from the light
             let shadow_view = (globals.shadow[0] >= 0.0).then(|| {
@@ -843,15 +911,13 @@ impl Renderer {
                     });
                     pass.set_pipeline(&self.shadow_pipeline);
                     pass.set_bind_group(0, &bind, &[]);
-                    pass.set_vertex_buffer(0, mesh.vbuf.slice(..));
-                    pass.set_index_buffer(mesh.ibuf.slice(..), wgpu::IndexFormat::Uint32);
-                    pass.draw_indexed(0..mesh.count, 0, 0..1);
+                    mesh.draw(&mut pass);
                 }
                 v
             });
             let bind = match &shadow_view {
                 None => bind,
-                Some(v) => self.bind_group(&ubuf, height, albedo, v, maps),
+                Some(v) => self.bind_group(&ubuf, height, albedo, v, maps, prisms),
             };
             let target = |label| {
                 dev.create_texture(&wgpu::TextureDescriptor {
@@ -919,9 +985,7 @@ impl Renderer {
                 });
                 pass.set_pipeline(pipeline);
                 pass.set_bind_group(0, &bind, &[]);
-                pass.set_vertex_buffer(0, mesh.vbuf.slice(..));
-                pass.set_index_buffer(mesh.ibuf.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..mesh.count, 0, 0..1);
+                mesh.draw(&mut pass);
             }
             let readback = |label| {
                 dev.create_buffer(&wgpu::BufferDescriptor {

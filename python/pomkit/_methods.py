@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, fields
 
-__all__ = ["Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "NCS", "Tessellated"]
+__all__ = ["Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "NCS", "Prism", "Tessellated"]
 
 _SHADOWS = ("none", "hard", "soft", "horizon")
 _FILTERING = ("hardware", "exact")
@@ -233,6 +233,33 @@ class NCS(_PerPixel):
 
 
 @dataclass(frozen=True)
+class Prism(_PerPixel):
+    """Prism POM (Dachsbacher & Tatarchuk 2007). Each base triangle is extruded along its vertex
+    normals into a prism (top, bottom, three slabs of two triangles, wound outward). The
+    rasteriser draws the prisms' front faces; per pixel the view ray's exit from its prism is
+    computed and the ray is marched between entry and exit with a constant texture gradient
+    (POM's search: `min_steps`..`max_steps` by N.V, and its refinement). The hit's depth is the
+    fragment depth, so that overlapping prisms resolve in the depth buffer; prisms whose highest
+    height lies below the ray are rejected at once. `outward=True` builds the shell above the
+    base mesh (the paper's set-up: h = 0 on the base mesh, h = 1 `depth` above it); the default
+    is pomkit's inward convention. Shadows: "hard", "soft" (default) or "horizon", and
+    `ao_directions`."""
+
+    min_steps: int = 8
+    max_steps: int = 50
+    outward: bool = False
+    shadows: str = field(default="soft", kw_only=True)
+    _kind = "Prism"
+
+    def _validate(self):
+        _int_field(self, "min_steps")
+        _int_field(self, "max_steps")
+        if self.min_steps > self.max_steps:
+            raise ValueError(f"min_steps: must not exceed max_steps ({self.min_steps} > {self.max_steps})")
+        _bool_field(self, "outward")
+
+
+@dataclass(frozen=True)
 class Tessellated(Method):
     """The displaced mesh itself (Chen & Chang 2008's "ground truth model"), rasterised by the
     same pipeline and shaded the same way: vertices on a lattice through the texel centres,
@@ -256,4 +283,4 @@ class Tessellated(Method):
 
 
 #: every method class, for sweeps
-ALL_METHODS = (Flat, Bump, Parallax, SteepParallax, POM, Relief, Exact, NCS, Tessellated)
+ALL_METHODS = (Flat, Bump, Parallax, SteepParallax, POM, Relief, Exact, NCS, Prism, Tessellated)

@@ -1,0 +1,184 @@
+// prism.wgsl: prism POM (Dachsbacher & Tatarchuk 2007). The rasteriser draws the front faces of
+// each prism extruded from a base triangle; a fragment is where the view ray enters the prism,
+// with its (uv, h) interpolated from the corners. The exit is the farthest intersection of the
+// ray with the prism's eight boundary triangles; between entry and exit the ray is marched with
+// a constant texture gradient (POM's linear search and piecewise-linear refinement). No hit in
+// this prism: discard (a neighbouring prism may have it). The hit's depth is written as the
+// fragment depth, so that overlapping prisms resolve by the depth buffer. A prism whose highest
+// height (under its triangle) lies below the ray's lowest point in it is rejected at once.
+//
+// Outward shells (the paper's set-up) put h = 0 on the base mesh and h = 1 `depth` above it.
+
+struct PrismData {
+    top: array<vec4<f32>, 3>,
+    bottom: array<vec4<f32>, 3>,
+    uv: array<vec4<f32>, 3>,
+    info: vec4<f32>,
+}
+
+@group(0) @binding(10) var<storage, read> prisms: array<PrismData>;
+
+struct PrismIn {
+    @builtin(vertex_index) index: u32,
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @location(3) tangent: vec4<f32>,
+    @location(4) uv_scale: vec2<f32>,
+    @location(5) h: f32,
+}
+
+struct PrismVsOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @location(3) tangent: vec4<f32>,
+    @location(4) uv_scale: vec2<f32>,
+    @location(5) h: f32,
+    @location(6) @interpolate(flat) prism: u32,
+}
+
+@vertex
+fn vs_prism(v: PrismIn) -> PrismVsOut {
+    var o: PrismVsOut;
+    o.clip = G.view_proj * vec4<f32>(v.position, 1.0);
+    o.world = v.position;
+    o.normal = v.normal;
+    o.uv = v.uv;
+    o.tangent = v.tangent;
+    o.uv_scale = v.uv_scale;
+    o.h = v.h;
+    o.prism = v.index / 24u;
+    return o;
+}
+
+struct PrismFsOut {
+    @location(0) color: vec4<u32>,
+    @location(1) geo: vec4<u32>,
+    @builtin(frag_depth) depth: f32,
+}
+
+// Ray (o + t d) against triangle (a, b, c): (t, barycentrics u, v) or t < 0.
+fn ray_tri(o: vec3<f32>, d: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> vec3<f32> {
+    let e1 = b - a;
+    let e2 = c - a;
+    let p = cross(d, e2);
+    let det = dot(e1, p);
+    if (abs(det) < 1e-12) {
+        return vec3<f32>(-1.0, 0.0, 0.0);
+    }
+    let inv = 1.0 / det;
+    let s = o - a;
+    let u = dot(s, p) * inv;
+    let q = cross(s, e1);
+    let v = dot(d, q) * inv;
+    let eps = 1e-5;
+    if (u < -eps || v < -eps || u + v > 1.0 + eps) {
+        return vec3<f32>(-1.0, 0.0, 0.0);
+    }
+    return vec3<f32>(dot(e2, q) * inv, u, v);
+}
+
+struct Corner {
+    p: vec3<f32>,
+    st: vec3<f32>, // (u, v, h)
+}
+
+fn corner(pd: PrismData, k: u32, on_top: bool) -> Corner {
+    var c: Corner;
+    c.p = select(pd.bottom[k].xyz, pd.top[k].xyz, on_top);
+    c.st = vec3<f32>(pd.uv[k].xy, select(0.0, 1.0, on_top));
+    return c;
+}
+
+// The exit of the ray from the prism: (t, u, v, h) with t the farthest boundary hit.
+fn prism_exit(pd: PrismData, o: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
+    var best = vec4<f32>(-1.0, 0.0, 0.0, 0.0);
+    for (var f = 0u; f < 8u; f = f + 1u) {
+        var a: Corner;
+        var b: Corner;
+        var c: Corner;
+        if (f == 0u) {
+            a = corner(pd, 0u, true); b = corner(pd, 1u, true); c = corner(pd, 2u, true);
+        } else if (f == 1u) {
+            a = corner(pd, 0u, false); b = corner(pd, 1u, false); c = corner(pd, 2u, false);
+        } else {
+            let k = (f - 2u) / 2u;
+            let j = (k + 1u) % 3u;
+            if ((f - 2u) % 2u == 0u) {
+                a = corner(pd, k, true); b = corner(pd, j, true); c = corner(pd, j, false);
+            } else {
+                a = corner(pd, k, true); b = corner(pd, j, false); c = corner(pd, k, false);
+            }
+        }
+        let r = ray_tri(o, d, a.p, b.p, c.p);
+        if (r.x > best.x) {
+            let st = a.st * (1.0 - r.y - r.z) + b.st * r.y + c.st * r.z;
+            best = vec4<f32>(r.x, st);
+        }
+    }
+    return best;
+}
+
+@fragment
+fn fs_prism(in: PrismVsOut) -> PrismFsOut {
+    let f = make_frame(in.normal, in.tangent, in.uv_scale);
+    let tiling = G.tex.z;
+    let lod = compute_lod(in.uv * tiling);
+    let to_p = in.world - G.eye.xyz;
+    let base_dist = length(to_p);
+    let view = to_p / max(base_dist, 1e-20);
+    let ndotv = -dot(view, f.n);
+    let px = in.clip.xy;
+    let pd = prisms[in.prism];
+    let ex = prism_exit(pd, in.world, view);
+    if (ex.x <= 1e-7) {
+        discard;
+    }
+    let s_e = in.uv * tiling;
+    let h_e = clamp(in.h, 0.0, 1.0);
+    let s_x = ex.yz * tiling;
+    let h_x = clamp(ex.w, 0.0, 1.0);
+    // early rejection: the ray's lowest point in the prism is above every height under it
+    if (min(h_e, h_x) > pd.info.x) {
+        discard;
+    }
+    let hl = height_lod(lod);
+    // POM's linear search with a constant texture gradient from entry to exit
+    let n = pom_sample_count(ndotv);
+    var prev_f = 0.0;
+    var prev_d = h_e - height_at(s_e, hl);
+    var steps = 1.0;
+    var hit = -1.0;
+    if (prev_d <= 0.0) {
+        hit = 0.0;
+    } else {
+        let ni = i32(n);
+        for (var i = 1; i <= ni; i = i + 1) {
+            let fr = f32(i) / n;
+            let d = mix(h_e, h_x, fr) - height_at(mix(s_e, s_x, fr), hl);
+            steps = steps + 1.0;
+            if (d <= 0.0) {
+                hit = prev_f + (fr - prev_f) * prev_d / max(prev_d - d, 1e-12);
+                break;
+            }
+            prev_f = fr;
+            prev_d = d;
+        }
+    }
+    if (hit < 0.0) {
+        discard;
+    }
+    let s_hit = mix(s_e, s_x, hit);
+    let h_hit = mix(h_e, h_x, hit);
+    let p = in.world + view * (ex.x * hit);
+    let sh = shade(f, s_hit, h_hit, p, height_normal(f, s_hit, hl), hl, true, px);
+    let c = G.view_proj * vec4<f32>(p, 1.0);
+    let aov = write_aovs(sh.color, u32(steps + sh.steps), 0u, s_hit / tiling, length(p - G.eye.xyz), lod);
+    var o: PrismFsOut;
+    o.color = aov.color;
+    o.geo = aov.geo;
+    o.depth = clamp(c.z / c.w, 0.0, 1.0);
+    return o;
+}
