@@ -117,7 +117,7 @@ def silhouettes_table(size: int = 256) -> str:
                       lights=[pk.DirectionalLight((-0.4, -1, -0.3), 3.0)])
         ref = R.render_mitsuba(sc, spp=16)
         base = None
-        for m in (pk.POM(), pk.NCS(), pk.Tessellated(0.5)):
+        for m in (pk.POM(), pk.NCS(), pk.Prism(), pk.Tessellated(0.5)):
             t = time_method(r, sc, m, repeats=3)
             f = t["frame"]
             base = base or t["ms"]
@@ -131,7 +131,10 @@ def silhouettes_table(size: int = 256) -> str:
                 sweep_rows.append(f"| {c:g} | {((f.flags & 2) > 0)[f.mask].mean():.3f} | {e['p95']:.3f} | {e['mask_iou']:.4f} |")
     rows += ["", "NCS step_scale c on the torus (64 steps):", "", "| c | early-termination rate | uv p95 | mask IoU |", "|---|---|---|---|"] + sweep_rows
     from .texspace_info import MAP_BYTES
-    rows += ["", f"NCS's extra GPU memory: two {MAP_BYTES['size']}² Rgba32Uint maps = {MAP_BYTES['bytes'] / 2**20:.0f} MiB per mesh (cached, at most 4 meshes)."]
+    tris = len(pk.Mesh.torus(segments=48, tube_segments=24).indices) // 3
+    prism_bytes = tris * (24 * 60 + 160)
+    rows += ["", f"NCS's extra GPU memory: two {MAP_BYTES['size']}² Rgba32Uint maps = {MAP_BYTES['bytes'] / 2**20:.0f} MiB per mesh (cached, at most 4 meshes).",
+             f"Prism's extra GPU memory: 24 vertices of 60 bytes + 160 bytes of prism data per triangle = {prism_bytes / 2**20:.2f} MiB for this {tris}-triangle torus."]
     return "\n".join(rows)
 
 
