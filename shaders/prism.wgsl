@@ -145,8 +145,9 @@ fn fs_prism(in: PrismVsOut) -> PrismFsOut {
         discard;
     }
     let hl = height_lod(lod);
-    // POM's linear search with a constant texture gradient from entry to exit
-    let n = pom_sample_count(ndotv);
+    // POM's linear search with a constant texture gradient from entry to exit, at POM's layer
+    // density: a segment spanning dh of the shell's height gets n * dh layers (at least 2)
+    let n = max(ceil(pom_sample_count(ndotv) * abs(h_x - h_e)), 2.0);
     var prev_f = 0.0;
     var prev_d = h_e - height_at(s_e, hl);
     var steps = 1.0;
