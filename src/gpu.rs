@@ -210,8 +210,8 @@ impl Context {
             .map_err(|e| Error::Gpu(format!("waiting for the GPU failed: {e}")))
     }
 
-    /// Read a buffer (MAP_READ) back to host memory.
-    pub fn read_buffer(&self, buf: &wgpu::Buffer) -> Result<Vec<u8>> {
+    /// Map a buffer (MAP_READ), hand its bytes to `f`, unmap. No copy of the mapped memory.
+    pub fn map_read<T>(&self, buf: &wgpu::Buffer, f: impl FnOnce(&[u8]) -> T) -> Result<T> {
         let slot: Arc<Mutex<Option<std::result::Result<(), wgpu::BufferAsyncError>>>> = Arc::new(Mutex::new(None));
         let s2 = slot.clone();
         buf.map_async(wgpu::MapMode::Read, .., move |r| {
@@ -225,10 +225,15 @@ impl Context {
         }
         let out = {
             let view = buf.get_mapped_range(..).map_err(|e| Error::Gpu(format!("{e}")))?;
-            view.to_vec()
+            f(&view)
         };
         buf.unmap();
         Ok(out)
+    }
+
+    /// Read a buffer (MAP_READ) back to host memory.
+    pub fn read_buffer(&self, buf: &wgpu::Buffer) -> Result<Vec<u8>> {
+        self.map_read(buf, |b| b.to_vec())
     }
 }
 

@@ -124,6 +124,22 @@ impl<T> Cached<T> {
     }
 }
 
+/// The frame's render targets and readback buffers, kept for the next frame of the same size.
+struct Targets {
+    w: u32,
+    h: u32,
+    color_t: wgpu::Texture,
+    geo_t: wgpu::Texture,
+    color_v: wgpu::TextureView,
+    geo_v: wgpu::TextureView,
+    depth_v: wgpu::TextureView,
+    color_buf: wgpu::Buffer,
+    geo_buf: wgpu::Buffer,
+    queries: Option<wgpu::QuerySet>,
+    ts_resolve: Option<wgpu::Buffer>,
+    ts_read: Option<wgpu::Buffer>,
+}
+
 struct GpuMesh {
     vbuf: wgpu::Buffer,
     /// None: a non-indexed draw (prisms)
@@ -175,6 +191,8 @@ pub struct Renderer {
     inner: Mutex<Inner>,
     /// serialises GPU submissions so that error scopes and timings belong to one render
     submit: Mutex<()>,
+    /// the last frame size's targets (used under `submit`)
+    targets: Mutex<Option<Arc<Targets>>>,
 }
 
 /// float32 bits in uint targets: exact on every backend (GL cannot render to Rgba32Float)
@@ -450,6 +468,7 @@ impl Renderer {
                 frame_maps: Cached::new(4),
             }),
             submit: Mutex::new(()),
+            targets: Mutex::new(None),
         })
     }
 
@@ -837,6 +856,54 @@ impl Renderer {
         self.draw(scene, &pipeline, &height, &albedo, &mesh, maps.as_deref().unwrap_or(&self.dummy_maps), &globals)
     }
 
+    /// Render targets and readback buffers for a w x h frame (reused while the size stays).
+    fn targets(&self, w: u32, h: u32) -> Result<Arc<Targets>> {
+        let mut slot = self.targets.lock().map_err(|_| Error::Gpu("renderer lock poisoned".into()))?;
+        if let Some(t) = slot.as_ref() {
+            if t.w == w && t.h == h {
+                return Ok(t.clone());
+            }
+        }
+        let dev = &self.ctx.device;
+        let size = wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 };
+        let tex = |label, format, usage| {
+            dev.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let rt = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        let color_t = tex("color", COLOR_FORMAT, rt);
+        let geo_t = tex("geo", COLOR_FORMAT, rt);
+        let depth_t = tex("depth", DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT);
+        let row_bytes = (w as u64 * 16).div_ceil(256) * 256;
+        let buf = |label, size, usage| dev.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size, usage, mapped_at_creation: false });
+        let rb = wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST;
+        let ts = self.ctx.timestamps;
+        let t = Arc::new(Targets {
+            w,
+            h,
+            color_v: color_t.create_view(&Default::default()),
+            geo_v: geo_t.create_view(&Default::default()),
+            depth_v: depth_t.create_view(&Default::default()),
+            color_buf: buf("color readback", row_bytes * h as u64, rb),
+            geo_buf: buf("geo readback", row_bytes * h as u64, rb),
+            queries: ts.then(|| dev.create_query_set(&wgpu::QuerySetDescriptor { label: Some("pass time"), ty: wgpu::QueryType::Timestamp, count: 2 })),
+            ts_resolve: ts.then(|| buf("ts resolve", 16, wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC)),
+            ts_read: ts.then(|| buf("ts read", 16, rb)),
+            color_t,
+            geo_t,
+        });
+        *slot = Some(t.clone());
+        Ok(t)
+    }
+
     #[allow(clippy::too_many_arguments)]
     fn bind_group(&self, ubuf: &wgpu::Buffer, height: &GpuHeight, albedo: &wgpu::TextureView, shadow: &wgpu::TextureView, maps: &FrameMaps, prisms: &wgpu::Buffer) -> wgpu::BindGroup {
         self.ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -873,7 +940,7 @@ impl Renderer {
         let (w, h) = (scene.camera.width, scene.camera.height);
         let row_bytes = (w as u64 * 16).div_ceil(256) * 256;
         let mut wall_ms = 0.0;
-        let (color_buf, geo_buf, ts_buf) = ctx.scoped(|| {
+        let targets = ctx.scoped(|| {
             let ubuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("globals"),
                 contents: bytemuck::bytes_of(globals),
@@ -919,48 +986,21 @@ impl Renderer {
                 None => bind,
                 Some(v) => self.bind_group(&ubuf, height, albedo, v, maps, prisms),
             };
-            let target = |label| {
-                dev.create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format: COLOR_FORMAT,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                    view_formats: &[],
-                })
-            };
-            let color_t = target("color");
-            let geo_t = target("geo");
-            let depth_t = dev.create_texture(&wgpu::TextureDescriptor {
-                label: Some("depth"),
-                size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: DEPTH_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-                view_formats: &[],
-            });
-            let color_v = color_t.create_view(&Default::default());
-            let geo_v = geo_t.create_view(&Default::default());
-            let depth_v = depth_t.create_view(&Default::default());
-            let queries = ctx.timestamps.then(|| {
-                dev.create_query_set(&wgpu::QuerySetDescriptor { label: Some("pass time"), ty: wgpu::QueryType::Timestamp, count: 2 })
-            });
+            let tg = self.targets(w, h)?;
+            let (color_v, geo_v, depth_v) = (&tg.color_v, &tg.geo_v, &tg.depth_v);
+            let queries = tg.queries.as_ref();
             {
                 let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("surface"),
                     color_attachments: &[
                         Some(wgpu::RenderPassColorAttachment {
-                            view: &color_v,
+                            view: color_v,
                             depth_slice: None,
                             resolve_target: None,
                             ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
                         }),
                         Some(wgpu::RenderPassColorAttachment {
-                            view: &geo_v,
+                            view: geo_v,
                             depth_slice: None,
                             resolve_target: None,
                             ops: wgpu::Operations {
@@ -971,11 +1011,11 @@ impl Renderer {
                         }),
                     ],
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &depth_v,
+                        view: depth_v,
                         depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
                         stencil_ops: None,
                     }),
-                    timestamp_writes: queries.as_ref().map(|q| wgpu::RenderPassTimestampWrites {
+                    timestamp_writes: queries.map(|q| wgpu::RenderPassTimestampWrites {
                         query_set: q,
                         beginning_of_pass_write_index: Some(0),
                         end_of_pass_write_index: Some(1),
@@ -987,17 +1027,7 @@ impl Renderer {
                 pass.set_bind_group(0, &bind, &[]);
                 mesh.draw(&mut pass);
             }
-            let readback = |label| {
-                dev.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(label),
-                    size: row_bytes * h as u64,
-                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                })
-            };
-            let color_buf = readback("color readback");
-            let geo_buf = readback("geo readback");
-            for (t, b) in [(&color_t, &color_buf), (&geo_t, &geo_buf)] {
+            for (t, b) in [(&tg.color_t, &tg.color_buf), (&tg.geo_t, &tg.geo_buf)] {
                 enc.copy_texture_to_buffer(
                     t.as_image_copy(),
                     wgpu::TexelCopyBufferInfo {
@@ -1007,82 +1037,88 @@ impl Renderer {
                     wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
                 );
             }
-            let ts_buf = queries.as_ref().map(|q| {
-                let resolve = dev.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("ts resolve"),
-                    size: 16,
-                    usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                    mapped_at_creation: false,
-                });
-                let read = dev.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("ts read"),
-                    size: 16,
-                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
-                enc.resolve_query_set(q, 0..2, &resolve, 0);
-                enc.copy_buffer_to_buffer(&resolve, 0, &read, 0, 16);
-                read
-            });
+            if let (Some(q), Some(res), Some(read)) = (queries, &tg.ts_resolve, &tg.ts_read) {
+                enc.resolve_query_set(q, 0..2, res, 0);
+                enc.copy_buffer_to_buffer(res, 0, read, 0, 16);
+            }
             let t0 = std::time::Instant::now();
             ctx.queue.submit([enc.finish()]);
             ctx.wait()?;
             wall_ms = t0.elapsed().as_secs_f64() * 1e3;
-            Ok((color_buf, geo_buf, ts_buf))
+            Ok(tg)
         })?;
-        let color_raw = ctx.read_buffer(&color_buf)?;
-        let geo_raw = ctx.read_buffer(&geo_buf)?;
-        let gpu_ms = match ts_buf {
+        let tg = targets;
+        let mut frame = Frame::empty(w, h);
+        let gpu_ms = match &tg.ts_read {
             Some(b) => {
-                let raw = ctx.read_buffer(&b)?;
+                let raw = ctx.read_buffer(b)?;
                 let t: &[u64] = bytemuck::cast_slice(&raw);
                 let period = ctx.queue.get_timestamp_period() as f64;
                 (t[1] > t[0]).then(|| (t[1] - t[0]) as f64 * period / 1e6)
             }
             None => None,
         };
-        Ok(unpack(w, h, row_bytes as usize, &color_raw, &geo_raw, gpu_ms, wall_ms))
+        ctx.map_read(&tg.geo_buf, |g| frame.unpack_geo(row_bytes as usize, g))?;
+        ctx.map_read(&tg.color_buf, |c| frame.unpack_color(row_bytes as usize, c))?;
+        frame.gpu_ms = gpu_ms;
+        frame.wall_ms = wall_ms;
+        Ok(frame)
     }
 }
 
-fn unpack(w: u32, h: u32, row_bytes: usize, color_raw: &[u8], geo_raw: &[u8], gpu_ms: Option<f64>, wall_ms: f64) -> Frame {
-    let n = (w * h) as usize;
-    let mut f = Frame {
-        width: w,
-        height: h,
-        color: Vec::with_capacity(n * 3),
-        uv: Vec::with_capacity(n * 2),
-        depth: Vec::with_capacity(n),
-        mask: Vec::with_capacity(n),
-        steps: Vec::with_capacity(n),
-        lod: Vec::with_capacity(n),
-        flags: Vec::with_capacity(n),
-        gpu_ms,
-        wall_ms,
-    };
-    for y in 0..h as usize {
-        let c: &[f32] = bytemuck::cast_slice(&color_raw[y * row_bytes..y * row_bytes + w as usize * 16]);
-        let cu: &[u32] = bytemuck::cast_slice(&color_raw[y * row_bytes..y * row_bytes + w as usize * 16]);
-        let g: &[f32] = bytemuck::cast_slice(&geo_raw[y * row_bytes..y * row_bytes + w as usize * 16]);
-        for x in 0..w as usize {
-            let hit = g[x * 4 + 2] >= 0.0;
-            f.color.extend_from_slice(&c[x * 4..x * 4 + 3]);
-            let raw = cu[x * 4 + 3];
-            f.steps.push(if hit { raw & 0x0fff_ffff } else { 0 });
-            f.flags.push(if hit { (raw >> 28) as u8 } else { 0 });
-            f.mask.push(hit);
-            if hit {
-                f.uv.extend_from_slice(&g[x * 4..x * 4 + 2]);
-                f.depth.push(g[x * 4 + 2]);
-                f.lod.push(g[x * 4 + 3]);
-            } else {
-                f.uv.extend_from_slice(&[f32::NAN, f32::NAN]);
-                f.depth.push(f32::NAN);
-                f.lod.push(f32::NAN);
+impl Frame {
+    fn empty(w: u32, h: u32) -> Self {
+        let n = (w * h) as usize;
+        Frame {
+            width: w,
+            height: h,
+            color: vec![0.0; n * 3],
+            uv: vec![f32::NAN; n * 2],
+            depth: vec![f32::NAN; n],
+            mask: vec![false; n],
+            steps: vec![0; n],
+            lod: vec![f32::NAN; n],
+            flags: vec![0; n],
+            gpu_ms: None,
+            wall_ms: 0.0,
+        }
+    }
+
+    /// uv, distance and lod from the geo target (distance < 0: no hit); sets the mask.
+    fn unpack_geo(&mut self, row_bytes: usize, raw: &[u8]) {
+        let w = self.width as usize;
+        for y in 0..self.height as usize {
+            let g: &[f32] = bytemuck::cast_slice(&raw[y * row_bytes..y * row_bytes + w * 16]);
+            for (x, px) in g.chunks_exact(4).enumerate() {
+                if px[2] >= 0.0 {
+                    let i = y * w + x;
+                    self.mask[i] = true;
+                    self.uv[2 * i] = px[0];
+                    self.uv[2 * i + 1] = px[1];
+                    self.depth[i] = px[2];
+                    self.lod[i] = px[3];
+                }
             }
         }
     }
-    f
+
+    /// Colour, steps and flags from the colour target (steps and flags only where hit).
+    fn unpack_color(&mut self, row_bytes: usize, raw: &[u8]) {
+        let w = self.width as usize;
+        for y in 0..self.height as usize {
+            let c: &[u32] = bytemuck::cast_slice(&raw[y * row_bytes..y * row_bytes + w * 16]);
+            for (x, px) in c.chunks_exact(4).enumerate() {
+                let i = y * w + x;
+                self.color[3 * i] = f32::from_bits(px[0]);
+                self.color[3 * i + 1] = f32::from_bits(px[1]);
+                self.color[3 * i + 2] = f32::from_bits(px[2]);
+                if self.mask[i] {
+                    self.steps[i] = px[3] & 0x0fff_ffff;
+                    self.flags[i] = (px[3] >> 28) as u8;
+                }
+            }
+        }
+    }
 }
 
 #[cfg(test)]
