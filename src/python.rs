@@ -331,6 +331,7 @@ fn tessellate<'py>(py: Python<'py>, scene: &Bound<'py, PyDict>, texels_per_verte
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("NCS_MAP_SIZE", crate::texspace::MAP_SIZE)?;
     m.add_class::<PyRenderer>()?;
     m.add_function(wrap_pyfunction!(adapters, m)?)?;
     m.add_function(wrap_pyfunction!(exact_uv, m)?)?;

@@ -5,6 +5,7 @@ from typing import Any, Optional
 import numpy as np
 
 __version__: str
+NCS_MAP_SIZE: int
 
 class GpuError(RuntimeError): ...
 class DeviceLostError(GpuError): ...

@@ -130,7 +130,8 @@ def silhouettes_table(size: int = 256) -> str:
                 e = metrics.uv_error(f, ref, sc)
                 sweep_rows.append(f"| {c:g} | {((f.flags & 2) > 0)[f.mask].mean():.3f} | {e['p95']:.3f} | {e['mask_iou']:.4f} |")
     rows += ["", "NCS step_scale c on the torus (64 steps):", "", "| c | early-termination rate | uv p95 | mask IoU |", "|---|---|---|---|"] + sweep_rows
-    from .texspace_info import MAP_BYTES
+    from . import _core
+    MAP_BYTES = {"size": _core.NCS_MAP_SIZE, "bytes": 2 * _core.NCS_MAP_SIZE ** 2 * 16}  # two Rgba32Uint maps
     tris = len(pk.Mesh.torus(segments=48, tube_segments=24).indices) // 3
     prism_bytes = tris * (24 * 60 + 160)
     rows += ["", f"NCS's extra GPU memory: two {MAP_BYTES['size']}² Rgba32Uint maps = {MAP_BYTES['bytes'] / 2**20:.0f} MiB per mesh (cached, at most 4 meshes).",
