@@ -33,7 +33,7 @@ struct Globals {
     march: vec4<f32>,      // min_steps, max_steps, shadow_steps, lod_threshold
     extra: vec4<f32>,      // x adaptive(1)/fixed(0), y mip filtering(1)/level 0(0), z ao directions, w horizon samples
     params: vec4<f32>,     // x parallax scale, y parallax bias, z offset limiting, w max iterations (Exact)
-    params2: vec4<f32>,    // x binary steps (Relief), y depth bias (Relief), z top max-mip level, w
+    params2: vec4<f32>,    // x binary steps (Relief), y depth bias (Relief), z top max-mip level, w exact (Prism)
     ambient: vec4<f32>,    // rgb constant environment radiance, w: number of mip levels
     lights: array<Light, 4>,
     // Tessellated's shadow map: light view-projection, and x: index of the shadowed light

@@ -88,12 +88,15 @@ struct Traversal {
 // a skipped node hands over to its neighbour across the face the ray leaves by, and a descent
 // picks the child that holds the ray, clamped to the parent, so that no boundary case depends on
 // floating-point rounding of the ray's position.
-fn maxmip_traverse(x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32) -> Traversal {
+// `t_max` shortens the walk (a prism's segment); a view ray reports a floor hit only when it
+// is allowed to reach the floor.
+fn maxmip_traverse(x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32) -> Traversal {
     var r: Traversal;
     r.hit = false;
     r.bound = false;
     r.iters = 0.0;
-    let t_end = select(1.0 - h0, h0, dh < 0.0);
+    let t_full = select(1.0 - h0, h0, dh < 0.0);
+    let t_end = min(t_full, t_max);
     let top = i32(G.params2.z);
     var level = top;
     var t = 0.0;
@@ -179,7 +182,7 @@ fn maxmip_traverse(x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32) -> Trav
     r.iters = f32(it);
     r.t = t_end;
     // a view ray always meets the floor (heights >= 0) at t_end
-    r.hit = dh < 0.0;
+    r.hit = dh < 0.0 && t_end >= t_full;
     return r;
 }
 
@@ -197,7 +200,7 @@ fn positive_start(s0: vec2<f32>, d: vec2<f32>) -> vec2<f32> {
 fn exact_march(s0: vec2<f32>, dsdh: vec2<f32>) -> Hit {
     let d = dsdh * G.tex.xy;
     let p0 = positive_start(s0, d);
-    let tr = maxmip_traverse(p0.x, p0.y, 1.0, d.x, d.y, -1.0);
+    let tr = maxmip_traverse(p0.x, p0.y, 1.0, d.x, d.y, -1.0, 2.0);
     var hit: Hit;
     hit.steps = tr.iters;
     hit.flags = select(0u, FLAG_BOUND, tr.bound);
@@ -220,7 +223,7 @@ fn exact_shadow(f: Frame, s: vec2<f32>, h: f32, ls: LightSample) -> ShadowResult
     let h0 = min(h + 1e-4, 1.0);
     let d = dsdh * G.tex.xy;
     let p0 = positive_start(s, d);
-    let tr = maxmip_traverse(p0.x, p0.y, h0, d.x, d.y, 1.0);
+    let tr = maxmip_traverse(p0.x, p0.y, h0, d.x, d.y, 1.0, 2.0);
     r.visibility = select(1.0, 0.0, tr.hit);
     r.steps = tr.iters;
     return r;

@@ -144,28 +144,43 @@ fn fs_prism(in: PrismVsOut) -> PrismFsOut {
     if (min(h_e, h_x) > pd.info.x) {
         discard;
     }
-    let hl = height_lod(lod);
-    // POM's linear search with a constant texture gradient from entry to exit, at POM's layer
-    // density: a segment spanning dh of the shell's height gets n * dh layers (at least 2)
-    let n = max(ceil(pom_sample_count(ndotv) * abs(h_x - h_e)), 2.0);
-    var prev_f = 0.0;
-    var prev_d = h_e - height_at(s_e, hl);
+    var hl = height_lod(lod);
+    if (G.params2.w > 0.5) {
+        hl = 0.0;
+    }
     var steps = 1.0;
     var hit = -1.0;
-    if (prev_d <= 0.0) {
-        hit = 0.0;
+    let dh_seg = h_x - h_e;
+    if (G.params2.w > 0.5 && abs(dh_seg) > 1e-4) {
+        // exact=True: the max-mip traversal along the segment, parameterised by height
+        let slope = (s_x - s_e) / abs(dh_seg) * G.tex.xy;
+        let p0 = positive_start(s_e, slope);
+        let tr = maxmip_traverse(p0.x, p0.y, h_e, slope.x, slope.y, sign(dh_seg), abs(dh_seg));
+        steps = tr.iters;
+        if (tr.hit) {
+            hit = tr.t / abs(dh_seg);
+        }
     } else {
-        let ni = i32(n);
-        for (var i = 1; i <= ni; i = i + 1) {
-            let fr = f32(i) / n;
-            let d = mix(h_e, h_x, fr) - height_at(mix(s_e, s_x, fr), hl);
-            steps = steps + 1.0;
-            if (d <= 0.0) {
-                hit = prev_f + (fr - prev_f) * prev_d / max(prev_d - d, 1e-12);
-                break;
+        // POM's linear search with a constant texture gradient from entry to exit, at POM's
+        // layer density: a segment spanning dh of the shell's height gets n * dh layers (>= 2)
+        let n = max(ceil(pom_sample_count(ndotv) * abs(dh_seg)), 2.0);
+        var prev_f = 0.0;
+        var prev_d = h_e - height_at(s_e, hl);
+        if (prev_d <= 0.0) {
+            hit = 0.0;
+        } else {
+            let ni = i32(n);
+            for (var i = 1; i <= ni; i = i + 1) {
+                let fr = f32(i) / n;
+                let d = mix(h_e, h_x, fr) - height_at(mix(s_e, s_x, fr), hl);
+                steps = steps + 1.0;
+                if (d <= 0.0) {
+                    hit = prev_f + (fr - prev_f) * prev_d / max(prev_d - d, 1e-12);
+                    break;
+                }
+                prev_f = fr;
+                prev_d = d;
             }
-            prev_f = fr;
-            prev_d = d;
         }
     }
     if (hit < 0.0) {

@@ -128,6 +128,8 @@ pub struct Method {
     pub horizon_samples: u32,
     /// Prism: extrude outward (the paper's shell) instead of inward
     pub outward: bool,
+    /// Prism: march between entry and exit with the max-mip traversal
+    pub exact: bool,
 }
 
 pub const MAX_STEPS_LIMIT: u32 = 4096;
@@ -167,6 +169,7 @@ impl Method {
             ao_directions: 0,
             horizon_samples: 8,
             outward: false,
+            exact: false,
         }
     }
     pub fn exact() -> Self {
@@ -234,6 +237,7 @@ impl Method {
         m.offset_limiting = flag("offset_limiting", m.offset_limiting);
         m.depth_bias = flag("depth_bias", m.depth_bias);
         m.outward = flag("outward", m.outward);
+        m.exact = flag("exact", m.exact);
         m.lod_threshold = real("lod_threshold", m.lod_threshold)?;
         if k != Kind::Ncs {
             m.scale = real("scale", m.scale)?;

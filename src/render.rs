@@ -810,7 +810,12 @@ impl Renderer {
                 method.horizon_samples as f32,
             ],
             params: [method.scale, method.bias, if method.offset_limiting { 1.0 } else { 0.0 }, method.max_iterations as f32],
-            params2: [method.binary_steps as f32, if method.depth_bias { 1.0 } else { 0.0 }, top_maxmip_level(hm.width, hm.height) as f32, 0.0],
+            params2: [
+                method.binary_steps as f32,
+                if method.depth_bias { 1.0 } else { 0.0 },
+                top_maxmip_level(hm.width, hm.height) as f32,
+                if method.exact { 1.0 } else { 0.0 },
+            ],
             ambient: [scene.ambient[0], scene.ambient[1], scene.ambient[2], mip_count(hm.width, hm.height) as f32],
             lights,
             shadow_vp,

@@ -242,16 +242,19 @@ class Prism(_PerPixel):
     fragment depth, so that overlapping prisms resolve in the depth buffer; prisms whose highest
     height lies below the ray are rejected at once. `outward=True` builds the shell above the
     base mesh (the paper's set-up: h = 0 on the base mesh, h = 1 `depth` above it); the default
-    is pomkit's inward convention. Shadows: "hard", "soft" (default) or "horizon", and
-    `ao_directions`."""
+    is pomkit's inward convention. `exact=True` marches each segment with the max-mip traversal
+    (level 0, exact patch intersection) instead of POM's search. Shadows: "hard", "soft"
+    (default) or "horizon", and `ao_directions`."""
 
     min_steps: int = 8
     max_steps: int = 50
     outward: bool = False
+    exact: bool = False
     shadows: str = field(default="soft", kw_only=True)
     _kind = "Prism"
 
     def _validate(self):
+        _bool_field(self, "exact")
         _int_field(self, "min_steps")
         _int_field(self, "max_steps")
         if self.min_steps > self.max_steps:
