@@ -68,12 +68,9 @@ pub fn exact_hits(scene: &Scene) -> Result<OracleFrame> {
             n = -n;
         }
         let (d1, d2) = (q(t[1]) - q(t[0]), q(t[2]) - q(t[0]));
-        let det = d1.x * d2.y - d2.x * d1.y;
-        if det.abs() < 1e-14 {
+        let Some((dpdu, dpdv)) = crate::mesh::uv_derivatives(e1, e2, d1, d2) else {
             continue;
-        }
-        let dpdu = (e1 * d2.y - e2 * d1.y) / det;
-        let dpdv = (e2 * d1.x - e1 * d2.x) / det;
+        };
         // columns dP/du, dP/dv, N: its inverse maps a world direction to (du, dv, dn)
         let basis = DMat3::from_cols(dpdu, dpdv, n);
         if basis.determinant().abs() < 1e-18 {

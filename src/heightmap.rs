@@ -3,7 +3,7 @@
 //! that a dynamic height field costs a level-0 upload and a few compute dispatches).
 
 use crate::error::{Error, Result};
-use crate::gpu::Context;
+use crate::gpu::{layout, Context};
 use crate::scene::HeightMap;
 
 /// Size of mip level `k` of a `w x h` map (wgpu's rule: halve, floor, at least 1).
@@ -109,30 +109,11 @@ impl MipBuilder {
                 label: Some("pomkit mips"),
                 source: wgpu::ShaderSource::Wgsl(MIPS_SHADER.into()),
             });
+            let cs = wgpu::ShaderStages::COMPUTE;
+            let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
             let layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("mips"),
-                entries: &[
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 0,
-                        visibility: wgpu::ShaderStages::COMPUTE,
-                        ty: wgpu::BindingType::Texture {
-                            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                            view_dimension: wgpu::TextureViewDimension::D2,
-                            multisampled: false,
-                        },
-                        count: None,
-                    },
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 1,
-                        visibility: wgpu::ShaderStages::COMPUTE,
-                        ty: wgpu::BindingType::StorageTexture {
-                            access: wgpu::StorageTextureAccess::WriteOnly,
-                            format: wgpu::TextureFormat::R32Float,
-                            view_dimension: wgpu::TextureViewDimension::D2,
-                        },
-                        count: None,
-                    },
-                ],
+                entries: &[layout::texture(0, cs, unfilterable), layout::storage_texture(1, cs, wgpu::TextureFormat::R32Float)],
             });
             let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("mips"),
@@ -150,28 +131,9 @@ impl MipBuilder {
             let max_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("max pyramid"),
                 entries: &[
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 0,
-                        visibility: wgpu::ShaderStages::COMPUTE,
-                        ty: wgpu::BindingType::Texture {
-                            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                            view_dimension: wgpu::TextureViewDimension::D2,
-                            multisampled: false,
-                        },
-                        count: None,
-                    },
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 1,
-                        visibility: wgpu::ShaderStages::COMPUTE,
-                        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: false }, has_dynamic_offset: false, min_binding_size: None },
-                        count: None,
-                    },
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 2,
-                        visibility: wgpu::ShaderStages::COMPUTE,
-                        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
-                        count: None,
-                    },
+                    layout::texture(0, cs, unfilterable),
+                    layout::buffer(1, cs, wgpu::BufferBindingType::Storage { read_only: false }),
+                    layout::buffer(2, cs, wgpu::BufferBindingType::Uniform),
                 ],
             });
             let mpl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -326,11 +288,7 @@ impl MipBuilder {
                 let (sw, sh) = level_size(map.width, map.height, k.saturating_sub(1));
                 let (dw, dh) = level_size(map.width, map.height, k);
                 let params: [u32; 8] = [sw, sh, dw, dh, offs[k.saturating_sub(1) as usize], offs[k as usize], 0, 0];
-                let ubuf = wgpu::util::DeviceExt::create_buffer_init(dev, &wgpu::util::BufferInitDescriptor {
-                    label: Some("max level"),
-                    contents: bytemuck::cast_slice(&params),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
+                let ubuf = ctx.upload("max level", bytemuck::cast_slice(&params), wgpu::BufferUsages::UNIFORM);
                 let bg = dev.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("max level"),
                     layout: &self.max_layout,

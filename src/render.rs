@@ -2,7 +2,7 @@
 //! into two float32 targets (colour + steps, uv + distance + lod); one readback returns all AOVs.
 
 use crate::error::{Error, Result};
-use crate::gpu::Context;
+use crate::gpu::{layout, Context};
 use crate::heightmap::{mip_count, GpuHeight, MipBuilder};
 use crate::methods::{Filtering, Kind, Method};
 use crate::mesh::tessellate::tessellate;
@@ -170,8 +170,16 @@ impl GpuMesh {
     }
 }
 
+/// Content key of a mesh: its arrays hashed in place (no vertex array is built).
 fn mesh_key(mesh: &Mesh) -> u64 {
-    hash_bytes(&[bytemuck::cast_slice(&mesh.vertices()), bytemuck::cast_slice(&mesh.indices)])
+    hash_bytes(&[
+        bytemuck::cast_slice(&mesh.positions),
+        bytemuck::cast_slice(&mesh.normals),
+        bytemuck::cast_slice(&mesh.uvs),
+        bytemuck::cast_slice(&mesh.tangents),
+        bytemuck::cast_slice(&mesh.uv_scale),
+        bytemuck::cast_slice(&mesh.indices),
+    ])
 }
 
 pub struct Renderer {
@@ -276,83 +284,27 @@ impl Renderer {
                 label: Some("pomkit surface"),
                 source: wgpu::ShaderSource::Wgsl(SHADER_SOURCE.into()),
             });
-            let tex_entry = |binding: u32, filterable: bool| wgpu::BindGroupLayoutEntry {
-                binding,
-                visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
+            let vf = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX;
+            let tex_entry = |binding: u32, filterable: bool| layout::texture(binding, vf, wgpu::TextureSampleType::Float { filterable });
+            let samp_entry = |binding: u32, filtering: bool| {
+                layout::sampler(binding, vf, if filtering { wgpu::SamplerBindingType::Filtering } else { wgpu::SamplerBindingType::NonFiltering })
             };
-            let samp_entry = |binding: u32, filtering: bool| wgpu::BindGroupLayoutEntry {
-                binding,
-                visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX,
-                ty: wgpu::BindingType::Sampler(if filtering {
-                    wgpu::SamplerBindingType::Filtering
-                } else {
-                    wgpu::SamplerBindingType::NonFiltering
-                }),
-                count: None,
-            };
-            let uint_entry = |binding: u32| wgpu::BindGroupLayoutEntry {
-                binding,
-                visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Uint,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            };
+            let uint_entry = |binding: u32| layout::texture(binding, vf, wgpu::TextureSampleType::Uint);
+            let storage = |binding: u32| layout::buffer(binding, vf, wgpu::BufferBindingType::Storage { read_only: true });
             let bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("pomkit surface"),
                 entries: &[
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 0,
-                        visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX,
-                        ty: wgpu::BindingType::Buffer {
-                            ty: wgpu::BufferBindingType::Uniform,
-                            has_dynamic_offset: false,
-                            min_binding_size: None,
-                        },
-                        count: None,
-                    },
+                    layout::buffer(0, vf, wgpu::BufferBindingType::Uniform),
                     tex_entry(1, filterable),
                     samp_entry(2, filterable),
                     tex_entry(3, true),
                     samp_entry(4, true),
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 5,
-                        visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX,
-                        ty: wgpu::BindingType::Texture {
-                            sample_type: wgpu::TextureSampleType::Depth,
-                            view_dimension: wgpu::TextureViewDimension::D2,
-                            multisampled: false,
-                        },
-                        count: None,
-                    },
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 6,
-                        visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX,
-                        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
-                        count: None,
-                    },
+                    layout::texture(5, vf, wgpu::TextureSampleType::Depth),
+                    layout::sampler(6, vf, wgpu::SamplerBindingType::Comparison),
+                    storage(7),
                     uint_entry(8),
                     uint_entry(9),
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 10,
-                        visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX,
-                        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: true }, has_dynamic_offset: false, min_binding_size: None },
-                        count: None,
-                    },
-                    wgpu::BindGroupLayoutEntry {
-                        binding: 7,
-                        visibility: wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX,
-                        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: true }, has_dynamic_offset: false, min_binding_size: None },
-                        count: None,
-                    },
+                    storage(10),
                 ],
             });
             let pipeline_layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -632,9 +584,9 @@ impl Renderer {
     }
 
     /// The base mesh, or for `Tessellated` the displaced mesh (with the base frame per vertex).
-    fn gpu_mesh(&self, inner: &mut Inner, scene: &Scene, method: &Method) -> Result<Arc<GpuMesh>> {
+    fn gpu_mesh(&self, inner: &mut Inner, scene: &Scene, method: &Method, base_key: u64) -> Result<Arc<GpuMesh>> {
         let mesh = &scene.mesh;
-        let mut key = mesh_key(mesh);
+        let mut key = base_key;
         let tess = method.kind == Kind::Tessellated;
         if tess {
             let m = &scene.material;
@@ -650,7 +602,7 @@ impl Renderer {
         let ctx = &self.ctx;
         if method.kind == Kind::Prism {
             let m = &scene.material;
-            let key = hash_bytes(&[&mesh_key(mesh).to_le_bytes(), &height_key(&m.height).to_le_bytes(), &m.depth.to_le_bytes(),
+            let key = hash_bytes(&[&base_key.to_le_bytes(), &height_key(&m.height).to_le_bytes(), &m.depth.to_le_bytes(),
                 &m.tiling.to_le_bytes(), &[method.outward as u8]]);
             return inner.meshes.get_or(key, || {
                 let (verts, data) = crate::prism::build(mesh, m.depth, method.outward, &m.height, m.tiling);
@@ -659,16 +611,8 @@ impl Renderer {
                     return Err(Error::limit("mesh", format!("the prisms need {vbytes} bytes of vertices; over the device's buffer limits")));
                 }
                 ctx.scoped(|| {
-                    let vbuf = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some("prism vertices"),
-                        contents: bytemuck::cast_slice(&verts),
-                        usage: wgpu::BufferUsages::VERTEX,
-                    });
-                    let pbuf = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some("prisms"),
-                        contents: bytemuck::cast_slice(&data),
-                        usage: wgpu::BufferUsages::STORAGE,
-                    });
+                    let vbuf = ctx.upload("prism vertices", bytemuck::cast_slice(&verts), wgpu::BufferUsages::VERTEX);
+                    let pbuf = ctx.upload("prisms", bytemuck::cast_slice(&data), wgpu::BufferUsages::STORAGE);
                     Ok(GpuMesh { vbuf, ibuf: None, count: verts.len() as u32, prisms: Some(pbuf) })
                 })
             });
@@ -694,16 +638,8 @@ impl Renderer {
                 return Err(Error::limit("texels_per_vertex", format!("the mesh needs a {vbytes}-byte vertex buffer; the device's max_buffer_size is {}", ctx.limits.max_buffer_size)));
             }
             ctx.scoped(|| {
-                let vbuf = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("vertices"),
-                    contents: bytemuck::cast_slice(&verts),
-                    usage: wgpu::BufferUsages::VERTEX,
-                });
-                let ibuf = ctx.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("indices"),
-                    contents: bytemuck::cast_slice(&indices),
-                    usage: wgpu::BufferUsages::INDEX,
-                });
+                let vbuf = ctx.upload("vertices", bytemuck::cast_slice(&verts), wgpu::BufferUsages::VERTEX);
+                let ibuf = ctx.upload("indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX);
                 Ok(GpuMesh { vbuf, ibuf: Some(ibuf), count: indices.len() as u32, prisms: None })
             })
         })
@@ -846,9 +782,10 @@ impl Renderer {
             let pipeline = self.pipeline(&mut inner, key)?;
             let height = self.height_texture(&mut inner, &scene.material.height)?;
             let albedo = self.albedo_texture(&mut inner, scene.material.albedo.as_ref())?;
-            let mesh = self.gpu_mesh(&mut inner, scene, method)?;
+            let base_key = mesh_key(&scene.mesh);
+            let mesh = self.gpu_mesh(&mut inner, scene, method, base_key)?;
             let maps = if method.kind == Kind::Ncs {
-                let key = mesh_key(&scene.mesh);
+                let key = base_key;
                 let (tx, m) = (&self.texspace, &mesh);
                 Some(inner.frame_maps.get_or(key, || tx.maps(&self.ctx, &m.vbuf, m.ibuf.as_ref().expect("indexed"), m.count))?)
             } else {
@@ -946,11 +883,7 @@ impl Renderer {
         let row_bytes = (w as u64 * 16).div_ceil(256) * 256;
         let mut wall_ms = 0.0;
         let targets = ctx.scoped(|| {
-            let ubuf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("globals"),
-                contents: bytemuck::bytes_of(globals),
-                usage: wgpu::BufferUsages::UNIFORM,
-            });
+            let ubuf = ctx.upload("globals", bytemuck::bytes_of(globals), wgpu::BufferUsages::UNIFORM);
             let prisms = mesh.prisms.as_ref().unwrap_or(&self.dummy_prisms);
             let bind = self.bind_group(&ubuf, height, albedo, &self.dummy_shadow, maps, prisms);
             let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("render") });

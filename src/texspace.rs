@@ -2,7 +2,7 @@
 //! rendered on the GPU once per mesh and dilated past the chart borders.
 
 use crate::error::Result;
-use crate::gpu::Context;
+use crate::gpu::{layout, Context};
 use crate::mesh::Vertex;
 
 pub const TEXSPACE_SHADER: &str = include_str!("../shaders/texspace.wgsl");
@@ -60,26 +60,9 @@ impl TexSpace {
                 multiview_mask: None,
                 cache: None,
             });
-            let tex = |b: u32| wgpu::BindGroupLayoutEntry {
-                binding: b,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Uint,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            };
-            let sto = |b: u32| wgpu::BindGroupLayoutEntry {
-                binding: b,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::StorageTexture {
-                    access: wgpu::StorageTextureAccess::WriteOnly,
-                    format: FORMAT,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                },
-                count: None,
-            };
+            let cs = wgpu::ShaderStages::COMPUTE;
+            let tex = |b: u32| layout::texture(b, cs, wgpu::TextureSampleType::Uint);
+            let sto = |b: u32| layout::storage_texture(b, cs, FORMAT);
             let dilate_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("dilate"),
                 entries: &[tex(0), tex(1), sto(2), sto(3)],

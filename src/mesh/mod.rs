@@ -153,17 +153,14 @@ impl Mesh {
             let e2 = p2 - p0;
             let d1 = t1 - t0;
             let d2 = t2 - t0;
-            let det = d1.x * d2.y - d2.x * d1.y;
             let area = e1.cross(e2).length() * 0.5;
             if area <= 0.0 {
                 continue; // degenerate in space: contributes nothing
             }
-            if det.abs() < 1e-14 * (1.0 + d1.length_squared() + d2.length_squared()) {
+            let Some((dpdu, dpdv)) = uv_derivatives(e1, e2, d1, d2) else {
                 report.degenerate_uv_triangles += 1;
                 continue;
-            }
-            let dpdu = (e1 * d2.y - e2 * d1.y) / det;
-            let dpdv = (e2 * d1.x - e1 * d2.x) / det;
+            };
             for &i in tri {
                 let i = i as usize;
                 t_acc[i] += dpdu * area;
@@ -369,6 +366,16 @@ impl Mesh {
         out.compute_frames(None)?;
         Ok(out)
     }
+}
+
+/// dP/du and dP/dv of a triangle with edges e1, e2 and uv edges d1, d2 (exact for its affine
+/// map), or None when its uvs are degenerate.
+pub fn uv_derivatives(e1: DVec3, e2: DVec3, d1: DVec2, d2: DVec2) -> Option<(DVec3, DVec3)> {
+    let det = d1.x * d2.y - d2.x * d1.y;
+    if det.abs() < 1e-14 * (1.0 + d1.length_squared() + d2.length_squared()) {
+        return None;
+    }
+    Some(((e1 * d2.y - e2 * d1.y) / det, (e2 * d1.x - e1 * d2.x) / det))
 }
 
 fn any_orthogonal(n: DVec3) -> DVec3 {
