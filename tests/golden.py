@@ -1,0 +1,99 @@
+"""Golden frames: every built-in method (and its option variants) on small stability scenes,
+saved once from a known-good build and compared against by tests/test_golden.py.
+
+They pin the renderer's arithmetic across refactors (issue 10: "frames bit-identical to before
+the change"). Regenerate only on purpose, with the reason in the commit message:
+
+    .venv/bin/python tests/golden.py        # writes tests/data/golden.npz
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+os.environ.setdefault("XDG_RUNTIME_DIR", tempfile.mkdtemp(prefix="pomkit-xdg-"))
+
+import pomkit as pk  # noqa: E402
+
+PATH = Path(__file__).parent / "data" / "golden.npz"
+SIZE = 48
+MAP = 128
+ANGLES = (0.0, 60.0, 85.0)
+
+
+def _plane(height, theta):
+    t = np.radians(theta)
+    return pk.Scene(
+        mesh=pk.Mesh.plane(2.0), material=pk.Material(height, depth=0.08),
+        camera=pk.Camera.look_at(eye=(0.0, 1.6 * np.cos(t), 1.6 * np.sin(t)), up=(0, 0, -1), fov_y=40.0,
+                                 width=SIZE, height=SIZE),
+        lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0, 2.0)], ambient=0.1)
+
+
+def _curved(mesh):
+    return pk.Scene(
+        mesh=mesh, material=pk.Material(pk.textures.bricks(MAP), depth=0.06),
+        camera=pk.Camera.look_at((1.6, 1.5, 2.2), width=SIZE, height=SIZE),
+        lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0, 2.0)], ambient=0.1)
+
+
+def planar_methods():
+    return {
+        "flat": pk.Flat(), "bump": pk.Bump(), "bump_exactf": pk.Bump(filtering="exact"),
+        "parallax": pk.Parallax(), "parallax_nolimit": pk.Parallax(offset_limiting=False, scale=0.8, bias=0.01),
+        "steep": pk.SteepParallax(), "steep_hard": pk.SteepParallax(steps=12, shadows="hard"),
+        "pom": pk.POM(), "pom_none": pk.POM(shadows="none"), "pom_fixed": pk.POM(adaptive=False, min_steps=8, max_steps=8, shadows="hard"),
+        "pom_level0": pk.POM(mip_filtering=False, shadows="horizon", ao_directions=4), "pom_exactf": pk.POM(filtering="exact"),
+        "relief": pk.Relief(), "relief_bias": pk.Relief(depth_bias=True, shadows="soft"),
+        "exact": pk.Exact(), "exact_shadow": pk.Exact(shadows="exact", ao_directions=8),
+        "tess": pk.Tessellated(), "tess_none": pk.Tessellated(shadows="none"),
+        "prism": pk.Prism(), "prism_exact": pk.Prism(exact=True, shadows="none"),
+    }
+
+
+def curved_methods():
+    return {
+        "pom": pk.POM(), "ncs": pk.NCS(), "ncs_c1": pk.NCS(step_scale=1.0, max_steps=32, shadows="hard"),
+        "prism": pk.Prism(), "prism_out": pk.Prism(outward=True, shadows="horizon"), "prism_exact": pk.Prism(exact=True),
+        "tess": pk.Tessellated(),
+    }
+
+
+def cases():
+    """(key, scene, method) for every golden frame."""
+    out = []
+    for tex in ("bricks", "spikes"):
+        h = pk.textures.ALL[tex](MAP)
+        for a in ANGLES:
+            sc = _plane(h, a)
+            for name, m in planar_methods().items():
+                out.append((f"{tex}-{a:g}-{name}", sc, m))
+    for mesh in ("torus", "sphere"):
+        sc = _curved(getattr(pk.Mesh, mesh)())
+        for name, m in curved_methods().items():
+            out.append((f"{mesh}-{name}", sc, m))
+    return out
+
+
+AOVS = ("color", "uv", "depth", "mask", "steps", "lod", "flags")
+
+
+def main() -> None:
+    r = pk.Renderer()
+    arrays = {}
+    for key, sc, m in cases():
+        f = r.render(sc, m)
+        for a in AOVS:
+            arrays[f"{key}/{a}"] = getattr(f, a)
+    PATH.parent.mkdir(parents=True, exist_ok=True)
+    np.savez_compressed(PATH, **arrays)
+    print(f"wrote {len(arrays) // len(AOVS)} frames to {PATH} ({PATH.stat().st_size / 1e6:.1f} MB)", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
