@@ -3,22 +3,29 @@
 // level k of the max pyramid: the highest point of a 2^k-texel footprint at that distance, so
 // small distant detail merges into its neighbourhood while near detail is read at full
 // resolution. The horizon is the largest elevation angle seen from the point.
+#define_import_path pomkit::horizon
+
+#import pomkit::globals::{G, PI}
+#import pomkit::frame::{Frame, to_texture_space}
+#import pomkit::height::max_at
+#import pomkit::lights::LightSample
+#import pomkit::shadows::{ShadowResult, disk_occlusion}
 
 // tan of the horizon's elevation above the base tangent plane, along texture-space direction
 // `dir` (unit, in texel units), from the point (s, h).
 fn horizon_tan(f: Frame, s: vec2<f32>, h: f32, dir: vec2<f32>) -> f32 {
-    let k_max = min(i32(G.extra.w), i32(G.params2.z) + 1);
+    let k_max = min(i32(G.horizon_samples), i32(G.top_max_level) + 1);
     // world length of one texel step along dir
-    let texel_world = length(vec2<f32>(dir.x * f.scale.x / G.tex.x, dir.y * f.scale.y / G.tex.y)) / G.tex.z;
+    let texel_world = length(vec2<f32>(dir.x * f.scale.x / G.map_size.x, dir.y * f.scale.y / G.map_size.y)) / G.tiling;
     var best = -1e30;
-    let x0 = s.x * G.tex.x - 0.5;
-    let y0 = s.y * G.tex.y - 0.5;
+    let x0 = s.x * G.map_size.x - 0.5;
+    let y0 = s.y * G.map_size.y - 0.5;
     for (var k = 0; k < k_max; k = k + 1) {
         let dist = f32(1 << u32(k));
         let p = vec2<f32>(x0, y0) + dir * dist;
         let size = dist;
         let m = max_at(vec2<i32>(floor(p / size)), k);
-        let t = (m - h) * G.tex.w / (dist * texel_world);
+        let t = (m - h) * G.depth / (dist * texel_world);
         best = max(best, t);
     }
     return best;
@@ -26,9 +33,9 @@ fn horizon_tan(f: Frame, s: vec2<f32>, h: f32, dir: vec2<f32>) -> f32 {
 
 fn horizon_shadow(f: Frame, s: vec2<f32>, h: f32, ls: LightSample) -> ShadowResult {
     var r: ShadowResult;
-    r.steps = G.extra.w;
+    r.steps = G.horizon_samples;
     let l_ts = to_texture_space(f, ls.dir);
-    let lxy = vec2<f32>(l_ts.x * G.tex.x, l_ts.y * G.tex.y);
+    let lxy = vec2<f32>(l_ts.x * G.map_size.x, l_ts.y * G.map_size.y);
     let ln = length(lxy);
     let elev = asin(clamp(dot(ls.dir, f.n), -1.0, 1.0));
     if (ln < 1e-9) {
@@ -54,7 +61,7 @@ fn ign(px: vec2<f32>) -> f32 {
 // Ambient occlusion: the cosine-weighted visible fraction of the hemisphere over `n` directions;
 // in a slice whose horizon rises alpha above the tangent plane the visible fraction is cos^2(alpha).
 fn horizon_ao(f: Frame, s: vec2<f32>, h: f32, px: vec2<f32>) -> vec2<f32> {
-    let n = i32(G.extra.z);
+    let n = i32(G.ao_directions);
     if (n <= 0) {
         return vec2<f32>(1.0, 0.0);
     }
@@ -65,5 +72,5 @@ fn horizon_ao(f: Frame, s: vec2<f32>, h: f32, px: vec2<f32>) -> vec2<f32> {
         let t = max(horizon_tan(f, s, h, vec2<f32>(cos(a), sin(a))), 0.0);
         acc = acc + 1.0 / (1.0 + t * t);
     }
-    return vec2<f32>(acc / f32(n), f32(n) * G.extra.w);
+    return vec2<f32>(acc / f32(n), f32(n) * G.horizon_samples);
 }

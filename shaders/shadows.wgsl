@@ -6,7 +6,17 @@
 //         the ray, perpendicular to it, divided by the penumbra width at the sample's distance
 //         (distance * tan(angular radius)); each sample is so weighted by its distance and the
 //         maximum occlusion wins. With a zero angular diameter it is the hard test.
-// Both run only where N.L > 0 (the caller checks).
+//   exact: the max-mip traversal along the light ray (maxmip.wgsl); visible if it leaves the shell.
+//   ("horizon" lives in horizon.wgsl.) All run only where N.L > 0 (the caller checks).
+//
+// Shader defs: SHADOWS (1 hard, 2 soft, 3 horizon, 4 exact).
+#define_import_path pomkit::shadows
+
+#import pomkit::globals::{G, shadow_tex, shadow_samp, PI}
+#import pomkit::frame::{Frame, to_texture_space}
+#import pomkit::height::height_at
+#import pomkit::lights::LightSample
+#import pomkit::maxmip::{maxmip_traverse, positive_start}
 
 struct ShadowResult {
     visibility: f32,
@@ -33,9 +43,9 @@ fn shadow_march(f: Frame, s: vec2<f32>, h: f32, ls: LightSample, lod: f32) -> Sh
     if (h >= 1.0) {
         return r;
     }
-    let n = max(G.march.z, 1.0);
+    let n = max(G.shadow_steps, 1.0);
     let dsdh = l_ts.xy / l_ts.z;
-    let depth = G.tex.w;
+    let depth = G.depth;
     let cos_elev = sqrt(max(1.0 - dot(ls.dir, f.n) * dot(ls.dir, f.n), 0.0));
     // small bias so that the surface does not shadow itself through filtering noise
     let bias = 1e-4;
@@ -46,7 +56,12 @@ fn shadow_march(f: Frame, s: vec2<f32>, h: f32, ls: LightSample, lod: f32) -> Sh
         let hs = height_at(s + dsdh * (h_ray - h), lod);
         r.steps = r.steps + 1.0;
         let above = hs - h_ray - bias;
-        if (SHADOWS == 1u || ls.tan_radius <= 1e-6) {
+#if SHADOWS == 1
+        let hard = true;
+#else
+        let hard = ls.tan_radius <= 1e-6;
+#endif
+        if (hard) {
             if (above > 0.0) {
                 occl = 1.0;
                 break;
@@ -70,19 +85,19 @@ fn shadow_march(f: Frame, s: vec2<f32>, h: f32, ls: LightSample, lod: f32) -> Sh
 // light (orthographic, fitted to the mesh's bounding sphere). 3x3 percentage-closer filtering
 // of hardware 2x2 comparisons; the lookup point is offset along the surface normal by 1.5
 // shadow-map texels to avoid acne. Its own error: shadow boundaries are placed to within about
-// one and a half shadow-map texels (G.shadow.y world units) and penumbrae of area lights are not
+// one and a half shadow-map texels (G.shadow_texel world units) and penumbrae of area lights are not
 // modelled (the PCF kernel is a fixed ~3 texels wide).
 fn shadow_map_visibility(light: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
-    if (i32(G.shadow.x) != i32(light)) {
+    if (i32(G.shadow_light) != i32(light)) {
         return 1.0;
     }
-    let q = G.shadow_vp * vec4<f32>(p + n * (1.5 * G.shadow.y), 1.0);
+    let q = G.shadow_vp * vec4<f32>(p + n * (1.5 * G.shadow_texel), 1.0);
     let ndc = q.xyz / q.w;
     let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
     if (any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || ndc.z > 1.0) {
         return 1.0;
     }
-    let texel = 1.0 / G.shadow.z;
+    let texel = 1.0 / G.shadow_size;
     var sum = 0.0;
     for (var dy = -1; dy <= 1; dy = dy + 1) {
         for (var dx = -1; dx <= 1; dx = dx + 1) {
@@ -92,7 +107,22 @@ fn shadow_map_visibility(light: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
     return sum / 9.0;
 }
 
-@vertex
-fn vs_shadow(v: VsIn) -> @builtin(position) vec4<f32> {
-    return G.shadow_vp * vec4<f32>(v.position, 1.0);
+// Exact shadows: the same traversal along the light ray; visible if it leaves the shell.
+fn exact_shadow(f: Frame, s: vec2<f32>, h: f32, ls: LightSample) -> ShadowResult {
+    var r: ShadowResult;
+    let l_ts = to_texture_space(f, ls.dir);
+    if (l_ts.z <= 1e-7) {
+        r.visibility = 0.0;
+        r.steps = 0.0;
+        return r;
+    }
+    let dsdh = l_ts.xy / l_ts.z;
+    // start a hair above the surface so that the hit point does not shadow itself
+    let h0 = min(h + 1e-4, 1.0);
+    let d = dsdh * G.map_size;
+    let p0 = positive_start(s, d);
+    let tr = maxmip_traverse(p0.x, p0.y, h0, d.x, d.y, 1.0, 2.0, G.max_iterations);
+    r.visibility = select(1.0, 0.0, tr.hit);
+    r.steps = tr.iters;
+    return r;
 }

@@ -4,13 +4,7 @@
 // holding float bits (renderable everywhere): map N = (n.xyz, S_tangent), map T = (t.xyz,
 // sign(w) * S_binormal). Texels outside the charts stay zero and are then filled by `dilate`.
 
-struct BakeIn {
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) uv: vec2<f32>,
-    @location(3) tangent: vec4<f32>,
-    @location(4) uv_scale: vec2<f32>,
-}
+#import pomkit::vertex::VertexIn
 
 struct BakeOut {
     @builtin(position) clip: vec4<f32>,
@@ -20,7 +14,7 @@ struct BakeOut {
 }
 
 @vertex
-fn vs_bake(v: BakeIn) -> BakeOut {
+fn vs_bake(v: VertexIn) -> BakeOut {
     var o: BakeOut;
     // uv (0,0) is texel row 0, column 0: the top-left of the target
     o.clip = vec4<f32>(v.uv.x * 2.0 - 1.0, 1.0 - v.uv.y * 2.0, 0.5, 1.0);

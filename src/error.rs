@@ -20,10 +20,16 @@ pub enum Error {
 
 impl Error {
     pub fn arg(arg: &str, msg: impl Into<String>) -> Self {
-        Error::InvalidArgument { arg: arg.to_string(), msg: msg.into() }
+        Error::InvalidArgument {
+            arg: arg.to_string(),
+            msg: msg.into(),
+        }
     }
     pub fn limit(arg: &str, msg: impl Into<String>) -> Self {
-        Error::Limit { arg: arg.to_string(), msg: msg.into() }
+        Error::Limit {
+            arg: arg.to_string(),
+            msg: msg.into(),
+        }
     }
 }
 

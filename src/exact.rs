@@ -76,10 +76,22 @@ pub fn exact_hits(scene: &Scene) -> Result<OracleFrame> {
         if basis.determinant().abs() < 1e-18 {
             continue;
         }
-        tris.push(Tri { p0, e1, e2, n, uv0: q(t[0]), d1, d2, to_tex: basis.inverse() });
+        tris.push(Tri {
+            p0,
+            e1,
+            e2,
+            n,
+            uv0: q(t[0]),
+            d1,
+            d2,
+            to_tex: basis.inverse(),
+        });
     }
     if tris.is_empty() {
-        return Err(Error::arg("mesh", "no triangle with usable positions and uvs"));
+        return Err(Error::arg(
+            "mesh",
+            "no triangle with usable positions and uvs",
+        ));
     }
     let cam = &scene.camera;
     let basis = cam.basis();
@@ -93,7 +105,10 @@ pub fn exact_hits(scene: &Scene) -> Result<OracleFrame> {
         mask: vec![false; n],
         cells: vec![0; n],
     };
-    let threads = std::thread::available_parallelism().map(|x| x.get()).unwrap_or(1).min(8);
+    let threads = std::thread::available_parallelism()
+        .map(|x| x.get())
+        .unwrap_or(1)
+        .min(8);
     let rows_per = (h as usize).div_ceil(threads);
     let mat = &scene.material;
     std::thread::scope(|sc| {
@@ -123,7 +138,14 @@ pub fn exact_hits(scene: &Scene) -> Result<OracleFrame> {
                     for j in 0..w as usize {
                         let dir = cam.ray_dir(basis, i as u32, j as u32);
                         let idx = (i - r0) * w as usize + j;
-                        if let Some((uv, dist, cells)) = trace(basis.eye, dir, tris, &mat.height, mat.depth as f64, mat.tiling as f64) {
+                        if let Some((uv, dist, cells)) = trace(
+                            basis.eye,
+                            dir,
+                            tris,
+                            &mat.height,
+                            mat.depth as f64,
+                            mat.tiling as f64,
+                        ) {
                             uv_c[idx * 2] = uv.x;
                             uv_c[idx * 2 + 1] = uv.y;
                             d_c[idx] = dist;
@@ -138,7 +160,14 @@ pub fn exact_hits(scene: &Scene) -> Result<OracleFrame> {
     Ok(out)
 }
 
-fn trace(eye: DVec3, dir: DVec3, tris: &[Tri], hm: &HeightMap, depth: f64, tiling: f64) -> Option<(DVec2, f64, u32)> {
+fn trace(
+    eye: DVec3,
+    dir: DVec3,
+    tris: &[Tri],
+    hm: &HeightMap,
+    depth: f64,
+    tiling: f64,
+) -> Option<(DVec2, f64, u32)> {
     // nearest front-facing triangle (Moller-Trumbore)
     let mut best: Option<(f64, &Tri, f64, f64)> = None;
     for t in tris {
@@ -199,13 +228,17 @@ pub fn march_height_field(hm: &HeightMap, s0: DVec2, ds: DVec2, dh: f64) -> Opti
     let step_j: i64 = if dy > 0.0 { 1 } else { -1 };
     // ray parameter of the next x / y cell boundary
     let next_x = |ci: i64| -> f64 {
-        if dx.abs() < 1e-300 { f64::INFINITY } else {
+        if dx.abs() < 1e-300 {
+            f64::INFINITY
+        } else {
             let b = if dx > 0.0 { (ci + 1) as f64 } else { ci as f64 };
             (b - x0) / dx
         }
     };
     let next_y = |cj: i64| -> f64 {
-        if dy.abs() < 1e-300 { f64::INFINITY } else {
+        if dy.abs() < 1e-300 {
+            f64::INFINITY
+        } else {
             let b = if dy > 0.0 { (cj + 1) as f64 } else { cj as f64 };
             (b - y0) / dy
         }
@@ -233,7 +266,18 @@ pub fn march_height_field(hm: &HeightMap, s0: DVec2, ds: DVec2, dh: f64) -> Opti
 }
 
 #[allow(clippy::too_many_arguments)]
-fn cell_hit(hm: &HeightMap, ci: i64, cj: i64, x0: f64, y0: f64, dx: f64, dy: f64, dh: f64, la: f64, lb: f64) -> Option<f64> {
+fn cell_hit(
+    hm: &HeightMap,
+    ci: i64,
+    cj: i64,
+    x0: f64,
+    y0: f64,
+    dx: f64,
+    dy: f64,
+    dh: f64,
+    la: f64,
+    lb: f64,
+) -> Option<f64> {
     let h00 = hm.texel(ci, cj);
     let h10 = hm.texel(ci + 1, cj);
     let h01 = hm.texel(ci, cj + 1);
@@ -280,7 +324,11 @@ fn cell_hit(hm: &HeightMap, ci: i64, cj: i64, x0: f64, y0: f64, dx: f64, dy: f64
         let (mut lo, mut hi) = (0.0, len);
         for _ in 0..80 {
             let mid = 0.5 * (lo + hi);
-            if f(mid) >= 0.0 { hi = mid } else { lo = mid }
+            if f(mid) >= 0.0 {
+                hi = mid
+            } else {
+                lo = mid
+            }
         }
         return Some(la + hi);
     }
@@ -318,6 +366,10 @@ mod tests {
         let ds = DVec2::new(10.0 / 64.0, 0.0);
         let (lam, _) = march_height_field(&hm, s0, ds, -1.0).unwrap();
         let s = s0.x + ds.x * lam;
-        assert!(s * 64.0 - 0.5 > 38.9 && s * 64.0 - 0.5 < 40.0, "hit at texel {}", s * 64.0 - 0.5);
+        assert!(
+            s * 64.0 - 0.5 > 38.9 && s * 64.0 - 0.5 < 40.0,
+            "hit at texel {}",
+            s * 64.0 - 0.5
+        );
     }
 }

@@ -29,11 +29,21 @@ pub struct Context {
 
 /// Which backends to try: POMKIT_BACKEND=vulkan|gl|all forces them (default: Vulkan, then GL).
 pub fn backends_from_env() -> Result<wgpu::Backends> {
-    match std::env::var("POMKIT_BACKEND").ok().as_deref().map(str::to_ascii_lowercase).as_deref() {
-        None | Some("") | Some("auto") | Some("all") => Ok(wgpu::Backends::VULKAN | wgpu::Backends::GL),
+    match std::env::var("POMKIT_BACKEND")
+        .ok()
+        .as_deref()
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
+        None | Some("") | Some("auto") | Some("all") => {
+            Ok(wgpu::Backends::VULKAN | wgpu::Backends::GL)
+        }
         Some("vulkan") | Some("vk") => Ok(wgpu::Backends::VULKAN),
         Some("gl") | Some("gles") | Some("opengl") => Ok(wgpu::Backends::GL),
-        Some(other) => Err(Error::arg("POMKIT_BACKEND", format!("unknown backend {other:?}; use vulkan, gl or auto"))),
+        Some(other) => Err(Error::arg(
+            "POMKIT_BACKEND",
+            format!("unknown backend {other:?}; use vulkan, gl or auto"),
+        )),
     }
 }
 
@@ -54,7 +64,8 @@ fn describe(a: &wgpu::Adapter) -> AdapterDesc {
     }
 }
 
-const NO_ADAPTER_HELP: &str = "pomkit needs a Vulkan or OpenGL ES adapter. Without a GPU, install Mesa's \
+const NO_ADAPTER_HELP: &str =
+    "pomkit needs a Vulkan or OpenGL ES adapter. Without a GPU, install Mesa's \
 software drivers: `sudo apt-get install mesa-vulkan-drivers libegl1 libegl-mesa0 libgl1-mesa-dri` \
 (Debian/Ubuntu), or set POMKIT_BACKEND=gl to try the GL backend";
 
@@ -85,17 +96,24 @@ impl Context {
                 wgpu::DeviceType::Cpu => 3,
                 wgpu::DeviceType::Other => 4,
             };
-            let b = if i.backend == wgpu::Backend::Vulkan { 0 } else { 1 };
+            let b = if i.backend == wgpu::Backend::Vulkan {
+                0
+            } else {
+                1
+            };
             (t, b)
         };
         list.sort_by_key(rank);
         let adapter = match choice {
             None => list.swap_remove(0),
             Some(c) => {
-                let names: Vec<String> = list.iter().map(|a| {
-                    let d = describe(a);
-                    format!("{} ({})", d.name, d.backend)
-                }).collect();
+                let names: Vec<String> = list
+                    .iter()
+                    .map(|a| {
+                        let d = describe(a);
+                        format!("{} ({})", d.name, d.backend)
+                    })
+                    .collect();
                 let idx = if let Ok(k) = c.parse::<usize>() {
                     (k < list.len()).then_some(k)
                 } else {
@@ -161,7 +179,18 @@ impl Context {
                 }
             }));
         }
-        Ok(Self { adapter, device, queue, info, timestamps, float32_filterable, limits, lost, lost_msg, uncaptured })
+        Ok(Self {
+            adapter,
+            device,
+            queue,
+            info,
+            timestamps,
+            float32_filterable,
+            limits,
+            lost,
+            lost_msg,
+            uncaptured,
+        })
     }
 
     pub fn check_alive(&self) -> Result<()> {
@@ -212,7 +241,8 @@ impl Context {
 
     /// Map a buffer (MAP_READ), hand its bytes to `f`, unmap. No copy of the mapped memory.
     pub fn map_read<T>(&self, buf: &wgpu::Buffer, f: impl FnOnce(&[u8]) -> T) -> Result<T> {
-        let slot: Arc<Mutex<Option<std::result::Result<(), wgpu::BufferAsyncError>>>> = Arc::new(Mutex::new(None));
+        let slot: Arc<Mutex<Option<std::result::Result<(), wgpu::BufferAsyncError>>>> =
+            Arc::new(Mutex::new(None));
         let s2 = slot.clone();
         buf.map_async(wgpu::MapMode::Read, .., move |r| {
             *s2.lock().unwrap() = Some(r);
@@ -224,7 +254,9 @@ impl Context {
             None => return Err(Error::Gpu("buffer map did not complete".into())),
         }
         let out = {
-            let view = buf.get_mapped_range(..).map_err(|e| Error::Gpu(format!("{e}")))?;
+            let view = buf
+                .get_mapped_range(..)
+                .map_err(|e| Error::Gpu(format!("{e}")))?;
             f(&view)
         };
         buf.unmap();
@@ -239,15 +271,27 @@ impl Context {
 
 /// Bind-group layout entries, shared by every pipeline's layout.
 pub mod layout {
-    pub fn texture(binding: u32, stages: wgpu::ShaderStages, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
+    pub fn texture(
+        binding: u32,
+        stages: wgpu::ShaderStages,
+        sample_type: wgpu::TextureSampleType,
+    ) -> wgpu::BindGroupLayoutEntry {
         wgpu::BindGroupLayoutEntry {
             binding,
             visibility: stages,
-            ty: wgpu::BindingType::Texture { sample_type, view_dimension: wgpu::TextureViewDimension::D2, multisampled: false },
+            ty: wgpu::BindingType::Texture {
+                sample_type,
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
             count: None,
         }
     }
-    pub fn storage_texture(binding: u32, stages: wgpu::ShaderStages, format: wgpu::TextureFormat) -> wgpu::BindGroupLayoutEntry {
+    pub fn storage_texture(
+        binding: u32,
+        stages: wgpu::ShaderStages,
+        format: wgpu::TextureFormat,
+    ) -> wgpu::BindGroupLayoutEntry {
         wgpu::BindGroupLayoutEntry {
             binding,
             visibility: stages,
@@ -259,16 +303,33 @@ pub mod layout {
             count: None,
         }
     }
-    pub fn buffer(binding: u32, stages: wgpu::ShaderStages, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
+    pub fn buffer(
+        binding: u32,
+        stages: wgpu::ShaderStages,
+        ty: wgpu::BufferBindingType,
+    ) -> wgpu::BindGroupLayoutEntry {
         wgpu::BindGroupLayoutEntry {
             binding,
             visibility: stages,
-            ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+            ty: wgpu::BindingType::Buffer {
+                ty,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
             count: None,
         }
     }
-    pub fn sampler(binding: u32, stages: wgpu::ShaderStages, ty: wgpu::SamplerBindingType) -> wgpu::BindGroupLayoutEntry {
-        wgpu::BindGroupLayoutEntry { binding, visibility: stages, ty: wgpu::BindingType::Sampler(ty), count: None }
+    pub fn sampler(
+        binding: u32,
+        stages: wgpu::ShaderStages,
+        ty: wgpu::SamplerBindingType,
+    ) -> wgpu::BindGroupLayoutEntry {
+        wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: stages,
+            ty: wgpu::BindingType::Sampler(ty),
+            count: None,
+        }
     }
 }
 
@@ -276,7 +337,12 @@ impl Context {
     /// A buffer initialised with `contents`.
     pub fn upload(&self, label: &str, contents: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
         use wgpu::util::DeviceExt;
-        self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+        self.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage,
+            })
     }
 }
 
@@ -286,7 +352,9 @@ static SHARED: OnceLock<Mutex<Option<(Option<String>, Arc<Context>)>>> = OnceLoc
 /// choice, or a lost device, replaces it.
 pub fn shared(choice: Option<&str>) -> Result<Arc<Context>> {
     let cell = SHARED.get_or_init(|| Mutex::new(None));
-    let mut g = cell.lock().map_err(|_| Error::Gpu("context lock poisoned".into()))?;
+    let mut g = cell
+        .lock()
+        .map_err(|_| Error::Gpu("context lock poisoned".into()))?;
     if let Some((c, ctx)) = g.as_ref() {
         let same = choice.is_none() || c.as_deref() == choice;
         if same && ctx.check_alive().is_ok() {

@@ -15,29 +15,26 @@ pub fn mip_count(w: u32, h: u32) -> u32 {
     32 - w.max(h).leading_zeros()
 }
 
-/// Reduce a level with `op` over each 2x2 footprint (clamped at odd edges). Returns all levels,
-/// level 0 first.
-fn pyramid(map: &HeightMap, op: fn(&[f32]) -> f32) -> Vec<Vec<f32>> {
-    let n = mip_count(map.width, map.height);
-    let mut levels = vec![map.data.clone()];
+/// The one pyramid builder: reduce each level with `op` over its 2x2 footprints (clamped at
+/// odd edges), from `level0` of a `w x h` image. Returns all levels, level 0 first. Height maps
+/// (mean and max) and albedo mips use it.
+pub fn pyramid<T: Copy>(w: u32, h: u32, level0: Vec<T>, op: impl Fn([T; 4]) -> T) -> Vec<Vec<T>> {
+    let n = mip_count(w, h);
+    let mut levels = vec![level0];
     for k in 1..n {
-        let (pw, ph) = level_size(map.width, map.height, k - 1);
-        let (w, h) = level_size(map.width, map.height, k);
+        let (pw, ph) = level_size(w, h, k - 1);
+        let (lw, lh) = level_size(w, h, k);
         let prev = &levels[(k - 1) as usize];
-        let mut out = Vec::with_capacity((w * h) as usize);
-        for y in 0..h {
-            for x in 0..w {
-                let mut q = [0.0f32; 4];
-                let mut i = 0;
-                for dy in 0..2 {
-                    for dx in 0..2 {
-                        let sx = (2 * x + dx).min(pw - 1);
-                        let sy = (2 * y + dy).min(ph - 1);
-                        q[i] = prev[(sy * pw + sx) as usize];
-                        i += 1;
-                    }
-                }
-                out.push(op(&q));
+        let at = |x: u32, y: u32| prev[(y.min(ph - 1) * pw + x.min(pw - 1)) as usize];
+        let mut out = Vec::with_capacity((lw * lh) as usize);
+        for y in 0..lh {
+            for x in 0..lw {
+                out.push(op([
+                    at(2 * x, 2 * y),
+                    at(2 * x + 1, 2 * y),
+                    at(2 * x, 2 * y + 1),
+                    at(2 * x + 1, 2 * y + 1),
+                ]));
             }
         }
         levels.push(out);
@@ -46,11 +43,15 @@ fn pyramid(map: &HeightMap, op: fn(&[f32]) -> f32) -> Vec<Vec<f32>> {
 }
 
 pub fn mean_pyramid(map: &HeightMap) -> Vec<Vec<f32>> {
-    pyramid(map, |q| (q[0] + q[1] + q[2] + q[3]) * 0.25)
+    pyramid(map.width, map.height, map.data.clone(), |q| {
+        (q[0] + q[1] + q[2] + q[3]) * 0.25
+    })
 }
 
 pub fn max_pyramid(map: &HeightMap) -> Vec<Vec<f32>> {
-    pyramid(map, |q| q[0].max(q[1]).max(q[2]).max(q[3]))
+    pyramid(map.width, map.height, map.data.clone(), |q| {
+        q[0].max(q[1]).max(q[2]).max(q[3])
+    })
 }
 
 /// Level 0 of the max pyramid: the max of the bilinear field over each cell between texel
@@ -60,11 +61,19 @@ pub fn cell_max_pyramid(map: &HeightMap) -> Vec<Vec<f32>> {
     let mut l0 = Vec::with_capacity((w * h) as usize);
     for y in 0..h {
         for x in 0..w {
-            let v = map.texel(x, y).max(map.texel(x + 1, y)).max(map.texel(x, y + 1)).max(map.texel(x + 1, y + 1));
+            let v = map
+                .texel(x, y)
+                .max(map.texel(x + 1, y))
+                .max(map.texel(x, y + 1))
+                .max(map.texel(x + 1, y + 1));
             l0.push(v as f32);
         }
     }
-    max_pyramid(&HeightMap { width: map.width, height: map.height, data: l0 })
+    max_pyramid(&HeightMap {
+        width: map.width,
+        height: map.height,
+        data: l0,
+    })
 }
 
 /// The height map on the GPU: the sampling texture (mean mips) and the max-mip texture.
@@ -102,18 +111,22 @@ pub struct MipBuilder {
 pub const MIPS_SHADER: &str = include_str!("../shaders/mips.wgsl");
 
 impl MipBuilder {
-    pub fn new(ctx: &Context) -> Result<Self> {
+    pub fn new(ctx: &Context, lib: &crate::shaders::ShaderLib) -> Result<Self> {
         let dev = &ctx.device;
+        let naga_module = lib.compose_pass(MIPS_SHADER, "shaders/mips.wgsl")?;
         ctx.scoped(|| {
             let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("pomkit mips"),
-                source: wgpu::ShaderSource::Wgsl(MIPS_SHADER.into()),
+                source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(naga_module)),
             });
             let cs = wgpu::ShaderStages::COMPUTE;
             let unfilterable = wgpu::TextureSampleType::Float { filterable: false };
             let layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("mips"),
-                entries: &[layout::texture(0, cs, unfilterable), layout::storage_texture(1, cs, wgpu::TextureFormat::R32Float)],
+                entries: &[
+                    layout::texture(0, cs, unfilterable),
+                    layout::storage_texture(1, cs, wgpu::TextureFormat::R32Float),
+                ],
             });
             let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("mips"),
@@ -151,19 +164,32 @@ impl MipBuilder {
                     cache: None,
                 })
             };
-            Ok(Self { mean, max_cells: make("max_cells"), max_reduce: make("max_reduce"), layout, max_layout })
+            Ok(Self {
+                mean,
+                max_cells: make("max_cells"),
+                max_reduce: make("max_reduce"),
+                layout,
+                max_layout,
+            })
         })
     }
 
     fn texture(ctx: &Context, label: &str, map: &HeightMap) -> wgpu::Texture {
         ctx.device.create_texture(&wgpu::TextureDescriptor {
             label: Some(label),
-            size: wgpu::Extent3d { width: map.width, height: map.height, depth_or_array_layers: 1 },
+            size: wgpu::Extent3d {
+                width: map.width,
+                height: map.height,
+                depth_or_array_layers: 1,
+            },
             mip_level_count: mip_count(map.width, map.height),
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: wgpu::TextureFormat::R32Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::COPY_SRC,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::STORAGE_BINDING
+                | wgpu::TextureUsages::COPY_DST
+                | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         })
     }
@@ -227,15 +253,32 @@ impl MipBuilder {
             });
             let mut enc = ctx.device.create_command_encoder(&Default::default());
             enc.copy_texture_to_buffer(
-                wgpu::TexelCopyTextureInfo { texture: tex, mip_level: k, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::All },
-                wgpu::TexelCopyBufferInfo { buffer: &buf, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row as u32), rows_per_image: Some(h) } },
-                wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+                wgpu::TexelCopyTextureInfo {
+                    texture: tex,
+                    mip_level: k,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &buf,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(row as u32),
+                        rows_per_image: Some(h),
+                    },
+                },
+                wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
             );
             ctx.queue.submit([enc.finish()]);
             let raw = ctx.read_buffer(&buf)?;
             let mut lvl = Vec::with_capacity((w * h) as usize);
             for y in 0..h as usize {
-                let r: &[f32] = bytemuck::cast_slice(&raw[y * row as usize..y * row as usize + 4 * w as usize]);
+                let r: &[f32] =
+                    bytemuck::cast_slice(&raw[y * row as usize..y * row as usize + 4 * w as usize]);
                 lvl.extend_from_slice(r);
             }
             out.push(lvl);
@@ -248,32 +291,61 @@ impl MipBuilder {
         if map.width != g.width || map.height != g.height {
             return Err(Error::arg(
                 "height",
-                format!("update needs the same size: {}x{} vs {}x{}", map.width, map.height, g.width, g.height),
+                format!(
+                    "update needs the same size: {}x{} vs {}x{}",
+                    map.width, map.height, g.width, g.height
+                ),
             ));
         }
         ctx.scoped(|| {
             ctx.queue.write_texture(
                 g.tex.as_image_copy(),
                 bytemuck::cast_slice(&map.data),
-                wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(4 * map.width), rows_per_image: Some(map.height) },
-                wgpu::Extent3d { width: map.width, height: map.height, depth_or_array_layers: 1 },
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(4 * map.width),
+                    rows_per_image: Some(map.height),
+                },
+                wgpu::Extent3d {
+                    width: map.width,
+                    height: map.height,
+                    depth_or_array_layers: 1,
+                },
             );
             let dev = &ctx.device;
             let level = |t: &wgpu::Texture, k: u32| {
-                t.create_view(&wgpu::TextureViewDescriptor { base_mip_level: k, mip_level_count: Some(1), ..Default::default() })
+                t.create_view(&wgpu::TextureViewDescriptor {
+                    base_mip_level: k,
+                    mip_level_count: Some(1),
+                    ..Default::default()
+                })
             };
-            let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("mips") });
-            let mut dispatch = |pipe: &wgpu::ComputePipeline, src: wgpu::TextureView, dst: wgpu::TextureView, k: u32| {
+            let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("mips"),
+            });
+            let mut dispatch = |pipe: &wgpu::ComputePipeline,
+                                src: wgpu::TextureView,
+                                dst: wgpu::TextureView,
+                                k: u32| {
                 let bg = dev.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("mips"),
                     layout: &self.layout,
                     entries: &[
-                        wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&src) },
-                        wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&dst) },
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: wgpu::BindingResource::TextureView(&src),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: wgpu::BindingResource::TextureView(&dst),
+                        },
                     ],
                 });
                 let (w, h) = level_size(map.width, map.height, k);
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("reduce"), timestamp_writes: None });
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("reduce"),
+                    timestamp_writes: None,
+                });
                 pass.set_pipeline(pipe);
                 pass.set_bind_group(0, &bg, &[]);
                 pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
@@ -287,19 +359,48 @@ impl MipBuilder {
             for k in 0..g.mips {
                 let (sw, sh) = level_size(map.width, map.height, k.saturating_sub(1));
                 let (dw, dh) = level_size(map.width, map.height, k);
-                let params: [u32; 8] = [sw, sh, dw, dh, offs[k.saturating_sub(1) as usize], offs[k as usize], 0, 0];
-                let ubuf = ctx.upload("max level", bytemuck::cast_slice(&params), wgpu::BufferUsages::UNIFORM);
+                let params: [u32; 8] = [
+                    sw,
+                    sh,
+                    dw,
+                    dh,
+                    offs[k.saturating_sub(1) as usize],
+                    offs[k as usize],
+                    0,
+                    0,
+                ];
+                let ubuf = ctx.upload(
+                    "max level",
+                    bytemuck::cast_slice(&params),
+                    wgpu::BufferUsages::UNIFORM,
+                );
                 let bg = dev.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("max level"),
                     layout: &self.max_layout,
                     entries: &[
-                        wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&l0) },
-                        wgpu::BindGroupEntry { binding: 1, resource: g.max_buf.as_entire_binding() },
-                        wgpu::BindGroupEntry { binding: 2, resource: ubuf.as_entire_binding() },
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: wgpu::BindingResource::TextureView(&l0),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: g.max_buf.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 2,
+                            resource: ubuf.as_entire_binding(),
+                        },
                     ],
                 });
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("max level"), timestamp_writes: None });
-                pass.set_pipeline(if k == 0 { &self.max_cells } else { &self.max_reduce });
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("max level"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(if k == 0 {
+                    &self.max_cells
+                } else {
+                    &self.max_reduce
+                });
                 pass.set_bind_group(1, &bg, &[]);
                 pass.dispatch_workgroups(dw.div_ceil(8), dh.div_ceil(8), 1);
             }

@@ -16,12 +16,19 @@ pub struct HeightMap {
 impl HeightMap {
     pub fn new(width: u32, height: u32, data: Vec<f32>) -> Result<Self> {
         if width == 0 || height == 0 {
-            return Err(Error::arg("height", "the height map is empty; pass a 2-D array with at least one texel"));
+            return Err(Error::arg(
+                "height",
+                "the height map is empty; pass a 2-D array with at least one texel",
+            ));
         }
         if data.len() != (width as usize) * (height as usize) {
             return Err(Error::arg(
                 "height",
-                format!("expected {} values for a {width}x{height} map, got {}", width as usize * height as usize, data.len()),
+                format!(
+                    "expected {} values for a {width}x{height} map, got {}",
+                    width as usize * height as usize,
+                    data.len()
+                ),
             ));
         }
         if let Some(i) = data.iter().position(|x| !x.is_finite()) {
@@ -31,9 +38,16 @@ impl HeightMap {
             ));
         }
         if let Some(x) = data.iter().find(|x| **x < 0.0 || **x > 1.0) {
-            return Err(Error::arg("height", format!("values must lie in [0, 1], found {x}; normalise the map")));
+            return Err(Error::arg(
+                "height",
+                format!("values must lie in [0, 1], found {x}; normalise the map"),
+            ));
         }
-        Ok(Self { width, height, data })
+        Ok(Self {
+            width,
+            height,
+            data,
+        })
     }
 
     pub fn from_fn(width: u32, height: u32, f: impl Fn(f64, f64) -> f64) -> Self {
@@ -45,7 +59,11 @@ impl HeightMap {
                 data.push(f(u, v).clamp(0.0, 1.0) as f32);
             }
         }
-        Self { width, height, data }
+        Self {
+            width,
+            height,
+            data,
+        }
     }
 
     #[inline]
@@ -96,10 +114,16 @@ pub struct Material {
 impl Material {
     pub fn validate(&self) -> Result<()> {
         if !self.depth.is_finite() || self.depth < 0.0 {
-            return Err(Error::arg("depth", format!("must be a finite number >= 0, got {}", self.depth)));
+            return Err(Error::arg(
+                "depth",
+                format!("must be a finite number >= 0, got {}", self.depth),
+            ));
         }
         if !self.tiling.is_finite() || self.tiling <= 0.0 {
-            return Err(Error::arg("tiling", format!("must be a finite number > 0, got {}", self.tiling)));
+            return Err(Error::arg(
+                "tiling",
+                format!("must be a finite number > 0, got {}", self.tiling),
+            ));
         }
         if let Some(a) = &self.albedo {
             if a.width == 0 || a.height == 0 || a.data.len() != (a.width * a.height) as usize {
@@ -137,25 +161,44 @@ pub struct CameraBasis {
 
 impl Camera {
     pub fn validate(&self) -> Result<()> {
-        let all = self.eye.iter().chain(self.target.iter()).chain(self.up.iter());
+        let all = self
+            .eye
+            .iter()
+            .chain(self.target.iter())
+            .chain(self.up.iter());
         if all.clone().any(|x| !x.is_finite()) {
             return Err(Error::arg("camera", "eye, target and up must be finite"));
         }
         if self.width == 0 || self.height == 0 {
-            return Err(Error::arg("width", format!("image size must be positive, got {}x{}", self.width, self.height)));
+            return Err(Error::arg(
+                "width",
+                format!(
+                    "image size must be positive, got {}x{}",
+                    self.width, self.height
+                ),
+            ));
         }
         if !(self.fov_y > 0.0 && self.fov_y < 180.0) {
-            return Err(Error::arg("fov_y", format!("must lie in (0, 180) degrees, got {}", self.fov_y)));
+            return Err(Error::arg(
+                "fov_y",
+                format!("must lie in (0, 180) degrees, got {}", self.fov_y),
+            ));
         }
         let eye = DVec3::from(self.eye);
         let target = DVec3::from(self.target);
         let fwd = target - eye;
         if fwd.length() < 1e-9 {
-            return Err(Error::arg("eye", "eye and target coincide; move the eye away from the target"));
+            return Err(Error::arg(
+                "eye",
+                "eye and target coincide; move the eye away from the target",
+            ));
         }
         let up = DVec3::from(self.up);
         if up.length() < 1e-12 || fwd.normalize().cross(up.normalize()).length() < 1e-6 {
-            return Err(Error::arg("up", "up is zero or parallel to the view direction; pass another up vector"));
+            return Err(Error::arg(
+                "up",
+                "up is zero or parallel to the view direction; pass another up vector",
+            ));
         }
         Ok(())
     }
@@ -179,7 +222,8 @@ impl Camera {
     pub fn ray_dir(&self, b: &CameraBasis, i: u32, j: u32) -> DVec3 {
         let x = ((j as f64 + 0.5) / self.width as f64) * 2.0 - 1.0;
         let y = 1.0 - ((i as f64 + 0.5) / self.height as f64) * 2.0;
-        (b.forward + b.right * (x * b.tan_half_y * b.aspect) + b.up * (y * b.tan_half_y)).normalize()
+        (b.forward + b.right * (x * b.tan_half_y * b.aspect) + b.up * (y * b.tan_half_y))
+            .normalize()
     }
 
     /// View-projection matrix (wgpu clip space: y up, depth in [0, 1]) for the given clip
@@ -190,7 +234,12 @@ impl Camera {
             DVec4::new(b.right.x, b.up.x, -b.forward.x, 0.0),
             DVec4::new(b.right.y, b.up.y, -b.forward.y, 0.0),
             DVec4::new(b.right.z, b.up.z, -b.forward.z, 0.0),
-            DVec4::new(-b.right.dot(b.eye), -b.up.dot(b.eye), b.forward.dot(b.eye), 1.0),
+            DVec4::new(
+                -b.right.dot(b.eye),
+                -b.up.dot(b.eye),
+                b.forward.dot(b.eye),
+                1.0,
+            ),
         );
         let f = 1.0 / b.tan_half_y;
         let r = far / (near - far);
@@ -207,15 +256,27 @@ impl Camera {
 #[derive(Clone, Debug)]
 pub enum Light {
     /// `direction` is the way the light travels; irradiance on a surface facing the light.
-    Directional { direction: [f64; 3], irradiance: [f32; 3], angular_diameter: f64 },
+    Directional {
+        direction: [f64; 3],
+        irradiance: [f32; 3],
+        angular_diameter: f64,
+    },
     /// A sphere light of radiant intensity `intensity` (W/sr): irradiance I / r^2.
-    Sphere { position: [f64; 3], radius: f64, intensity: [f32; 3] },
+    Sphere {
+        position: [f64; 3],
+        radius: f64,
+        intensity: [f32; 3],
+    },
 }
 
 impl Light {
     pub fn validate(&self) -> Result<()> {
         match self {
-            Light::Directional { direction, irradiance, angular_diameter } => {
+            Light::Directional {
+                direction,
+                irradiance,
+                angular_diameter,
+            } => {
                 let d = DVec3::from(*direction);
                 if !d.is_finite() || d.length() < 1e-12 {
                     return Err(Error::arg("direction", "must be a finite non-zero vector"));
@@ -223,11 +284,21 @@ impl Light {
                 if irradiance.iter().any(|x| !x.is_finite() || *x < 0.0) {
                     return Err(Error::arg("irradiance", "must be finite and >= 0"));
                 }
-                if !(angular_diameter.is_finite() && *angular_diameter >= 0.0 && *angular_diameter < 180.0) {
-                    return Err(Error::arg("angular_diameter", "must lie in [0, 180) degrees"));
+                if !(angular_diameter.is_finite()
+                    && *angular_diameter >= 0.0
+                    && *angular_diameter < 180.0)
+                {
+                    return Err(Error::arg(
+                        "angular_diameter",
+                        "must lie in [0, 180) degrees",
+                    ));
                 }
             }
-            Light::Sphere { position, radius, intensity } => {
+            Light::Sphere {
+                position,
+                radius,
+                intensity,
+            } => {
                 if !DVec3::from(*position).is_finite() {
                     return Err(Error::arg("position", "must be finite"));
                 }
@@ -261,7 +332,13 @@ impl Scene {
         self.material.validate()?;
         self.camera.validate()?;
         if self.lights.len() > MAX_LIGHTS {
-            return Err(Error::arg("lights", format!("at most {MAX_LIGHTS} lights are supported, got {}", self.lights.len())));
+            return Err(Error::arg(
+                "lights",
+                format!(
+                    "at most {MAX_LIGHTS} lights are supported, got {}",
+                    self.lights.len()
+                ),
+            ));
         }
         for l in &self.lights {
             l.validate()?;

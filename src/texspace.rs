@@ -26,19 +26,24 @@ pub struct TexSpace {
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 
 impl TexSpace {
-    pub fn new(ctx: &Context) -> Result<Self> {
+    pub fn new(ctx: &Context, lib: &crate::shaders::ShaderLib) -> Result<Self> {
         let dev = &ctx.device;
+        let naga_module = lib.compose_pass(TEXSPACE_SHADER, "shaders/texspace.wgsl")?;
         ctx.scoped(|| {
             let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("pomkit texspace"),
-                source: wgpu::ShaderSource::Wgsl(TEXSPACE_SHADER.into()),
+                source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(naga_module)),
             });
             let bake_layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("bake"),
                 bind_group_layouts: &[],
                 immediate_size: 0,
             });
-            let target = Some(wgpu::ColorTargetState { format: FORMAT, blend: None, write_mask: wgpu::ColorWrites::ALL });
+            let target = Some(wgpu::ColorTargetState {
+                format: FORMAT,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            });
             let bake = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("ncs bake"),
                 layout: Some(&bake_layout),
@@ -48,7 +53,11 @@ impl TexSpace {
                     compilation_options: Default::default(),
                     buffers: &[Some(Vertex::layout())],
                 },
-                primitive: wgpu::PrimitiveState { topology: wgpu::PrimitiveTopology::TriangleList, cull_mode: None, ..Default::default() },
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    cull_mode: None,
+                    ..Default::default()
+                },
                 depth_stencil: None,
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
@@ -80,30 +89,52 @@ impl TexSpace {
                 compilation_options: Default::default(),
                 cache: None,
             });
-            Ok(Self { bake, dilate, dilate_layout })
+            Ok(Self {
+                bake,
+                dilate,
+                dilate_layout,
+            })
         })
     }
 
     /// Bake and dilate the maps of a mesh.
-    pub fn maps(&self, ctx: &Context, vbuf: &wgpu::Buffer, ibuf: &wgpu::Buffer, count: u32) -> Result<FrameMaps> {
+    pub fn maps(
+        &self,
+        ctx: &Context,
+        vbuf: &wgpu::Buffer,
+        ibuf: &wgpu::Buffer,
+        count: u32,
+    ) -> Result<FrameMaps> {
         let dev = &ctx.device;
         ctx.scoped(|| {
             let make = |label| {
                 dev.create_texture(&wgpu::TextureDescriptor {
                     label: Some(label),
-                    size: wgpu::Extent3d { width: MAP_SIZE, height: MAP_SIZE, depth_or_array_layers: 1 },
+                    size: wgpu::Extent3d {
+                        width: MAP_SIZE,
+                        height: MAP_SIZE,
+                        depth_or_array_layers: 1,
+                    },
                     mip_level_count: 1,
                     sample_count: 1,
                     dimension: wgpu::TextureDimension::D2,
                     format: FORMAT,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::STORAGE_BINDING,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                        | wgpu::TextureUsages::TEXTURE_BINDING
+                        | wgpu::TextureUsages::STORAGE_BINDING,
                     view_formats: &[],
                 })
             };
             let a = [make("ncs N a"), make("ncs T a")];
             let b = [make("ncs N b"), make("ncs T b")];
-            let va: Vec<wgpu::TextureView> = a.iter().map(|t| t.create_view(&Default::default())).collect();
-            let vb: Vec<wgpu::TextureView> = b.iter().map(|t| t.create_view(&Default::default())).collect();
+            let va: Vec<wgpu::TextureView> = a
+                .iter()
+                .map(|t| t.create_view(&Default::default()))
+                .collect();
+            let vb: Vec<wgpu::TextureView> = b
+                .iter()
+                .map(|t| t.create_view(&Default::default()))
+                .collect();
             let mut enc = dev.create_command_encoder(&Default::default());
             {
                 let att = |v| {
@@ -111,7 +142,10 @@ impl TexSpace {
                         view: v,
                         depth_slice: None,
                         resolve_target: None,
-                        ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                            store: wgpu::StoreOp::Store,
+                        },
                     })
                 };
                 let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -133,13 +167,28 @@ impl TexSpace {
                     label: Some("dilate"),
                     layout: &self.dilate_layout,
                     entries: &[
-                        wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&src[0]) },
-                        wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&src[1]) },
-                        wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&dst[0]) },
-                        wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&dst[1]) },
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: wgpu::BindingResource::TextureView(&src[0]),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: wgpu::BindingResource::TextureView(&src[1]),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 2,
+                            resource: wgpu::BindingResource::TextureView(&dst[0]),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 3,
+                            resource: wgpu::BindingResource::TextureView(&dst[1]),
+                        },
                     ],
                 });
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("dilate"), timestamp_writes: None });
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("dilate"),
+                    timestamp_writes: None,
+                });
                 pass.set_pipeline(&self.dilate);
                 pass.set_bind_group(0, &bg, &[]);
                 pass.dispatch_workgroups(MAP_SIZE.div_ceil(8), MAP_SIZE.div_ceil(8), 1);
@@ -147,7 +196,10 @@ impl TexSpace {
             ctx.queue.submit([enc.finish()]);
             // DILATE_PASSES is even: the result is back in `a`
             let [n, t] = a;
-            Ok(FrameMaps { n: n.create_view(&Default::default()), t: t.create_view(&Default::default()) })
+            Ok(FrameMaps {
+                n: n.create_view(&Default::default()),
+                t: t.create_view(&Default::default()),
+            })
         })
     }
 }

@@ -4,7 +4,7 @@
 use pomkit::exact::exact_hits;
 use pomkit::gpu;
 use pomkit::mesh::Mesh;
-use pomkit::methods::{Method, Shadows};
+use pomkit::methods::{Flat, Method, PerPixel, Pom};
 use pomkit::render::Renderer;
 use pomkit::scene::{Camera, HeightMap, Light, Material, Scene};
 use pomkit::Error;
@@ -13,7 +13,12 @@ fn scene(height: HeightMap, theta_deg: f64, size: u32) -> Scene {
     let t = theta_deg.to_radians();
     Scene {
         mesh: Mesh::plane(2.0, 1).unwrap(),
-        material: Material { height, depth: 0.1, tiling: 1.0, albedo: None },
+        material: Material {
+            height,
+            depth: 0.1,
+            tiling: 1.0,
+            albedo: None,
+        },
         camera: Camera {
             eye: [0.0, 2.0 * t.cos(), 2.0 * t.sin()],
             target: [0.0; 3],
@@ -22,7 +27,11 @@ fn scene(height: HeightMap, theta_deg: f64, size: u32) -> Scene {
             width: size,
             height: size,
         },
-        lights: vec![Light::Directional { direction: [-0.3, -1.0, -0.2], irradiance: [2.0; 3], angular_diameter: 1.0 }],
+        lights: vec![Light::Directional {
+            direction: [-0.3, -1.0, -0.2],
+            irradiance: [2.0; 3],
+            angular_diameter: 1.0,
+        }],
         ambient: [0.05; 3],
     }
 }
@@ -36,9 +45,15 @@ fn pom_matches_the_oracle_on_a_constant_height() {
     let r = renderer();
     let hm = HeightMap::new(32, 32, vec![0.3; 32 * 32]).unwrap();
     let s = scene(hm, 60.0, 64);
-    let mut m = Method::pom();
-    m.shadows = Shadows::None;
-    m.lod_threshold = 100.0;
+    let m = Method::Pom(
+        Pom {
+            min_steps: 8,
+            max_steps: 50,
+            lod_threshold: 100.0,
+            adaptive: true,
+        },
+        PerPixel::off(),
+    );
     let f = r.render(&s, &m).unwrap();
     let o = exact_hits(&s).unwrap();
     let mut n = 0;
@@ -63,7 +78,9 @@ fn bad_sizes_are_refused_before_the_gpu() {
     let r = renderer();
     let lim = r.ctx.limits.max_texture_dimension_2d;
     let hm = HeightMap::new(lim + 1, 1, vec![0.5; lim as usize + 1]).unwrap();
-    let e = r.render(&scene(hm, 30.0, 8), &Method::flat()).unwrap_err();
+    let e = r
+        .render(&scene(hm, 30.0, 8), &Method::Flat(Flat {}))
+        .unwrap_err();
     assert!(matches!(e, Error::Limit { .. }), "{e}");
     assert!(e.to_string().contains("max_texture_dimension_2d"));
 }
@@ -74,7 +91,9 @@ fn validation_errors_become_errors_and_the_renderer_survives() {
     let e = r.provoke_validation_error().unwrap_err();
     assert!(matches!(e, Error::Gpu(_)), "{e}");
     let hm = HeightMap::new(8, 8, vec![0.5; 64]).unwrap();
-    assert!(r.render(&scene(hm, 30.0, 8), &Method::pom()).is_ok());
+    assert!(r
+        .render(&scene(hm, 30.0, 8), &Method::pom(PerPixel::off()))
+        .is_ok());
 }
 
 #[test]
@@ -82,7 +101,9 @@ fn gpu_pyramids_equal_the_cpu_ones() {
     use pomkit::heightmap::{cell_max_pyramid, mean_pyramid};
     let r = renderer();
     for (w, h) in [(64u32, 64u32), (48, 20)] {
-        let map = HeightMap::from_fn(w, h, |u, v| (0.5 + 0.5 * (13.0 * u).sin() * (7.0 * v).cos()).fract());
+        let map = HeightMap::from_fn(w, h, |u, v| {
+            (0.5 + 0.5 * (13.0 * u).sin() * (7.0 * v).cos()).fract()
+        });
         let (mean, max) = r.read_pyramids(&map).unwrap();
         let (cm, cx) = (mean_pyramid(&map), cell_max_pyramid(&map));
         assert_eq!(mean.len(), cm.len());

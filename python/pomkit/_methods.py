@@ -1,7 +1,9 @@
 """The methods: small frozen dataclasses with validated fields.
 
-Each maps onto the shared surface pipeline of the Rust core (`kind` plus numeric and text
-parameters). See docs/methods.md for what each implements and which paper it follows.
+The Rust core extracts each dataclass field by field into its typed `Method` (the class
+attribute `_kind` picks the variant): the defaults and ranges here are the only ones. See
+docs/methods.md for what each implements and which paper it follows, and
+docs/custom_methods.md for `Custom`.
 
 Every per-pixel method (Parallax, SteepParallax, POM, Relief, Exact) also takes, by keyword:
   shadows: "none" | "hard" (horizon test along the light ray, `shadow_steps` samples) |
@@ -16,9 +18,9 @@ Every per-pixel method (Parallax, SteepParallax, POM, Relief, Exact) also takes,
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 
-__all__ = ["Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "NCS", "Prism", "Tessellated"]
+__all__ = ["Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "NCS", "Prism", "Tessellated", "Custom"]
 
 _SHADOWS = ("none", "hard", "soft", "horizon")
 _FILTERING = ("hardware", "exact")
@@ -57,19 +59,6 @@ class Method:
     """Base of all methods. `_kind` names the core implementation."""
 
     _kind = ""
-
-    def _params(self) -> tuple[str, dict[str, float], dict[str, str]]:
-        num: dict[str, float] = {}
-        text: dict[str, str] = {}
-        for f in fields(self):  # type: ignore[arg-type]
-            v = getattr(self, f.name)
-            if isinstance(v, str):
-                text[f.name] = v
-            elif isinstance(v, bool):
-                num[f.name] = 1.0 if v else 0.0
-            else:
-                num[f.name] = float(v)
-        return self._kind, num, text
 
     @property
     def name(self) -> str:
@@ -285,5 +274,43 @@ class Tessellated(Method):
             raise ValueError(f"texels_per_vertex: must be a number in [1/64, 1024], got {v!r}")
 
 
-#: every method class, for sweeps
+@dataclass(frozen=True)
+class Custom(_PerPixel):
+    """A method you write in WGSL, run by pomkit's surface pass (docs/custom_methods.md).
+
+    `wgsl` defines `fn march(r: Ray) -> Hit`, importing what it uses from pomkit's modules, e.g.
+    `#import pomkit::march::{Ray, Hit, planar_hit}` and `#import pomkit::height::height_at`.
+    pomkit supplies the geometry, the LOD, shading, shadows (`shadows=` as for the built-ins),
+    the AOVs and the timing. `params` become the uniform block `params` (f32 fields, in order):
+    `params={"steps": 24.0}` is read as `params.steps`. `name` names the method in labels and in
+    compile errors, which raise a ValueError naming `wgsl` with naga's message and line numbers.
+    """
+
+    wgsl: str = ""
+    name: str = "custom"
+    params: dict = field(default_factory=dict)
+    _kind = "Custom"
+
+    def _validate(self):
+        if not isinstance(self.wgsl, str) or "fn march" not in self.wgsl:
+            raise ValueError("wgsl: must be WGSL source defining `fn march(r: Ray) -> Hit` (see docs/custom_methods.md)")
+        if not isinstance(self.name, str) or not self.name.isidentifier() or self.name.startswith("__") or not self.name.isascii():
+            raise ValueError(f"name: must be an identifier (letters, digits, _), got {self.name!r}")
+        if not isinstance(self.params, dict):
+            raise TypeError(f"params: expected a dict of name -> number, got {type(self.params).__name__}")
+        for k, v in self.params.items():
+            if not isinstance(k, str) or not k.isidentifier() or not k.isascii() or k[-1].isdigit() or k.startswith("_"):
+                raise ValueError(f"params: names must be identifiers that neither start with _ nor end in a digit (WGSL naming rules of the composer), got {k!r}")
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise ValueError(f"params: {k!r} must be a finite number, got {v!r}")
+
+    def __hash__(self):
+        return hash((self.wgsl, self.name, tuple(self.params.items()), self.shadows, self.filtering))
+
+    @property
+    def label(self) -> str:
+        return self.name
+
+
+#: every built-in method class, for sweeps
 ALL_METHODS = (Flat, Bump, Parallax, SteepParallax, POM, Relief, Exact, NCS, Prism, Tessellated)

@@ -46,8 +46,7 @@ class Renderer:
             raise TypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
         if not isinstance(method, Method):
             raise TypeError(f"method: expected a pomkit method such as pomkit.POM(), got {type(method).__name__}")
-        kind, num, text = method._params()
-        d = self._r.render(scene._describe(), kind, num, text)
+        d = self._r.render(scene._describe(), method)
         gpu = d["gpu_ms"]
         return Frame(
             color=d["color"], uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["steps"], lod=d["lod"], flags=d["flags"],

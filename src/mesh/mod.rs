@@ -23,8 +23,6 @@ pub struct Mesh {
     pub charts: Vec<[u32; 3]>,
 }
 
-pub mod tessellate;
-
 /// What `compute_frames` found: triangles whose uvs are degenerate get a fallback frame.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FrameReport {
@@ -43,8 +41,7 @@ pub struct Vertex {
 }
 
 impl Vertex {
-    pub const ATTRIBUTES: [wgpu::VertexAttribute; 5] =
-        wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2];
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2];
 
     /// The vertex buffer layout every pipeline (surface, shadow map, NCS bake) uses.
     pub fn layout() -> wgpu::VertexBufferLayout<'static> {
@@ -71,16 +68,34 @@ impl Mesh {
             return Err(Error::arg("positions", "the mesh has no vertices"));
         }
         if normals.len() != n {
-            return Err(Error::arg("normals", format!("expected {n} normals (one per position), got {}", normals.len())));
+            return Err(Error::arg(
+                "normals",
+                format!(
+                    "expected {n} normals (one per position), got {}",
+                    normals.len()
+                ),
+            ));
         }
         if uvs.len() != n {
-            return Err(Error::arg("uvs", format!("expected {n} uvs (one per position), got {}", uvs.len())));
+            return Err(Error::arg(
+                "uvs",
+                format!("expected {n} uvs (one per position), got {}", uvs.len()),
+            ));
         }
         if indices.is_empty() || indices.len() % 3 != 0 {
-            return Err(Error::arg("indices", format!("need a non-empty multiple of 3 indices, got {}", indices.len())));
+            return Err(Error::arg(
+                "indices",
+                format!(
+                    "need a non-empty multiple of 3 indices, got {}",
+                    indices.len()
+                ),
+            ));
         }
         if let Some(i) = indices.iter().find(|i| **i as usize >= n) {
-            return Err(Error::arg("indices", format!("index {i} is out of range for {n} vertices")));
+            return Err(Error::arg(
+                "indices",
+                format!("index {i} is out of range for {n} vertices"),
+            ));
         }
         if positions.iter().flatten().any(|x| !x.is_finite()) {
             return Err(Error::arg("positions", "contain NaN or Inf"));
@@ -88,18 +103,33 @@ impl Mesh {
         if uvs.iter().flatten().any(|x| !x.is_finite()) {
             return Err(Error::arg("uvs", "contain NaN or Inf"));
         }
-        if normals.iter().any(|v| v.iter().any(|x| !x.is_finite()) || DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64).length() < 1e-12) {
-            return Err(Error::arg("normals", "contain NaN, Inf or zero-length vectors"));
+        if normals.iter().any(|v| {
+            v.iter().any(|x| !x.is_finite())
+                || DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64).length() < 1e-12
+        }) {
+            return Err(Error::arg(
+                "normals",
+                "contain NaN, Inf or zero-length vectors",
+            ));
         }
         if let Some(t) = &tangents {
             if t.len() != n {
-                return Err(Error::arg("tangents", format!("expected {n} tangents, got {}", t.len())));
+                return Err(Error::arg(
+                    "tangents",
+                    format!("expected {n} tangents, got {}", t.len()),
+                ));
             }
             if t.iter().flatten().any(|x| !x.is_finite()) {
                 return Err(Error::arg("tangents", "contain NaN or Inf"));
             }
         }
-        let mut mesh = Mesh { positions, normals, uvs, indices, ..Default::default() };
+        let mut mesh = Mesh {
+            positions,
+            normals,
+            uvs,
+            indices,
+            ..Default::default()
+        };
         // counter-clockwise seen from where the normals point: the pipeline culls back faces
         mesh.orient_outward();
         let report = mesh.compute_frames(tangents)?;
@@ -111,7 +141,11 @@ impl Mesh {
         if n == 0 || self.indices.is_empty() {
             return Err(Error::arg("mesh", "the mesh is empty"));
         }
-        if self.normals.len() != n || self.uvs.len() != n || self.tangents.len() != n || self.uv_scale.len() != n {
+        if self.normals.len() != n
+            || self.uvs.len() != n
+            || self.tangents.len() != n
+            || self.uv_scale.len() != n
+        {
             return Err(Error::arg("mesh", "per-vertex arrays differ in length"));
         }
         if self.indices.iter().any(|i| *i as usize >= n) {
@@ -189,8 +223,16 @@ impl Mesh {
             if wsum[i] > 0.0 {
                 scales.push([(su[i] / wsum[i]) as f32, (sv[i] / wsum[i]) as f32]);
                 let tv = t_acc[i] - nn * nn.dot(t_acc[i]);
-                let tang = if tv.length() > 1e-12 { tv.normalize() } else { any_orthogonal(nn) };
-                let w = if nn.cross(tang).dot(b_acc[i]) < 0.0 { -1.0 } else { 1.0 };
+                let tang = if tv.length() > 1e-12 {
+                    tv.normalize()
+                } else {
+                    any_orthogonal(nn)
+                };
+                let w = if nn.cross(tang).dot(b_acc[i]) < 0.0 {
+                    -1.0
+                } else {
+                    1.0
+                };
                 tangents.push([tang.x as f32, tang.y as f32, tang.z as f32, w as f32]);
             } else {
                 report.fallback_vertices += 1;
@@ -228,11 +270,7 @@ impl Mesh {
         (lo, hi)
     }
 
-    fn from_grid(
-        nu: u32,
-        nv: u32,
-        f: impl Fn(f64, f64) -> (DVec3, DVec3),
-    ) -> Mesh {
+    fn from_grid(nu: u32, nv: u32, f: impl Fn(f64, f64) -> (DVec3, DVec3)) -> Mesh {
         // (nu + 1) x (nv + 1) vertices; a seam duplicates vertices so that uvs stay continuous
         let mut m = Mesh::default();
         for j in 0..=nv {
@@ -288,7 +326,12 @@ impl Mesh {
             return Err(Error::arg("size", format!("must be > 0, got {size}")));
         }
         let s = segments.max(1);
-        Ok(Self::from_grid(s, s, |u, v| (DVec3::new((u - 0.5) * size, 0.0, (v - 0.5) * size), DVec3::Y)))
+        Ok(Self::from_grid(s, s, |u, v| {
+            (
+                DVec3::new((u - 0.5) * size, 0.0, (v - 0.5) * size),
+                DVec3::Y,
+            )
+        }))
     }
 
     /// UV sphere of `radius`: u = longitude / 2pi (from +X toward -Z... around +Y), v = polar
@@ -311,15 +354,22 @@ impl Mesh {
     /// +Y). Continuous and periodic in both.
     pub fn torus(major: f64, minor: f64, segments: u32, tube_segments: u32) -> Result<Mesh> {
         if !(major.is_finite() && minor.is_finite() && minor > 0.0 && major > minor) {
-            return Err(Error::arg("minor", format!("need major > minor > 0, got major={major}, minor={minor}")));
+            return Err(Error::arg(
+                "minor",
+                format!("need major > minor > 0, got major={major}, minor={minor}"),
+            ));
         }
-        Ok(Self::from_grid(segments.max(3), tube_segments.max(3), |u, v| {
-            let phi = 2.0 * PI * u;
-            let th = 2.0 * PI * v;
-            let radial = DVec3::new(phi.cos(), 0.0, -phi.sin());
-            let n = radial * th.cos() + DVec3::Y * th.sin();
-            (radial * major + n * minor, n)
-        }))
+        Ok(Self::from_grid(
+            segments.max(3),
+            tube_segments.max(3),
+            |u, v| {
+                let phi = 2.0 * PI * u;
+                let th = 2.0 * PI * v;
+                let radial = DVec3::new(phi.cos(), 0.0, -phi.sin());
+                let n = radial * th.cos() + DVec3::Y * th.sin();
+                (radial * major + n * minor, n)
+            },
+        ))
     }
 
     /// Open cylinder (no caps) around +Y, centred at the origin: u = angle / 2pi, v from the
@@ -414,9 +464,23 @@ mod tests {
     #[test]
     fn one_degenerate_triangle_gets_a_fallback() {
         let (_, rep) = Mesh::from_arrays(
-            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [5.0, 0.0, 5.0], [6.0, 0.0, 5.0], [5.0, 0.0, 6.0]],
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 0.0, 1.0],
+                [5.0, 0.0, 5.0],
+                [6.0, 0.0, 5.0],
+                [5.0, 0.0, 6.0],
+            ],
             vec![[0.0, 1.0, 0.0]; 6],
-            vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.3, 0.3], [0.3, 0.3], [0.3, 0.3]],
+            vec![
+                [0.0, 0.0],
+                [1.0, 0.0],
+                [0.0, 1.0],
+                [0.3, 0.3],
+                [0.3, 0.3],
+                [0.3, 0.3],
+            ],
             vec![0, 2, 1, 3, 5, 4],
             None,
         )
@@ -427,18 +491,32 @@ mod tests {
 
     #[test]
     fn generated_meshes_have_outward_ccw_winding() {
-        for m in [Mesh::sphere(1.0, 16, 8).unwrap(), Mesh::torus(1.0, 0.35, 16, 8).unwrap(), Mesh::cube(1.5, 1).unwrap()] {
+        for m in [
+            Mesh::sphere(1.0, 16, 8).unwrap(),
+            Mesh::torus(1.0, 0.35, 16, 8).unwrap(),
+            Mesh::cube(1.5, 1).unwrap(),
+        ] {
             let (lo, hi) = m.bounds();
             let c = (lo + hi) * 0.5;
             let mut outward = 0;
             let mut total = 0;
             for tri in m.indices.chunks_exact(3) {
-                let p = |i: u32| DVec3::new(m.positions[i as usize][0] as f64, m.positions[i as usize][1] as f64, m.positions[i as usize][2] as f64);
+                let p = |i: u32| {
+                    DVec3::new(
+                        m.positions[i as usize][0] as f64,
+                        m.positions[i as usize][1] as f64,
+                        m.positions[i as usize][2] as f64,
+                    )
+                };
                 let g = (p(tri[1]) - p(tri[0])).cross(p(tri[2]) - p(tri[0]));
-                if g.length() < 1e-12 { continue; }
+                if g.length() < 1e-12 {
+                    continue;
+                }
                 let n = m.normals[tri[0] as usize];
                 total += 1;
-                if g.dot(DVec3::new(n[0] as f64, n[1] as f64, n[2] as f64)) > 0.0 { outward += 1; }
+                if g.dot(DVec3::new(n[0] as f64, n[1] as f64, n[2] as f64)) > 0.0 {
+                    outward += 1;
+                }
             }
             assert_eq!(outward, total);
             let _ = c;

@@ -9,8 +9,8 @@
 //! barycentrically so that no edge spans more than tpv texels (vertices are not on texel centres
 //! there, and shared edges are not welded).
 
-use super::Mesh;
 use crate::error::{Error, Result};
+use crate::mesh::Mesh;
 use crate::scene::Material;
 use glam::{DVec2, DVec3};
 
@@ -56,7 +56,13 @@ fn lerp_vertex(m: &Mesh, ws: [(usize, f64); 3]) -> BaseSample {
         t += DVec3::new(tg[0] as f64, tg[1] as f64, tg[2] as f64) * w;
         s += DVec2::new(m.uv_scale[i][0] as f64, m.uv_scale[i][1] as f64) * w;
     }
-    BaseSample { p, n: n.normalize_or_zero(), t, w: m.tangents[ws[0].0][3] as f64, scale: s }
+    BaseSample {
+        p,
+        n: n.normalize_or_zero(),
+        t,
+        w: m.tangents[ws[0].0][3] as f64,
+        scale: s,
+    }
 }
 
 /// Lattice coordinates along one axis of a chart: s = 0.5/texels + m * step (step = tpv/texels,
@@ -84,7 +90,10 @@ fn lattice(tiling: f64, texels: u32, tpv: f64) -> Vec<f64> {
 /// `texels_per_vertex`: lattice spacing in texels (0.5 = two vertices per texel).
 pub fn tessellate(mesh: &Mesh, mat: &Material, texels_per_vertex: f64) -> Result<Tessellation> {
     if !(texels_per_vertex.is_finite() && (1.0 / 64.0..=1024.0).contains(&texels_per_vertex)) {
-        return Err(Error::arg("texels_per_vertex", format!("must lie in [1/64, 1024], got {texels_per_vertex}")));
+        return Err(Error::arg(
+            "texels_per_vertex",
+            format!("must lie in [1/64, 1024], got {texels_per_vertex}"),
+        ));
     }
     let tpv = texels_per_vertex;
     let hm = &mat.height;
@@ -98,7 +107,11 @@ pub fn tessellate(mesh: &Mesh, mat: &Material, texels_per_vertex: f64) -> Result
         let n = b.n;
         let mut t = b.t - n * n.dot(b.t);
         if t.length_squared() < 1e-24 {
-            t = if n.x.abs() > 0.9 { n.cross(DVec3::Z) } else { n.cross(DVec3::X) };
+            t = if n.x.abs() > 0.9 {
+                n.cross(DVec3::Z)
+            } else {
+                n.cross(DVec3::X)
+            };
         }
         let t = t.normalize();
         let bt = n.cross(t) * if b.w < 0.0 { -1.0 } else { 1.0 };
@@ -113,7 +126,12 @@ pub fn tessellate(mesh: &Mesh, mat: &Material, texels_per_vertex: f64) -> Result
         out.normals.push([sn.x as f32, sn.y as f32, sn.z as f32]);
         out.uvs.push([uv.x as f32, uv.y as f32]);
         out.base_normals.push([n.x as f32, n.y as f32, n.z as f32]);
-        out.tangents.push([t.x as f32, t.y as f32, t.z as f32, if b.w < 0.0 { -1.0 } else { 1.0 }]);
+        out.tangents.push([
+            t.x as f32,
+            t.y as f32,
+            t.z as f32,
+            if b.w < 0.0 { -1.0 } else { 1.0 },
+        ]);
         out.uv_scale.push([b.scale.x as f32, b.scale.y as f32]);
     };
     let check = |n: usize| -> Result<()> {
@@ -163,7 +181,12 @@ pub fn tessellate(mesh: &Mesh, mat: &Material, texels_per_vertex: f64) -> Result
             .indices
             .chunks_exact(3)
             .map(|t| {
-                let uv = |i: u32| DVec2::new(mesh.uvs[i as usize][0] as f64, mesh.uvs[i as usize][1] as f64);
+                let uv = |i: u32| {
+                    DVec2::new(
+                        mesh.uvs[i as usize][0] as f64,
+                        mesh.uvs[i as usize][1] as f64,
+                    )
+                };
                 let mut n = 1.0f64;
                 for (x, y) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
                     let d = uv(y) - uv(x);
@@ -189,11 +212,13 @@ pub fn tessellate(mesh: &Mesh, mat: &Material, texels_per_vertex: f64) -> Result
                 }
             }
             // vertex index of (a, b) in the row-by-row layout
-            let row_start: Vec<u32> = (0..=n).scan(base, |acc, a| {
-                let s = *acc;
-                *acc += (n + 1 - a) as u32;
-                Some(s)
-            }).collect();
+            let row_start: Vec<u32> = (0..=n)
+                .scan(base, |acc, a| {
+                    let s = *acc;
+                    *acc += (n + 1 - a) as u32;
+                    Some(s)
+                })
+                .collect();
             for a in 0..n {
                 for b in 0..(n - a) {
                     let p = row_start[a] + b as u32;
@@ -212,7 +237,9 @@ pub fn tessellate(mesh: &Mesh, mat: &Material, texels_per_vertex: f64) -> Result
     for tri in out.indices.chunks_exact_mut(3) {
         let p = |i: u32| v3(out.positions[i as usize]);
         let g = (p(tri[1]) - p(tri[0])).cross(p(tri[2]) - p(tri[0]));
-        let nb = v3(out.base_normals[tri[0] as usize]) + v3(out.base_normals[tri[1] as usize]) + v3(out.base_normals[tri[2] as usize]);
+        let nb = v3(out.base_normals[tri[0] as usize])
+            + v3(out.base_normals[tri[1] as usize])
+            + v3(out.base_normals[tri[2] as usize]);
         if g.dot(nb) < 0.0 {
             tri.swap(1, 2);
         }
@@ -230,14 +257,27 @@ mod tests {
         let mut data = vec![0.0f32; 16];
         data[5] = 1.0; // texel (row 1, col 1)
         let hm = HeightMap::new(4, 4, data).unwrap();
-        let mat = Material { height: hm, depth: 0.5, tiling: 1.0, albedo: None };
+        let mat = Material {
+            height: hm,
+            depth: 0.5,
+            tiling: 1.0,
+            albedo: None,
+        };
         let m = Mesh::plane(2.0, 1).unwrap();
         let t = tessellate(&m, &mat, 0.5).unwrap();
         assert_eq!(t.positions.len(), 9 * 9);
         // the vertex at texel centre (1.5/4, 1.5/4) is at full height (y = 0), others below
-        let k = t.uvs.iter().position(|uv| (uv[0] - 0.375).abs() < 1e-6 && (uv[1] - 0.375).abs() < 1e-6).unwrap();
+        let k = t
+            .uvs
+            .iter()
+            .position(|uv| (uv[0] - 0.375).abs() < 1e-6 && (uv[1] - 0.375).abs() < 1e-6)
+            .unwrap();
         assert!(t.positions[k][1].abs() < 1e-6);
-        let k2 = t.uvs.iter().position(|uv| (uv[0] - 0.875).abs() < 1e-6 && (uv[1] - 0.875).abs() < 1e-6).unwrap();
+        let k2 = t
+            .uvs
+            .iter()
+            .position(|uv| (uv[0] - 0.875).abs() < 1e-6 && (uv[1] - 0.875).abs() < 1e-6)
+            .unwrap();
         assert!((t.positions[k2][1] + 0.5).abs() < 1e-6);
         // x of that vertex is the base position: (u - 0.5) * 2
         assert!((t.positions[k][0] - (-0.25)).abs() < 1e-6);
@@ -254,7 +294,12 @@ mod tests {
         )
         .unwrap();
         let hm = HeightMap::new(4, 4, vec![1.0; 16]).unwrap();
-        let mat = Material { height: hm, depth: 0.5, tiling: 1.0, albedo: None };
+        let mat = Material {
+            height: hm,
+            depth: 0.5,
+            tiling: 1.0,
+            albedo: None,
+        };
         let t = tessellate(&m, &mat, 0.5).unwrap();
         assert_eq!(t.positions.len(), 9 * 10 / 2);
         assert_eq!(t.indices.len() / 3, 64);

@@ -1,13 +1,23 @@
-// prism.wgsl: prism POM (Dachsbacher & Tatarchuk 2007). The rasteriser draws the front faces of
+// Prism POM (Dachsbacher & Tatarchuk 2007). The rasteriser draws the front faces of
 // each prism extruded from a base triangle; a fragment is where the view ray enters the prism,
 // with its (uv, h) interpolated from the corners. The exit is the farthest intersection of the
 // ray with the prism's eight boundary triangles; between entry and exit the ray is marched with
-// a constant texture gradient (POM's linear search and piecewise-linear refinement). No hit in
+// a constant texture gradient (march.wgsl's segment search and POM's refinement). No hit in
 // this prism: discard (a neighbouring prism may have it). The hit's depth is written as the
 // fragment depth, so that overlapping prisms resolve by the depth buffer. A prism whose highest
 // height (under its triangle) lies below the ray's lowest point in it is rejected at once.
 //
-// Outward shells (the paper's set-up) put h = 0 on the base mesh and h = 1 `depth` above it.
+// The method's own pass (a top-level shader, not a `march` module): its geometry is the prisms
+// (geometry::prisms). Outward shells (the paper's set-up) put h = 0 on the base mesh and h = 1 `depth` above it.
+
+#import pomkit::globals::G
+#import pomkit::vertex::{VertexIn, VertexOut, pass_through}
+#import pomkit::aov::write_aovs
+#import pomkit::frame::make_frame
+#import pomkit::height::{height_normal, height_lod, compute_lod}
+#import pomkit::march::{Segment, linear_search, refine_linear, pom_sample_count}
+#import pomkit::maxmip::{maxmip_traverse, positive_start}
+#import pomkit::shading::shade
 
 struct PrismData {
     top: array<vec4<f32>, 3>,
@@ -18,38 +28,11 @@ struct PrismData {
 
 @group(0) @binding(10) var<storage, read> prisms: array<PrismData>;
 
-struct PrismIn {
-    @builtin(vertex_index) index: u32,
-    @location(0) position: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) uv: vec2<f32>,
-    @location(3) tangent: vec4<f32>,
-    @location(4) uv_scale: vec2<f32>,
-    @location(5) h: f32,
-}
-
-struct PrismVsOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) world: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) uv: vec2<f32>,
-    @location(3) tangent: vec4<f32>,
-    @location(4) uv_scale: vec2<f32>,
-    @location(5) h: f32,
-    @location(6) @interpolate(flat) prism: u32,
-}
-
 @vertex
-fn vs_prism(v: PrismIn) -> PrismVsOut {
-    var o: PrismVsOut;
-    o.clip = G.view_proj * vec4<f32>(v.position, 1.0);
-    o.world = v.position;
-    o.normal = v.normal;
-    o.uv = v.uv;
-    o.tangent = v.tangent;
-    o.uv_scale = v.uv_scale;
-    o.h = v.h;
-    o.prism = v.index / 24u;
+fn vs_prism(v: VertexIn, @location(5) h: f32, @builtin(vertex_index) index: u32) -> VertexOut {
+    var o = pass_through(v, G.view_proj * vec4<f32>(v.position, 1.0));
+    o.h = h;
+    o.prism = index / 24u;
     return o;
 }
 
@@ -122,11 +105,11 @@ fn prism_exit(pd: PrismData, o: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
 }
 
 @fragment
-fn fs_prism(in: PrismVsOut) -> PrismFsOut {
+fn fs_prism(in: VertexOut) -> PrismFsOut {
     let f = make_frame(in.normal, in.tangent, in.uv_scale);
-    let tiling = G.tex.z;
+    let tiling = G.tiling;
     let lod = compute_lod(in.uv * tiling);
-    let to_p = in.world - G.eye.xyz;
+    let to_p = in.world - G.eye;
     let base_dist = length(to_p);
     let view = to_p / max(base_dist, 1e-20);
     let ndotv = -dot(view, f.n);
@@ -144,43 +127,31 @@ fn fs_prism(in: PrismVsOut) -> PrismFsOut {
     if (min(h_e, h_x) > pd.info.x) {
         discard;
     }
+    let exact = params.exact > 0.5;
     var hl = height_lod(lod);
-    if (G.params2.w > 0.5) {
+    if (exact) {
         hl = 0.0;
     }
     var steps = 1.0;
     var hit = -1.0;
     let dh_seg = h_x - h_e;
-    if (G.params2.w > 0.5 && abs(dh_seg) > 1e-4) {
+    if (exact && abs(dh_seg) > 1e-4) {
         // exact=True: the max-mip traversal along the segment, parameterised by height
-        let slope = (s_x - s_e) / abs(dh_seg) * G.tex.xy;
+        let slope = (s_x - s_e) / abs(dh_seg) * G.map_size;
         let p0 = positive_start(s_e, slope);
-        let tr = maxmip_traverse(p0.x, p0.y, h_e, slope.x, slope.y, sign(dh_seg), abs(dh_seg));
+        let tr = maxmip_traverse(p0.x, p0.y, h_e, slope.x, slope.y, sign(dh_seg), abs(dh_seg), G.max_iterations);
         steps = tr.iters;
         if (tr.hit) {
             hit = tr.t / abs(dh_seg);
         }
     } else {
-        // POM's linear search with a constant texture gradient from entry to exit, at POM's
-        // layer density: a segment spanning dh of the shell's height gets n * dh layers (>= 2)
-        let n = max(ceil(pom_sample_count(ndotv) * abs(dh_seg)), 2.0);
-        var prev_f = 0.0;
-        var prev_d = h_e - height_at(s_e, hl);
-        if (prev_d <= 0.0) {
-            hit = 0.0;
-        } else {
-            let ni = i32(n);
-            for (var i = 1; i <= ni; i = i + 1) {
-                let fr = f32(i) / n;
-                let d = mix(h_e, h_x, fr) - height_at(mix(s_e, s_x, fr), hl);
-                steps = steps + 1.0;
-                if (d <= 0.0) {
-                    hit = prev_f + (fr - prev_f) * prev_d / max(prev_d - d, 1e-12);
-                    break;
-                }
-                prev_f = fr;
-                prev_d = d;
-            }
+        // the shared linear search from entry to exit, at POM's layer density: a segment
+        // spanning dh of the shell's height gets n * dh layers (>= 2)
+        let n = max(ceil(pom_sample_count(ndotv, params.min_steps, params.max_steps, true) * abs(dh_seg)), 2.0);
+        let b = linear_search(Segment(s_e, s_x - s_e, h_e, dh_seg), n, hl);
+        steps = b.steps;
+        if (b.d_cur <= 0.0) {
+            hit = refine_linear(b);
         }
     }
     if (hit < 0.0) {
@@ -191,7 +162,7 @@ fn fs_prism(in: PrismVsOut) -> PrismFsOut {
     let p = in.world + view * (ex.x * hit);
     let sh = shade(f, s_hit, h_hit, p, height_normal(f, s_hit, hl), hl, true, px);
     let c = G.view_proj * vec4<f32>(p, 1.0);
-    let aov = write_aovs(sh.color, u32(steps + sh.steps), 0u, s_hit / tiling, length(p - G.eye.xyz), lod);
+    let aov = write_aovs(sh.color, u32(steps + sh.steps), 0u, s_hit / tiling, length(p - G.eye), lod);
     var o: PrismFsOut;
     o.color = aov.color;
     o.geo = aov.geo;

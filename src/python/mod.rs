@@ -1,4 +1,7 @@
-//! The pyo3 layer: numpy in, numpy out, core errors mapped to Python exceptions. No logic.
+//! The pyo3 layer: numpy in, numpy out, core errors mapped to Python exceptions (`From<Error>
+//! for PyErr`), method dataclasses extracted into the core's types (methods.rs). No logic.
+
+mod methods;
 
 use crate::error::Error;
 use crate::exact::exact_hits;
@@ -12,28 +15,51 @@ use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
-use std::collections::HashMap;
 use std::sync::Arc;
 
-create_exception!(_core, GpuError, PyRuntimeError, "A wgpu validation or out-of-memory error.");
-create_exception!(_core, DeviceLostError, GpuError, "The GPU device was lost; create a new Renderer.");
-create_exception!(_core, NoAdapterError, PyRuntimeError, "No GPU adapter is available.");
+create_exception!(
+    _core,
+    GpuError,
+    PyRuntimeError,
+    "A wgpu validation or out-of-memory error."
+);
+create_exception!(
+    _core,
+    DeviceLostError,
+    GpuError,
+    "The GPU device was lost; create a new Renderer."
+);
+create_exception!(
+    _core,
+    NoAdapterError,
+    PyRuntimeError,
+    "No GPU adapter is available."
+);
 
-fn to_py(e: Error) -> PyErr {
-    match e {
-        Error::InvalidArgument { .. } | Error::Limit { .. } => PyValueError::new_err(e.to_string()),
-        Error::NoAdapter(_) => NoAdapterError::new_err(e.to_string()),
-        Error::Gpu(_) => GpuError::new_err(e.to_string()),
-        Error::DeviceLost(_) => DeviceLostError::new_err(e.to_string()),
+impl From<Error> for PyErr {
+    fn from(e: Error) -> PyErr {
+        match e {
+            Error::InvalidArgument { .. } | Error::Limit { .. } => {
+                PyValueError::new_err(e.to_string())
+            }
+            Error::NoAdapter(_) => NoAdapterError::new_err(e.to_string()),
+            Error::Gpu(_) => GpuError::new_err(e.to_string()),
+            Error::DeviceLost(_) => DeviceLostError::new_err(e.to_string()),
+        }
     }
 }
 
 fn rows<const N: usize>(a: &PyReadonlyArray2<'_, f32>, name: &str) -> PyResult<Vec<[f32; N]>> {
     let v = a.as_array();
     if v.shape()[1] != N {
-        return Err(PyValueError::new_err(format!("{name}: expected shape (n, {N}), got {:?}", v.shape())));
+        return Err(PyValueError::new_err(format!(
+            "{name}: expected shape (n, {N}), got {:?}",
+            v.shape()
+        )));
     }
-    Ok(v.outer_iter().map(|r| std::array::from_fn(|k| r[k])).collect())
+    Ok(v.outer_iter()
+        .map(|r| std::array::from_fn(|k| r[k]))
+        .collect())
 }
 
 type MeshArrays<'py> = (
@@ -49,7 +75,10 @@ type MeshArrays<'py> = (
 fn mesh_out<'py>(py: Python<'py>, m: &Mesh) -> PyResult<MeshArrays<'py>> {
     let n = m.positions.len();
     let f = |v: Vec<f32>, k: usize| -> PyResult<Bound<'py, PyAny>> {
-        Ok(Array::from_shape_vec((n, k), v).map_err(|e| PyValueError::new_err(e.to_string()))?.into_pyarray(py).into_any())
+        Ok(Array::from_shape_vec((n, k), v)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?
+            .into_pyarray(py)
+            .into_any())
     };
     Ok((
         f(m.positions.concat(), 3)?,
@@ -81,15 +110,38 @@ fn mesh_from_arrays<'py>(
     let n = rows::<3>(&normals, "normals")?;
     let u = rows::<2>(&uvs, "uvs")?;
     let i: Vec<u32> = indices.as_array().iter().copied().collect();
-    let t = tangents.as_ref().map(|t| rows::<4>(t, "tangents")).transpose()?;
-    let (mesh, rep) = py.detach(|| Mesh::from_arrays(p, n, u, i, t)).map_err(to_py)?;
+    let t = tangents
+        .as_ref()
+        .map(|t| rows::<4>(t, "tangents"))
+        .transpose()?;
+    let (mesh, rep) = py.detach(|| Mesh::from_arrays(p, n, u, i, t))?;
     let a = mesh_out(py, &mesh)?;
-    PyTuple::new(py, [a.0, a.1, a.2, a.3, a.4, a.5, a.6, rep.degenerate_uv_triangles.into_pyobject(py)?.into_any(), rep.fallback_vertices.into_pyobject(py)?.into_any()])
+    PyTuple::new(
+        py,
+        [
+            a.0,
+            a.1,
+            a.2,
+            a.3,
+            a.4,
+            a.5,
+            a.6,
+            rep.degenerate_uv_triangles.into_pyobject(py)?.into_any(),
+            rep.fallback_vertices.into_pyobject(py)?.into_any(),
+        ],
+    )
 }
 
 /// A generated base mesh: kind in plane, sphere, torus, cylinder, cube.
 #[pyfunction]
-fn mesh_generate<'py>(py: Python<'py>, kind: &str, a: f64, b: f64, n1: u32, n2: u32) -> PyResult<MeshArrays<'py>> {
+fn mesh_generate<'py>(
+    py: Python<'py>,
+    kind: &str,
+    a: f64,
+    b: f64,
+    n1: u32,
+    n2: u32,
+) -> PyResult<MeshArrays<'py>> {
     let m = match kind {
         "plane" => Mesh::plane(a, n1),
         "sphere" => Mesh::sphere(a, n1, n2),
@@ -97,13 +149,13 @@ fn mesh_generate<'py>(py: Python<'py>, kind: &str, a: f64, b: f64, n1: u32, n2: 
         "cylinder" => Mesh::cylinder(a, b, n1, n2),
         "cube" => Mesh::cube(a, n1),
         o => Err(Error::arg("kind", format!("unknown mesh kind {o:?}"))),
-    }
-    .map_err(to_py)?;
+    }?;
     mesh_out(py, &m)
 }
 
 fn item<'py>(d: &Bound<'py, PyDict>, k: &str) -> PyResult<Bound<'py, PyAny>> {
-    d.get_item(k)?.ok_or_else(|| PyValueError::new_err(format!("scene description lacks {k:?}")))
+    d.get_item(k)?
+        .ok_or_else(|| PyValueError::new_err(format!("scene description lacks {k:?}")))
 }
 
 fn v3(x: &Bound<'_, PyAny>) -> PyResult<[f64; 3]> {
@@ -139,7 +191,7 @@ fn scene_from_py(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
     let height: PyReadonlyArray2<f32> = item(d, "height")?.extract()?;
     let hv = height.as_array();
     let (hh, hw) = (hv.shape()[0] as u32, hv.shape()[1] as u32);
-    let height = HeightMap::new(hw, hh, hv.iter().copied().collect()).map_err(to_py)?;
+    let height = HeightMap::new(hw, hh, hv.iter().copied().collect())?;
     let albedo = item(d, "albedo")?;
     let albedo = if albedo.is_none() {
         None
@@ -149,10 +201,26 @@ fn scene_from_py(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
         if av.shape()[2] != 3 {
             return Err(PyValueError::new_err("albedo: expected shape (H, W, 3)"));
         }
-        let data = av.outer_iter().flat_map(|r| r.outer_iter().map(|p| [p[0], p[1], p[2], 1.0]).collect::<Vec<_>>()).collect();
-        Some(Albedo { width: av.shape()[1] as u32, height: av.shape()[0] as u32, data })
+        let data = av
+            .outer_iter()
+            .flat_map(|r| {
+                r.outer_iter()
+                    .map(|p| [p[0], p[1], p[2], 1.0])
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        Some(Albedo {
+            width: av.shape()[1] as u32,
+            height: av.shape()[0] as u32,
+            data,
+        })
     };
-    let material = Material { height, depth: item(d, "depth")?.extract()?, tiling: item(d, "tiling")?.extract()?, albedo };
+    let material = Material {
+        height,
+        depth: item(d, "depth")?.extract()?,
+        tiling: item(d, "tiling")?.extract()?,
+        albedo,
+    };
     let cam = item(d, "camera")?;
     let cam = cam.cast::<PyDict>()?;
     let camera = Camera {
@@ -180,24 +248,69 @@ fn scene_from_py(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
                 radius: item(&l, "radius")?.extract()?,
                 intensity: rgb(item(&l, "intensity")?)?,
             },
-            o => return Err(PyValueError::new_err(format!("lights: unknown light kind {o:?}"))),
+            o => {
+                return Err(PyValueError::new_err(format!(
+                    "lights: unknown light kind {o:?}"
+                )))
+            }
         });
     }
     let ambient: [f32; 3] = item(d, "ambient")?.extract()?;
-    Ok(Scene { mesh, material, camera, lights, ambient })
+    Ok(Scene {
+        mesh,
+        material,
+        camera,
+        lights,
+        ambient,
+    })
 }
 
 fn frame_to_py<'py>(py: Python<'py>, f: Frame) -> PyResult<Bound<'py, PyDict>> {
     let (h, w) = (f.height as usize, f.width as usize);
     let e = |e: numpy::ndarray::ShapeError| PyValueError::new_err(e.to_string());
     let d = PyDict::new(py);
-    d.set_item("color", Array::from_shape_vec((h, w, 3), f.color).map_err(e)?.into_pyarray(py))?;
-    d.set_item("uv", Array::from_shape_vec((h, w, 2), f.uv).map_err(e)?.into_pyarray(py))?;
-    d.set_item("depth", Array::from_shape_vec((h, w), f.depth).map_err(e)?.into_pyarray(py))?;
-    d.set_item("mask", Array::from_shape_vec((h, w), f.mask).map_err(e)?.into_pyarray(py))?;
-    d.set_item("steps", Array::from_shape_vec((h, w), f.steps).map_err(e)?.into_pyarray(py))?;
-    d.set_item("lod", Array::from_shape_vec((h, w), f.lod).map_err(e)?.into_pyarray(py))?;
-    d.set_item("flags", Array::from_shape_vec((h, w), f.flags).map_err(e)?.into_pyarray(py))?;
+    d.set_item(
+        "color",
+        Array::from_shape_vec((h, w, 3), f.color)
+            .map_err(e)?
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "uv",
+        Array::from_shape_vec((h, w, 2), f.uv)
+            .map_err(e)?
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "depth",
+        Array::from_shape_vec((h, w), f.depth)
+            .map_err(e)?
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "mask",
+        Array::from_shape_vec((h, w), f.mask)
+            .map_err(e)?
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "steps",
+        Array::from_shape_vec((h, w), f.steps)
+            .map_err(e)?
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "lod",
+        Array::from_shape_vec((h, w), f.lod)
+            .map_err(e)?
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "flags",
+        Array::from_shape_vec((h, w), f.flags)
+            .map_err(e)?
+            .into_pyarray(py),
+    )?;
     d.set_item("gpu_ms", f.gpu_ms)?;
     d.set_item("wall_ms", f.wall_ms)?;
     Ok(d)
@@ -214,42 +327,48 @@ impl PyRenderer {
     #[new]
     #[pyo3(signature = (adapter=None))]
     fn new(py: Python<'_>, adapter: Option<String>) -> PyResult<Self> {
-        let r = py
-            .detach(|| {
-                let ctx = crate::gpu::shared(adapter.as_deref())?;
-                Renderer::new(ctx)
-            })
-            .map_err(to_py)?;
+        let r = py.detach(|| {
+            let ctx = crate::gpu::shared(adapter.as_deref())?;
+            Renderer::new(ctx)
+        })?;
         Ok(Self { inner: Arc::new(r) })
     }
 
-    /// Render `scene` (a dict from pomkit.Scene._describe()) with the method `kind` and its
-    /// numeric and text parameters. Returns a dict of numpy arrays.
+    /// Render `scene` (a dict from pomkit.Scene._describe()) with `method` (a pomkit method
+    /// dataclass, extracted field by field into the core's typed `Method`). Returns a dict of
+    /// numpy arrays.
     fn render<'py>(
         &self,
         py: Python<'py>,
         scene: &Bound<'py, PyDict>,
-        kind: &str,
-        num: HashMap<String, f64>,
-        text: HashMap<String, String>,
+        method: Method,
     ) -> PyResult<Bound<'py, PyDict>> {
         let scene = scene_from_py(scene)?;
-        let method = Method::from_params(kind, &num, &text).map_err(to_py)?;
         let r = self.inner.clone();
-        let frame = py.detach(move || r.render(&scene, &method)).map_err(to_py)?;
+        let frame = py.detach(move || r.render(&scene, &method))?;
         frame_to_py(py, frame)
     }
 
     /// Dynamic height fields: write `new` into the GPU texture holding `old` (same size) and
     /// rebuild the pyramids on the GPU. False when `old` is not resident.
-    fn update_height(&self, py: Python<'_>, old: PyReadonlyArray2<'_, f32>, new: PyReadonlyArray2<'_, f32>) -> PyResult<bool> {
+    fn update_height(
+        &self,
+        py: Python<'_>,
+        old: PyReadonlyArray2<'_, f32>,
+        new: PyReadonlyArray2<'_, f32>,
+    ) -> PyResult<bool> {
         let conv = |a: &PyReadonlyArray2<'_, f32>| {
             let v = a.as_array();
-            HeightMap::new(v.shape()[1] as u32, v.shape()[0] as u32, v.iter().copied().collect())
+            HeightMap::new(
+                v.shape()[1] as u32,
+                v.shape()[0] as u32,
+                v.iter().copied().collect(),
+            )
         };
-        let (o, n) = (conv(&old).map_err(to_py)?, conv(&new).map_err(to_py)?);
+        let (o, n) = (conv(&old)?, conv(&new)?);
         let r = self.inner.clone();
-        py.detach(move || r.update_height(&o, &n)).map_err(to_py)
+        py.detach(move || r.update_height(&o, &n))
+            .map_err(PyErr::from)
     }
 
     /// Adapter name, backend, device type, driver and the features pomkit uses.
@@ -262,7 +381,10 @@ impl PyRenderer {
         d.set_item("driver", &c.info.driver)?;
         d.set_item("timestamps", c.timestamps)?;
         d.set_item("float32_filterable", c.float32_filterable)?;
-        d.set_item("max_texture_dimension_2d", c.limits.max_texture_dimension_2d)?;
+        d.set_item(
+            "max_texture_dimension_2d",
+            c.limits.max_texture_dimension_2d,
+        )?;
         d.set_item("max_buffer_size", c.limits.max_buffer_size)?;
         Ok(d)
     }
@@ -270,7 +392,8 @@ impl PyRenderer {
     /// Trigger a wgpu validation error (tests: it must raise GpuError and leave the renderer usable).
     fn _provoke_validation_error(&self, py: Python<'_>) -> PyResult<()> {
         let r = self.inner.clone();
-        py.detach(move || r.provoke_validation_error()).map_err(to_py)
+        py.detach(move || r.provoke_validation_error())
+            .map_err(PyErr::from)
     }
 
     /// Destroy the device (to test device-loss handling).
@@ -281,7 +404,7 @@ impl PyRenderer {
 
 #[pyfunction]
 fn adapters<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
-    let list = py.detach(crate::gpu::adapters).map_err(to_py)?;
+    let list = py.detach(crate::gpu::adapters)?;
     let out = PyList::empty(py);
     for a in list {
         let d = PyDict::new(py);
@@ -298,33 +421,77 @@ fn adapters<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
 #[pyfunction]
 fn exact_uv<'py>(py: Python<'py>, scene: &Bound<'py, PyDict>) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene_from_py(scene)?;
-    let o = py.detach(move || exact_hits(&scene)).map_err(to_py)?;
+    let o = py.detach(move || exact_hits(&scene))?;
     let (h, w) = (o.height as usize, o.width as usize);
     let e = |e: numpy::ndarray::ShapeError| PyValueError::new_err(e.to_string());
     let d = PyDict::new(py);
-    d.set_item("uv", Array::from_shape_vec((h, w, 2), o.uv).map_err(e)?.into_pyarray(py))?;
-    d.set_item("depth", Array::from_shape_vec((h, w), o.depth).map_err(e)?.into_pyarray(py))?;
-    d.set_item("mask", Array::from_shape_vec((h, w), o.mask).map_err(e)?.into_pyarray(py))?;
-    d.set_item("cells", Array::from_shape_vec((h, w), o.cells).map_err(e)?.into_pyarray(py))?;
+    d.set_item(
+        "uv",
+        Array::from_shape_vec((h, w, 2), o.uv)
+            .map_err(e)?
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "depth",
+        Array::from_shape_vec((h, w), o.depth)
+            .map_err(e)?
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "mask",
+        Array::from_shape_vec((h, w), o.mask)
+            .map_err(e)?
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "cells",
+        Array::from_shape_vec((h, w), o.cells)
+            .map_err(e)?
+            .into_pyarray(py),
+    )?;
     Ok(d)
 }
 
 /// The displaced surface of `scene` as arrays (positions, shading normals, uvs, faces), with
 /// `texels_per_vertex` lattice spacing.
 #[pyfunction]
-fn tessellate<'py>(py: Python<'py>, scene: &Bound<'py, PyDict>, texels_per_vertex: f64) -> PyResult<Bound<'py, PyDict>> {
+fn tessellate<'py>(
+    py: Python<'py>,
+    scene: &Bound<'py, PyDict>,
+    texels_per_vertex: f64,
+) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene_from_py(scene)?;
-    scene.validate().map_err(to_py)?;
-    let t = py
-        .detach(move || crate::mesh::tessellate::tessellate(&scene.mesh, &scene.material, texels_per_vertex))
-        .map_err(to_py)?;
+    scene.validate()?;
+    let t = py.detach(move || {
+        crate::geometry::tessellate::tessellate(&scene.mesh, &scene.material, texels_per_vertex)
+    })?;
     let e = |e: numpy::ndarray::ShapeError| PyValueError::new_err(e.to_string());
     let n = t.positions.len();
     let d = PyDict::new(py);
-    d.set_item("positions", Array::from_shape_vec((n, 3), t.positions.concat()).map_err(e)?.into_pyarray(py))?;
-    d.set_item("normals", Array::from_shape_vec((n, 3), t.normals.concat()).map_err(e)?.into_pyarray(py))?;
-    d.set_item("uvs", Array::from_shape_vec((n, 2), t.uvs.concat()).map_err(e)?.into_pyarray(py))?;
-    d.set_item("faces", Array::from_shape_vec((t.indices.len() / 3, 3), t.indices).map_err(e)?.into_pyarray(py))?;
+    d.set_item(
+        "positions",
+        Array::from_shape_vec((n, 3), t.positions.concat())
+            .map_err(e)?
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "normals",
+        Array::from_shape_vec((n, 3), t.normals.concat())
+            .map_err(e)?
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "uvs",
+        Array::from_shape_vec((n, 2), t.uvs.concat())
+            .map_err(e)?
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "faces",
+        Array::from_shape_vec((t.indices.len() / 3, 3), t.indices)
+            .map_err(e)?
+            .into_pyarray(py),
+    )?;
     Ok(d)
 }
 

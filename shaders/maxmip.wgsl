@@ -1,4 +1,4 @@
-// exact.wgsl: maximum mipmaps (Tevs, Ihrke & Seidel 2008). The ray walks the max-mip pyramid
+// maxmip.wgsl: maximum mipmaps (Tevs, Ihrke & Seidel 2008). The ray walks the max-mip pyramid
 // of the cells between texel centres: where it passes above a node's max it skips the node and
 // ascends; where it dips below it descends; at level 0 it meets the bilinear patch of the cell
 // exactly (a quadratic along the ray). No step count to tune, no feature missed; iterations are
@@ -13,24 +13,19 @@
 // j..j+1 (wrapping). The pyramid is used up to the highest level whose size divides the map
 // (all levels for power-of-two maps), so that nodes tile the map exactly.
 
-fn max_at(node: vec2<i32>, level: i32) -> f32 {
-    let dims = max_level_dims(level);
-    let off = G.max_offsets[level / 4][level % 4];
-    return max_buf[off + u32(wrap_i(node.y, dims.y) * dims.x + wrap_i(node.x, dims.x))];
-}
+#define_import_path pomkit::maxmip
+
+#import pomkit::globals::{G, height_tex}
+#import pomkit::height::{cell_taps, height_texel, max_at}
 
 // First t in [t0, t1] where the ray (x(t), y(t), h(t)) = (X0 + dX t, Y0 + dY t, h0 + dh t) meets
 // the bilinear patch of cell c, or -1.
 fn cell_intersect(c: vec2<i32>, x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32, t0: f32, t1: f32) -> f32 {
-    let dims = vec2<i32>(textureDimensions(height_tex, 0));
-    let x1 = wrap_i(c.x + 1, dims.x);
-    let y1 = wrap_i(c.y + 1, dims.y);
-    let xa0 = wrap_i(c.x, dims.x);
-    let ya0 = wrap_i(c.y, dims.y);
-    let a = textureLoad(height_tex, vec2<i32>(xa0, ya0), 0).r;
-    let b = textureLoad(height_tex, vec2<i32>(x1, ya0), 0).r;
-    let cc = textureLoad(height_tex, vec2<i32>(xa0, y1), 0).r;
-    let d = textureLoad(height_tex, vec2<i32>(x1, y1), 0).r;
+    let k = cell_taps(c, vec2<i32>(textureDimensions(height_tex, 0)), vec2<f32>(0.0));
+    let a = height_texel(k.xa, k.ya, 0).r;
+    let b = height_texel(k.xb, k.ya, 0).r;
+    let cc = height_texel(k.xa, k.yb, 0).r;
+    let d = height_texel(k.xb, k.yb, 0).r;
     let a1 = b - a;
     let a2 = cc - a;
     let a3 = a - b - cc + d;
@@ -90,17 +85,17 @@ struct Traversal {
 // floating-point rounding of the ray's position.
 // `t_max` shortens the walk (a prism's segment); a view ray reports a floor hit only when it
 // is allowed to reach the floor.
-fn maxmip_traverse(x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32) -> Traversal {
+fn maxmip_traverse(x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32, max_iterations: f32) -> Traversal {
     var r: Traversal;
     r.hit = false;
     r.bound = false;
     r.iters = 0.0;
     let t_full = select(1.0 - h0, h0, dh < 0.0);
     let t_end = min(t_full, t_max);
-    let top = i32(G.params2.z);
+    let top = i32(G.top_max_level);
     var level = top;
     var t = 0.0;
-    let max_it = u32(G.params.w);
+    let max_it = u32(max_iterations);
     let step = vec2<i32>(select(-1, 1, dx >= 0.0), select(-1, 1, dy >= 0.0));
     var node = vec2<i32>(floor(vec2<f32>(x0, y0) / f32(1 << u32(top))));
     var it = 0u;
@@ -191,40 +186,8 @@ fn maxmip_traverse(x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32, t_max: 
 // traversal looped to its bound on lavapipe (integer ops on negative i32 in lane-divergent
 // loops); with non-negative ones every index operation is plain.
 fn positive_start(s0: vec2<f32>, d: vec2<f32>) -> vec2<f32> {
-    let p = s0 * G.tex.xy - 0.5;
-    let q = p - floor(p / G.tex.xy) * G.tex.xy;
-    let periods = floor(abs(d) / G.tex.xy) + 2.0;
-    return q + periods * G.tex.xy;
-}
-
-fn exact_march(s0: vec2<f32>, dsdh: vec2<f32>) -> Hit {
-    let d = dsdh * G.tex.xy;
-    let p0 = positive_start(s0, d);
-    let tr = maxmip_traverse(p0.x, p0.y, 1.0, d.x, d.y, -1.0, 2.0);
-    var hit: Hit;
-    hit.steps = tr.iters;
-    hit.flags = select(0u, FLAG_BOUND, tr.bound);
-    hit.h = clamp(1.0 - tr.t, 0.0, 1.0);
-    hit.s = s0 + dsdh * tr.t;
-    return hit;
-}
-
-// Exact shadows: the same traversal along the light ray; visible if it leaves the shell.
-fn exact_shadow(f: Frame, s: vec2<f32>, h: f32, ls: LightSample) -> ShadowResult {
-    var r: ShadowResult;
-    let l_ts = to_texture_space(f, ls.dir);
-    if (l_ts.z <= 1e-7) {
-        r.visibility = 0.0;
-        r.steps = 0.0;
-        return r;
-    }
-    let dsdh = l_ts.xy / l_ts.z;
-    // start a hair above the surface so that the hit point does not shadow itself
-    let h0 = min(h + 1e-4, 1.0);
-    let d = dsdh * G.tex.xy;
-    let p0 = positive_start(s, d);
-    let tr = maxmip_traverse(p0.x, p0.y, h0, d.x, d.y, 1.0, 2.0);
-    r.visibility = select(1.0, 0.0, tr.hit);
-    r.steps = tr.iters;
-    return r;
+    let p = s0 * G.map_size - 0.5;
+    let q = p - floor(p / G.map_size) * G.map_size;
+    let periods = floor(abs(d) / G.map_size) + 2.0;
+    return q + periods * G.map_size;
 }

@@ -1,0 +1,22 @@
+// aov.wgsl: the render targets. They are Rgba32Uint holding float32 bits: exact float32 AOVs on
+// every backend (GL cannot render to Rgba32Float).
+#define_import_path pomkit::aov
+
+struct FsOut {
+    // rgb: linear radiance (float bits), a: steps (low 28 bits) | flags << 28
+    @location(0) color: vec4<u32>,
+    // xy: hit uv (mesh space, unwrapped), z: distance eye -> hit, w: mip level used
+    @location(1) geo: vec4<u32>,
+}
+
+// flags (AOV `flags`): 1 = the march hit its iteration bound, 2 = NCS early termination
+const FLAG_BOUND: u32 = 1u;
+const FLAG_EARLY: u32 = 2u;
+
+fn write_aovs(color: vec3<f32>, steps: u32, flags: u32, uv: vec2<f32>, dist: f32, lod: f32) -> FsOut {
+    var o: FsOut;
+    let c = bitcast<vec3<u32>>(color);
+    o.color = vec4<u32>(c, min(steps, 0x0fffffffu) | (flags << 28u));
+    o.geo = bitcast<vec4<u32>>(vec4<f32>(uv, dist, lod));
+    return o;
+}

@@ -1,0 +1,64 @@
+// globals.wgsl: the frame's uniform block and the bindings every pass of the surface shares.
+// The Rust side is `render::uniforms::Globals`; a test (uniform_layout in src/render/uniforms.rs)
+// checks that every field has the same name and offset on both sides.
+#define_import_path pomkit::globals
+
+const PI: f32 = 3.14159265358979;
+const MAX_LIGHTS: u32 = 4u;
+
+struct Light {
+    // xyz: direction of travel (directional) or position (sphere); w: 0 directional, 1 sphere
+    vec: vec4<f32>,
+    // rgb: irradiance (directional) or radiant intensity (sphere); w: tan(angular radius)
+    // for directional lights, sphere radius for sphere lights
+    color: vec4<f32>,
+}
+
+struct Globals {
+    view_proj: mat4x4<f32>,
+    eye: vec3<f32>,
+    light_count: f32,
+    // height map size in texels
+    map_size: vec2<f32>,
+    tiling: f32,
+    depth: f32,
+    // constant environment radiance
+    ambient: vec3<f32>,
+    mip_count: f32,
+    // options shared by the per-pixel methods
+    shadow_steps: f32,
+    lod_threshold: f32,
+    // 1: sample the footprint's mip level (tex2Dgrad), 0: level 0
+    mip_filtering: f32,
+    ao_directions: f32,
+    horizon_samples: f32,
+    // the highest max-mip level whose nodes tile the map
+    top_max_level: f32,
+    // bound on the iterations of every max-mip traversal (Exact's `max_iterations`)
+    max_iterations: f32,
+    pad_a: f32,
+    lights: array<Light, 4>,
+    // Tessellated's shadow map: light view-projection, index of the shadowed light (-1: none),
+    // world size of a shadow-map texel, map size in texels
+    shadow_vp: mat4x4<f32>,
+    shadow_light: f32,
+    shadow_texel: f32,
+    shadow_size: f32,
+    pad_b: f32,
+    // element offset of each max-pyramid level in max_buf
+    max_offsets: array<vec4<u32>, 4>,
+}
+
+@group(0) @binding(0) var<uniform> G: Globals;
+@group(0) @binding(1) var height_tex: texture_2d<f32>;
+@group(0) @binding(2) var height_samp: sampler;
+@group(0) @binding(3) var albedo_tex: texture_2d<f32>;
+@group(0) @binding(4) var albedo_samp: sampler;
+@group(0) @binding(5) var shadow_tex: texture_depth_2d;
+@group(0) @binding(6) var shadow_samp: sampler_comparison;
+// max-mip pyramid, levels back to back: level 0 holds the max of the bilinear field over each
+// cell between texel centres (cell (i, j) spans texel centres i..i+1, j..j+1), level k the max
+// over 2^k x 2^k cells
+@group(0) @binding(7) var<storage, read> max_buf: array<f32>;
+// bindings 8, 9: NCS's frame maps (src/methods/ncs.wgsl); 10: the prisms (prism.wgsl);
+// 11: the method's own parameters (`params`, generated from its Rust parameter list)

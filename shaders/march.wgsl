@@ -1,0 +1,151 @@
+// march.wgsl: the interface between the surface pass and a method's view-ray search, and the
+// one segment-based linear search that SteepParallax, POM, Relief and Prism share.
+//
+// A method module (src/methods/*.wgsl, or a user's `pk.Custom`) defines
+//     fn march(r: Ray) -> Hit
+// The surface pass (surface.wgsl) builds the Ray, calls it, and shades the Hit: docs/custom_methods.md.
+#define_import_path pomkit::march
+
+#import pomkit::frame::Frame
+#import pomkit::height::height_at
+
+// The view ray at a rasterised fragment of the base mesh.
+struct Ray {
+    // entry point on the base surface (h = 1), in tiled texture units (uv * tiling)
+    s: vec2<f32>,
+    // texture units travelled per unit of height descended: the ray meets the floor (h = 0) at
+    // s + dsdh
+    dsdh: vec2<f32>,
+    // cosine between the view ray and the base normal (1 head-on, 0 grazing)
+    ndotv: f32,
+    // the mip level to sample the height field at (the footprint's, or 0 with mip_filtering=False)
+    lod: f32,
+    // mesh uv at the entry (not tiled)
+    uv: vec2<f32>,
+    // world direction of the view ray (unit)
+    view: vec3<f32>,
+    // the view direction in texture space per unit of world length (ds_u, ds_v, dh)
+    v_ts: vec3<f32>,
+    // the base frame at the entry
+    f: Frame,
+}
+
+// What a method returns. `planar_hit` fills every field from (s, h) for methods that march in
+// the entry's tangent frame.
+struct Hit {
+    // texture coordinate of the hit (tiled units) and its height in [0, 1]
+    s: vec2<f32>,
+    h: f32,
+    // height-map samples (or node fetches) taken: AOV `steps`
+    steps: f32,
+    // AOV `flags`: FLAG_BOUND (1) the search hit its bound, FLAG_EARLY (2) ended inside the shell
+    flags: u32,
+    // the mip level the hit is shaded with
+    lod: f32,
+    // world length from the entry to the hit
+    len: f32,
+    // the base frame at the hit (shading and shadows)
+    f: Frame,
+    // the ray left the shell without a hit: nothing is drawn (a silhouette)
+    exited: bool,
+}
+
+fn planar_hit(r: Ray, s: vec2<f32>, h: f32, steps: f32, flags: u32) -> Hit {
+    var hit: Hit;
+    hit.s = s;
+    hit.h = h;
+    hit.steps = steps;
+    hit.flags = flags;
+    hit.lod = r.lod;
+    hit.len = (1.0 - h) / max(-r.v_ts.z, 1e-12);
+    hit.f = r.f;
+    hit.exited = false;
+    return hit;
+}
+
+// A straight segment through the height field: (s + ds t, h + dh t) for t in [0, 1].
+struct Segment {
+    s: vec2<f32>,
+    ds: vec2<f32>,
+    h: f32,
+    dh: f32,
+}
+
+// The view ray from the base surface down to the floor.
+fn view_segment(r: Ray) -> Segment {
+    return Segment(r.s, r.dsdh, 1.0, -1.0);
+}
+
+fn segment_s(g: Segment, t: f32) -> vec2<f32> {
+    return g.s + g.ds * t;
+}
+
+fn segment_h(g: Segment, t: f32) -> f32 {
+    return g.h + g.dh * t;
+}
+
+struct Bracket {
+    // the last sample above the surface and the first one at or below it (parameters along the
+    // segment and ray height minus surface height there)
+    t_prev: f32,
+    d_prev: f32,
+    t_cur: f32,
+    d_cur: f32, // <= 0 when the bracket holds an intersection
+    steps: f32,
+}
+
+// Linear search along the segment in n equal steps with an early out at the first sample at or
+// below the surface. The start point is sampled too, so a surface at the start is hit there.
+fn linear_search(g: Segment, n: f32, lod: f32) -> Bracket {
+    var b: Bracket;
+    let dt = 1.0 / n;
+    var t = 0.0;
+    var d = g.h - height_at(g.s, lod);
+    b.steps = 1.0;
+    b.t_prev = t;
+    b.d_prev = d;
+    b.t_cur = t;
+    b.d_cur = d;
+    if (d <= 0.0) {
+        return b;
+    }
+    let ni = i32(n);
+    for (var i = 1; i <= ni; i = i + 1) {
+        // computed from i, not accumulated, so that the last sample is exactly at the end
+        let t_next = f32(i) * dt;
+        let d_next = segment_h(g, t_next) - height_at(segment_s(g, t_next), lod);
+        b.steps = b.steps + 1.0;
+        b.t_prev = t;
+        b.d_prev = d;
+        b.t_cur = t_next;
+        b.d_cur = d_next;
+        if (d_next <= 0.0) {
+            return b;
+        }
+        t = t_next;
+        d = d_next;
+    }
+    return b;
+}
+
+// POM's refinement: the parameter where the ray meets the piecewise-linear height profile
+// between the bracket's two samples (a line-line intersection at full float precision); the
+// last sample when the bracket holds no crossing.
+fn refine_linear(b: Bracket) -> f32 {
+    let denom = b.d_prev - b.d_cur;
+    if (b.d_cur <= 0.0 && denom > 1e-12) {
+        return b.t_prev + (b.t_cur - b.t_prev) * (b.d_prev / denom);
+    }
+    return b.t_cur;
+}
+
+// POM's sample count: n = n_max + (N.V)(n_min - n_max), i.e. n_max at grazing angles and
+// n_min head-on. Tatarchuk 2006 prints eq. 1 with the operands swapped, but the text ("we
+// increase the sampling rate along the steep viewing angles") and Figure 4 need this form.
+// `adaptive` false: the fixed-count profile (Brawley & Tatarchuk 2004), always n_max.
+fn pom_sample_count(ndotv: f32, n_min: f32, n_max: f32, adaptive: bool) -> f32 {
+    if (!adaptive) {
+        return n_max;
+    }
+    return max(round(n_max + clamp(ndotv, 0.0, 1.0) * (n_min - n_max)), 1.0);
+}

@@ -1,0 +1,72 @@
+//! A method the user writes: a WGSL module defining `fn march(r: Ray) -> Hit`, run by the
+//! surface pass like the built-in marches (docs/custom_methods.md). Its named parameters become
+//! the uniform block `params` (all f32, in the given order).
+use super::{check_finite, PerPixel, ShaderUnit, Spec};
+use crate::error::{Error, Result};
+use std::hash::{Hash, Hasher};
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Custom {
+    /// an identifier: names the module in error messages and labels
+    pub name: String,
+    pub wgsl: String,
+    pub params: Vec<(String, f32)>,
+}
+
+fn is_ident(s: &str) -> bool {
+    let mut c = s.chars();
+    matches!(c.next(), Some(ch) if ch.is_ascii_alphabetic() || ch == '_')
+        && c.all(|ch| ch.is_ascii_alphanumeric() || ch == '_')
+        && !s.starts_with("__")
+}
+
+impl Custom {
+    /// The import path: the name plus a hash of everything that shapes the module, so that a
+    /// changed source or parameter list is a new module.
+    pub fn module_path(&self) -> String {
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        self.wgsl.hash(&mut h);
+        for (k, _) in &self.params {
+            k.hash(&mut h);
+        }
+        format!("pomkit::custom::{}_{:016x}", self.name, h.finish())
+    }
+
+    pub fn spec(&self, o: &PerPixel) -> Spec {
+        let unit = ShaderUnit {
+            path: self.module_path(),
+            file: format!("{}.wgsl", self.name),
+            source: self.wgsl.clone().into(),
+        };
+        let params: Vec<(&str, f32)> = self.params.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+        Spec::surface(unit, o, &params)
+    }
+
+    pub fn validate(&self) -> Result<()> {
+        if !is_ident(&self.name) {
+            return Err(Error::arg(
+                "name",
+                format!(
+                    "must be a WGSL identifier (letters, digits, _), got {:?}",
+                    self.name
+                ),
+            ));
+        }
+        if self.params.len() > 64 {
+            return Err(Error::arg(
+                "params",
+                format!("at most 64 parameters, got {}", self.params.len()),
+            ));
+        }
+        for (k, v) in &self.params {
+            if !is_ident(k) {
+                return Err(Error::arg(
+                    "params",
+                    format!("parameter names must be WGSL identifiers, got {k:?}"),
+                ));
+            }
+            check_finite("params", *v)?;
+        }
+        Ok(())
+    }
+}

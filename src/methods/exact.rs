@@ -1,0 +1,25 @@
+//! Exact: the max-mip traversal (Tevs et al. 2008), exact.wgsl over maxmip.wgsl.
+use super::{check_range, PerPixel, ShaderUnit, Spec};
+use crate::error::Result;
+
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
+pub struct Exact {
+    pub max_iterations: u32,
+}
+
+impl Exact {
+    pub fn spec(&self, o: &PerPixel) -> Spec {
+        let wgsl = ShaderUnit::builtin(
+            "pomkit::methods::exact",
+            "src/methods/exact.wgsl",
+            include_str!("exact.wgsl"),
+        );
+        let mut s = Spec::surface(wgsl, o, &[]);
+        s.max_iterations = self.max_iterations;
+        s
+    }
+    pub fn validate(&self) -> Result<()> {
+        check_range("max_iterations", self.max_iterations, 1, 1 << 24)
+    }
+}

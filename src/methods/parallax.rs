@@ -1,0 +1,34 @@
+//! Parallax mapping (Kaneko 2001) with optional offset limiting (Welsh 2004): parallax.wgsl.
+use super::{flag, PerPixel, ShaderUnit, Spec};
+use crate::error::Result;
+
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
+pub struct Parallax {
+    pub offset_limiting: bool,
+    pub scale: f32,
+    pub bias: f32,
+}
+
+impl Parallax {
+    pub fn spec(&self, o: &PerPixel) -> Spec {
+        let wgsl = ShaderUnit::builtin(
+            "pomkit::methods::parallax",
+            "src/methods/parallax.wgsl",
+            include_str!("parallax.wgsl"),
+        );
+        Spec::surface(
+            wgsl,
+            o,
+            &[
+                ("scale", self.scale),
+                ("bias", self.bias),
+                ("offset_limiting", flag(self.offset_limiting)),
+            ],
+        )
+    }
+    pub fn validate(&self) -> Result<()> {
+        super::check_finite("scale", self.scale)?;
+        super::check_finite("bias", self.bias)
+    }
+}

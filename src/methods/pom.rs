@@ -1,0 +1,41 @@
+//! Parallax occlusion mapping (Brawley & Tatarchuk 2004; Tatarchuk 2006): pom.wgsl, with the
+//! surface pass's LOD blend toward bump mapping.
+use super::{check_range, flag, PerPixel, ShaderUnit, Spec, MAX_STEPS_LIMIT};
+use crate::error::Result;
+
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
+pub struct Pom {
+    pub min_steps: u32,
+    pub max_steps: u32,
+    pub lod_threshold: f32,
+    /// the sample count moves with N.V (Tatarchuk 2006); false: always max_steps
+    pub adaptive: bool,
+}
+
+impl Pom {
+    pub fn spec(&self, o: &PerPixel) -> Spec {
+        let wgsl = ShaderUnit::builtin(
+            "pomkit::methods::pom",
+            "src/methods/pom.wgsl",
+            include_str!("pom.wgsl"),
+        );
+        let mut s = Spec::surface(
+            wgsl,
+            o,
+            &[
+                ("min_steps", self.min_steps as f32),
+                ("max_steps", self.max_steps as f32),
+                ("adaptive", flag(self.adaptive)),
+            ],
+        );
+        s.defs.push("LOD_BLEND");
+        s.lod_threshold = self.lod_threshold;
+        s
+    }
+    pub fn validate(&self) -> Result<()> {
+        check_range("min_steps", self.min_steps, 1, MAX_STEPS_LIMIT)?;
+        check_range("max_steps", self.max_steps, 1, MAX_STEPS_LIMIT)?;
+        super::check_finite("lod_threshold", self.lod_threshold)
+    }
+}

@@ -1,0 +1,34 @@
+//! Relief mapping (Policarpo, Oliveira & Comba 2005): relief.wgsl.
+use super::{check_range, flag, PerPixel, ShaderUnit, Spec, MAX_STEPS_LIMIT};
+use crate::error::Result;
+
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
+pub struct Relief {
+    pub linear_steps: u32,
+    pub binary_steps: u32,
+    pub depth_bias: bool,
+}
+
+impl Relief {
+    pub fn spec(&self, o: &PerPixel) -> Spec {
+        let wgsl = ShaderUnit::builtin(
+            "pomkit::methods::relief",
+            "src/methods/relief.wgsl",
+            include_str!("relief.wgsl"),
+        );
+        Spec::surface(
+            wgsl,
+            o,
+            &[
+                ("linear_steps", self.linear_steps as f32),
+                ("binary_steps", self.binary_steps as f32),
+                ("depth_bias", flag(self.depth_bias)),
+            ],
+        )
+    }
+    pub fn validate(&self) -> Result<()> {
+        check_range("linear_steps", self.linear_steps, 1, MAX_STEPS_LIMIT)?;
+        check_range("binary_steps", self.binary_steps, 0, 64)
+    }
+}

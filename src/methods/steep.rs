@@ -1,0 +1,23 @@
+//! Steep parallax mapping (McGuire & McGuire 2005): steep.wgsl.
+use super::{check_range, PerPixel, ShaderUnit, Spec, MAX_STEPS_LIMIT};
+use crate::error::Result;
+
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
+pub struct SteepParallax {
+    pub steps: u32,
+}
+
+impl SteepParallax {
+    pub fn spec(&self, o: &PerPixel) -> Spec {
+        let wgsl = ShaderUnit::builtin(
+            "pomkit::methods::steep",
+            "src/methods/steep.wgsl",
+            include_str!("steep.wgsl"),
+        );
+        Spec::surface(wgsl, o, &[("steps", self.steps as f32)])
+    }
+    pub fn validate(&self) -> Result<()> {
+        check_range("steps", self.steps, 1, MAX_STEPS_LIMIT)
+    }
+}

@@ -1,0 +1,66 @@
+//! Method dataclasses (pomkit/_methods.py) extracted straight into the core's typed `Method`:
+//! each field read by name, no flattening and no re-parsing of defaults. The class attribute
+//! `_kind` picks the variant.
+
+use crate::methods::*;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+impl<'a, 'py> FromPyObject<'a, 'py> for Shadows {
+    type Error = PyErr;
+    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        Ok(Shadows::parse(&ob.extract::<String>()?)?)
+    }
+}
+
+impl<'a, 'py> FromPyObject<'a, 'py> for Filtering {
+    type Error = PyErr;
+    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        Ok(Filtering::parse(&ob.extract::<String>()?)?)
+    }
+}
+
+fn custom(ob: &Bound<'_, PyAny>) -> PyResult<Custom> {
+    let mut params = Vec::new();
+    for item in ob.getattr("params")?.call_method0("items")?.try_iter()? {
+        let (k, v): (String, f64) = item?.extract()?;
+        params.push((k, v as f32));
+    }
+    Ok(Custom {
+        name: ob.getattr("name")?.extract()?,
+        wgsl: ob.getattr("wgsl")?.extract()?,
+        params,
+    })
+}
+
+impl<'a, 'py> FromPyObject<'a, 'py> for Method {
+    type Error = PyErr;
+    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        let ob = ob.to_owned();
+        let kind: String = ob
+            .getattr("_kind")
+            .map_err(|_| {
+                PyValueError::new_err("method: expected a pomkit method such as pomkit.POM()")
+            })?
+            .extract()?;
+        let px = || ob.extract::<PerPixel>();
+        Ok(match kind.as_str() {
+            "Flat" => Method::Flat(Flat {}),
+            "Bump" => Method::Bump(ob.extract()?),
+            "Parallax" => Method::Parallax(ob.extract()?, px()?),
+            "SteepParallax" => Method::SteepParallax(ob.extract()?, px()?),
+            "POM" => Method::Pom(ob.extract()?, px()?),
+            "Relief" => Method::Relief(ob.extract()?, px()?),
+            "Exact" => Method::Exact(ob.extract()?, px()?),
+            "NCS" => Method::Ncs(ob.extract()?, px()?),
+            "Prism" => Method::Prism(ob.extract()?, px()?),
+            "Tessellated" => Method::Tessellated(ob.extract()?),
+            "Custom" => Method::Custom(custom(&ob)?, px()?),
+            o => {
+                return Err(PyValueError::new_err(format!(
+                    "method: unknown method kind {o:?}"
+                )))
+            }
+        })
+    }
+}

@@ -1,0 +1,455 @@
+//! Rendering: a method's pass over its geometry into two float32 targets (colour + steps, uv +
+//! distance + lod), and one readback of all AOVs.
+//!
+//! - `pipelines`: the bind-group layout and one pipeline per composed shader variant
+//! - `resources`: what stays resident (height maps, albedos, meshes, NCS maps), keyed by content
+//! - `targets`: render targets, readback and the `Frame`
+//! - `uniforms`: the `Globals` block (checked against the WGSL layout)
+//! - `shadow_map`: Tessellated's shadow-map pass
+
+pub mod pipelines;
+pub mod resources;
+pub mod shadow_map;
+pub mod targets;
+pub mod uniforms;
+
+pub use targets::Frame;
+pub use uniforms::top_maxmip_level;
+
+use crate::error::{Error, Result};
+use crate::gpu::Context;
+use crate::heightmap::{GpuHeight, MipBuilder};
+use crate::methods::{Filtering, Geometry, Method, Spec};
+use crate::scene::{HeightMap, Scene};
+use crate::texspace::{FrameMaps, TexSpace};
+use pipelines::Pipelines;
+use resources::{height_key, mesh_key, GpuMesh, Resources};
+use std::sync::{Arc, Mutex};
+use targets::Targets;
+
+/// float32 bits in uint targets: exact on every backend (GL cannot render to Rgba32Float)
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Samplers and the stand-ins bound where a pass has no shadow map, NCS maps or prisms.
+struct Fixed {
+    height_sampler: wgpu::Sampler,
+    albedo_sampler: wgpu::Sampler,
+    shadow_sampler: wgpu::Sampler,
+    no_shadow: wgpu::TextureView,
+    no_maps: FrameMaps,
+    no_prisms: wgpu::Buffer,
+}
+
+impl Fixed {
+    fn new(ctx: &Context) -> Result<Self> {
+        ctx.scoped(|| {
+            let dev = &ctx.device;
+            let filterable = ctx.float32_filterable;
+            let filt = if filterable {
+                wgpu::FilterMode::Linear
+            } else {
+                wgpu::FilterMode::Nearest
+            };
+            let mfilt = if filterable {
+                wgpu::MipmapFilterMode::Linear
+            } else {
+                wgpu::MipmapFilterMode::Nearest
+            };
+            let repeat = |label, f, mf| {
+                dev.create_sampler(&wgpu::SamplerDescriptor {
+                    label: Some(label),
+                    address_mode_u: wgpu::AddressMode::Repeat,
+                    address_mode_v: wgpu::AddressMode::Repeat,
+                    address_mode_w: wgpu::AddressMode::Repeat,
+                    mag_filter: f,
+                    min_filter: f,
+                    mipmap_filter: mf,
+                    ..Default::default()
+                })
+            };
+            let tex1 = |label, format, usage| {
+                dev.create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d {
+                        width: 1,
+                        height: 1,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage,
+                    view_formats: &[],
+                })
+                .create_view(&Default::default())
+            };
+            let maps = |label| {
+                tex1(
+                    label,
+                    wgpu::TextureFormat::Rgba32Uint,
+                    wgpu::TextureUsages::TEXTURE_BINDING,
+                )
+            };
+            Ok(Fixed {
+                height_sampler: repeat("height", filt, mfilt),
+                albedo_sampler: repeat(
+                    "albedo",
+                    wgpu::FilterMode::Linear,
+                    wgpu::MipmapFilterMode::Linear,
+                ),
+                shadow_sampler: dev.create_sampler(&wgpu::SamplerDescriptor {
+                    label: Some("shadow"),
+                    mag_filter: wgpu::FilterMode::Linear,
+                    min_filter: wgpu::FilterMode::Linear,
+                    compare: Some(wgpu::CompareFunction::LessEqual),
+                    ..Default::default()
+                }),
+                no_shadow: tex1(
+                    "no shadow map",
+                    DEPTH_FORMAT,
+                    wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT,
+                ),
+                no_maps: FrameMaps {
+                    n: maps("no frame map N"),
+                    t: maps("no frame map T"),
+                },
+                no_prisms: dev.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("no prisms"),
+                    size: std::mem::size_of::<crate::geometry::prisms::PrismData>() as u64,
+                    usage: wgpu::BufferUsages::STORAGE,
+                    mapped_at_creation: false,
+                }),
+            })
+        })
+    }
+}
+
+/// What one draw binds.
+struct Inputs<'a> {
+    globals: &'a wgpu::Buffer,
+    params: &'a wgpu::Buffer,
+    height: &'a GpuHeight,
+    albedo: &'a wgpu::TextureView,
+    maps: &'a FrameMaps,
+    mesh: &'a GpuMesh,
+}
+
+pub struct Renderer {
+    pub ctx: Arc<Context>,
+    pipelines: Pipelines,
+    fixed: Fixed,
+    mips: MipBuilder,
+    texspace: TexSpace,
+    resources: Mutex<Resources>,
+    /// serialises GPU submissions so that error scopes and timings belong to one render
+    submit: Mutex<()>,
+    /// the last frame size's targets (used under `submit`)
+    targets: Mutex<Option<Arc<Targets>>>,
+}
+
+fn poisoned<T>(_: T) -> Error {
+    Error::Gpu("renderer lock poisoned".into())
+}
+
+impl Renderer {
+    pub fn new(ctx: Arc<Context>) -> Result<Self> {
+        let pipelines = Pipelines::new(&ctx)?;
+        Ok(Self {
+            fixed: Fixed::new(&ctx)?,
+            mips: MipBuilder::new(&ctx, &pipelines.lib)?,
+            texspace: TexSpace::new(&ctx, &pipelines.lib)?,
+            pipelines,
+            resources: Mutex::new(Resources::new()),
+            submit: Mutex::new(()),
+            targets: Mutex::new(None),
+            ctx,
+        })
+    }
+
+    /// Issue an invalid wgpu call (a buffer both MAP_READ and MAP_WRITE) inside the error
+    /// scopes: used by tests to check that validation errors surface as `Error::Gpu` and leave
+    /// the renderer usable.
+    pub fn provoke_validation_error(&self) -> Result<()> {
+        self.ctx.scoped(|| {
+            let _b = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("invalid on purpose"),
+                size: 16,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::MAP_WRITE,
+                mapped_at_creation: false,
+            });
+            Ok(())
+        })
+    }
+
+    /// The GPU's pyramids for a map (tests): (mean mips, max mips).
+    pub fn read_pyramids(&self, map: &HeightMap) -> Result<(Vec<Vec<f32>>, Vec<Vec<f32>>)> {
+        let g = self
+            .resources
+            .lock()
+            .map_err(poisoned)?
+            .height(&self.ctx, &self.mips, map)?;
+        Ok((
+            self.mips.read_back(&self.ctx, &g, false)?,
+            self.mips.read_back(&self.ctx, &g, true)?,
+        ))
+    }
+
+    /// The filtering a method actually gets: exact where the adapter cannot filter float32.
+    pub fn effective_filtering(&self, f: Filtering) -> Filtering {
+        if self.ctx.float32_filterable {
+            f
+        } else {
+            Filtering::Exact
+        }
+    }
+
+    /// Dynamic height fields: write `new` into the GPU texture that holds `old` (same size),
+    /// rebuild both pyramids on the GPU, and re-key the cache entry. No pipeline is rebuilt and
+    /// nothing is allocated. Returns false when `old` was not resident (it will upload on the
+    /// next render instead).
+    pub fn update_height(&self, old: &HeightMap, new: &HeightMap) -> Result<bool> {
+        let mut res = self.resources.lock().map_err(poisoned)?;
+        let old_key = height_key(old);
+        let Some(g) = res.heights.get(old_key) else {
+            return Ok(false);
+        };
+        if g.width != new.width || g.height != new.height {
+            return Ok(false);
+        }
+        let _guard = self.submit.lock().map_err(poisoned)?;
+        self.mips.update(&self.ctx, &g, new)?;
+        self.ctx.wait()?;
+        Ok(res.heights.rekey(old_key, height_key(new)))
+    }
+
+    /// Refuse sizes over the device's limits before anything reaches the GPU.
+    pub fn check_limits(&self, scene: &Scene) -> Result<()> {
+        let lim = &self.ctx.limits;
+        let maxd = lim.max_texture_dimension_2d;
+        let cam = &scene.camera;
+        if cam.width > maxd || cam.height > maxd {
+            return Err(Error::limit(
+                "width",
+                format!(
+                    "frame {}x{} exceeds the device's max_texture_dimension_2d = {maxd}",
+                    cam.width, cam.height
+                ),
+            ));
+        }
+        let bytes = targets::row_bytes(cam.width) * cam.height as u64;
+        if bytes > lim.max_buffer_size {
+            return Err(Error::limit(
+                "width",
+                format!("frame {}x{} needs a {bytes}-byte readback buffer; the device's max_buffer_size is {}", cam.width, cam.height, lim.max_buffer_size),
+            ));
+        }
+        let hm = &scene.material.height;
+        if hm.width > maxd || hm.height > maxd {
+            return Err(Error::limit(
+                "height",
+                format!(
+                    "height map {}x{} exceeds the device's max_texture_dimension_2d = {maxd}",
+                    hm.width, hm.height
+                ),
+            ));
+        }
+        if let Some(a) = &scene.material.albedo {
+            if a.width > maxd || a.height > maxd {
+                return Err(Error::limit(
+                    "albedo",
+                    format!(
+                        "albedo {}x{} exceeds the device's max_texture_dimension_2d = {maxd}",
+                        a.width, a.height
+                    ),
+                ));
+            }
+        }
+        let vbytes =
+            scene.mesh.positions.len() as u64 * std::mem::size_of::<crate::mesh::Vertex>() as u64;
+        if vbytes > lim.max_buffer_size {
+            return Err(Error::limit(
+                "mesh",
+                format!(
+                    "vertex buffer of {vbytes} bytes exceeds max_buffer_size = {}",
+                    lim.max_buffer_size
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    pub fn render(&self, scene: &Scene, method: &Method) -> Result<Frame> {
+        scene.validate()?;
+        method.validate()?;
+        self.check_limits(scene)?;
+        self.ctx.check_alive()?;
+        let spec = method.spec();
+        let filtering = self.effective_filtering(spec.pixel.filtering);
+        let shadow = shadow_map::setup(scene, &spec, self.ctx.limits.max_texture_dimension_2d);
+        let arg = if matches!(method, Method::Custom(..)) {
+            "wgsl"
+        } else {
+            "method"
+        };
+        let variant = self
+            .pipelines
+            .get(&self.ctx, &spec, filtering, shadow.is_some(), arg)?;
+        let (height, albedo, mesh, maps) = {
+            let mut res = self.resources.lock().map_err(poisoned)?;
+            let height = res.height(&self.ctx, &self.mips, &scene.material.height)?;
+            let albedo = res.albedo(&self.ctx, scene.material.albedo.as_ref())?;
+            let base_key = mesh_key(&scene.mesh);
+            let mesh = res.mesh(&self.ctx, scene, spec.geometry, base_key)?;
+            let maps = if spec.frame_maps {
+                debug_assert_eq!(spec.geometry, Geometry::Base);
+                Some(res.frame_maps(&self.ctx, &self.texspace, &mesh, base_key)?)
+            } else {
+                None
+            };
+            (height, albedo, mesh, maps)
+        };
+        let globals = uniforms::globals(scene, &spec, shadow.as_ref());
+        let _guard = self.submit.lock().map_err(poisoned)?;
+        self.draw(
+            scene,
+            &spec,
+            &variant,
+            shadow.as_ref(),
+            &globals,
+            &height,
+            &albedo,
+            &mesh,
+            maps.as_deref(),
+        )
+    }
+
+    /// Render targets and readback buffers for a w x h frame (reused while the size stays).
+    fn targets(&self, w: u32, h: u32) -> Result<Arc<Targets>> {
+        let mut slot = self.targets.lock().map_err(poisoned)?;
+        match slot.as_ref() {
+            Some(t) if t.w == w && t.h == h => Ok(t.clone()),
+            _ => {
+                let t = Arc::new(Targets::new(&self.ctx, w, h));
+                *slot = Some(t.clone());
+                Ok(t)
+            }
+        }
+    }
+
+    fn bind_group(&self, i: &Inputs<'_>, shadow: &wgpu::TextureView) -> wgpu::BindGroup {
+        use wgpu::BindingResource as R;
+        let f = &self.fixed;
+        let prisms = i.mesh.prisms.as_ref().unwrap_or(&f.no_prisms);
+        let resources = [
+            i.globals.as_entire_binding(),
+            R::TextureView(&i.height.view),
+            R::Sampler(&f.height_sampler),
+            R::TextureView(i.albedo),
+            R::Sampler(&f.albedo_sampler),
+            R::TextureView(shadow),
+            R::Sampler(&f.shadow_sampler),
+            i.height.max_buf.as_entire_binding(),
+            R::TextureView(&i.maps.n),
+            R::TextureView(&i.maps.t),
+            prisms.as_entire_binding(),
+            i.params.as_entire_binding(),
+        ];
+        let entries: Vec<wgpu::BindGroupEntry> = resources
+            .into_iter()
+            .enumerate()
+            .map(|(b, resource)| wgpu::BindGroupEntry {
+                binding: b as u32,
+                resource,
+            })
+            .collect();
+        self.ctx
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("surface"),
+                layout: &self.pipelines.bgl,
+                entries: &entries,
+            })
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn draw(
+        &self,
+        scene: &Scene,
+        spec: &Spec,
+        variant: &pipelines::Variant,
+        shadow: Option<&shadow_map::ShadowSetup>,
+        globals: &uniforms::Globals,
+        height: &GpuHeight,
+        albedo: &wgpu::TextureView,
+        mesh: &GpuMesh,
+        maps: Option<&FrameMaps>,
+    ) -> Result<Frame> {
+        let ctx = &self.ctx;
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        let mut wall_ms = 0.0;
+        let tg = ctx.scoped(|| {
+            let inputs = Inputs {
+                globals: &ctx.upload(
+                    "globals",
+                    bytemuck::bytes_of(globals),
+                    wgpu::BufferUsages::UNIFORM,
+                ),
+                params: &ctx.upload(
+                    "method params",
+                    &crate::shaders::params_bytes(&spec.params),
+                    wgpu::BufferUsages::UNIFORM,
+                ),
+                height,
+                albedo,
+                maps: maps.unwrap_or(&self.fixed.no_maps),
+                mesh,
+            };
+            let mut enc = ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("render"),
+                });
+            let mut bind = self.bind_group(&inputs, &self.fixed.no_shadow);
+            if let (Some(s), Some(p)) = (shadow, &variant.shadow) {
+                let view = shadow_map::encode(&ctx.device, &mut enc, s, p, &bind, mesh);
+                bind = self.bind_group(&inputs, &view);
+            }
+            let tg = self.targets(w, h)?;
+            {
+                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("surface"),
+                    color_attachments: &tg.attachments(),
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &tg.depth_v,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(1.0),
+                            store: wgpu::StoreOp::Discard,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: tg.queries.as_ref().map(|q| {
+                        wgpu::RenderPassTimestampWrites {
+                            query_set: q,
+                            beginning_of_pass_write_index: Some(0),
+                            end_of_pass_write_index: Some(1),
+                        }
+                    }),
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_pipeline(&variant.main);
+                pass.set_bind_group(0, &bind, &[]);
+                mesh.draw(&mut pass);
+            }
+            tg.encode_readback(&mut enc);
+            let t0 = std::time::Instant::now();
+            ctx.queue.submit([enc.finish()]);
+            ctx.wait()?;
+            wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+            Ok(tg)
+        })?;
+        tg.read(ctx, wall_ms)
+    }
+}

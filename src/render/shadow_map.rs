@@ -1,0 +1,106 @@
+//! Tessellated's shadow map: the displaced mesh's depth seen from the first directional light
+//! (orthographic, fitted to the scene's bounding sphere), rendered before the surface pass.
+
+use super::DEPTH_FORMAT;
+use crate::methods::{Geometry, Shadows, Spec};
+use crate::scene::{Light, Scene};
+use glam::DVec3;
+
+/// Shadow-map size for `Tessellated(shadows="hard")` (clamped to the device's limit).
+pub const SHADOW_MAP_SIZE: u32 = 2048;
+
+#[derive(Clone, Copy, Debug)]
+pub struct ShadowSetup {
+    /// index of the shadowed light
+    pub light: usize,
+    pub view_proj: [[f32; 4]; 4],
+    /// world size of a shadow-map texel
+    pub texel: f32,
+    pub size: u32,
+}
+
+/// The shadow map a pass needs, if any: Tessellated with shadows on and a directional light.
+pub fn setup(scene: &Scene, spec: &Spec, max_dim: u32) -> Option<ShadowSetup> {
+    if !matches!(spec.geometry, Geometry::Tessellated { .. }) || spec.pixel.shadows == Shadows::None
+    {
+        return None;
+    }
+    let (i, dir) = scene.lights.iter().enumerate().find_map(|(i, l)| match l {
+        Light::Directional { direction, .. } => Some((i, DVec3::from(*direction).normalize())),
+        _ => None,
+    })?;
+    let (c, r) = super::uniforms::bounding_sphere(scene);
+    let size = SHADOW_MAP_SIZE.min(max_dim);
+    let up = if dir.y.abs() < 0.99 {
+        DVec3::Y
+    } else {
+        DVec3::X
+    };
+    let right = dir.cross(up).normalize();
+    let up = right.cross(dir);
+    let eye = c - dir * (2.0 * r);
+    // orthographic: x, y in [-r, r], depth along dir from eye in [0, 4r]
+    let m = glam::DMat4::from_cols(
+        glam::DVec4::new(right.x / r, up.x / r, dir.x / (4.0 * r), 0.0),
+        glam::DVec4::new(right.y / r, up.y / r, dir.y / (4.0 * r), 0.0),
+        glam::DVec4::new(right.z / r, up.z / r, dir.z / (4.0 * r), 0.0),
+        glam::DVec4::new(
+            -right.dot(eye) / r,
+            -up.dot(eye) / r,
+            -dir.dot(eye) / (4.0 * r),
+            1.0,
+        ),
+    );
+    Some(ShadowSetup {
+        light: i,
+        view_proj: m.as_mat4().to_cols_array_2d(),
+        texel: (2.0 * r / size as f64) as f32,
+        size,
+    })
+}
+
+/// Encode the shadow-map pass (depth only) into `enc`; returns the map's view.
+pub fn encode(
+    dev: &wgpu::Device,
+    enc: &mut wgpu::CommandEncoder,
+    s: &ShadowSetup,
+    pipeline: &wgpu::RenderPipeline,
+    bind: &wgpu::BindGroup,
+    mesh: &super::resources::GpuMesh,
+) -> wgpu::TextureView {
+    let t = dev.create_texture(&wgpu::TextureDescriptor {
+        label: Some("shadow map"),
+        size: wgpu::Extent3d {
+            width: s.size,
+            height: s.size,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: DEPTH_FORMAT,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT,
+        view_formats: &[],
+    });
+    let v = t.create_view(&Default::default());
+    let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("shadow map"),
+        color_attachments: &[],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: &v,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(1.0),
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, bind, &[]);
+    mesh.draw(&mut pass);
+    drop(pass);
+    v
+}

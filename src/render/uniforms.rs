@@ -1,0 +1,223 @@
+//! The frame's uniform block, `Globals` (shaders/globals.wgsl), filled from the scene and the
+//! method's spec. `uniform_layout` (a test) checks that every field has the same name and
+//! offset in Rust and in the composed WGSL.
+
+use crate::heightmap::{max_offsets, mip_count};
+use crate::methods::Spec;
+use crate::scene::{Light, Scene, MAX_LIGHTS};
+use glam::DVec3;
+
+/// A `#[repr(C)]` Pod struct with a table of its fields' names and offsets.
+macro_rules! uniform_struct {
+    ($(#[$m:meta])* pub struct $name:ident { $($(#[$fm:meta])* pub $f:ident : $t:ty,)* }) => {
+        $(#[$m])*
+        #[repr(C)]
+        #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+        pub struct $name { $($(#[$fm])* pub $f: $t,)* }
+        impl $name {
+            /// (name, byte offset) of every field, for the layout test
+            pub const FIELDS: &'static [(&'static str, usize)] = &[$((stringify!($f), std::mem::offset_of!($name, $f)),)*];
+        }
+    };
+}
+
+uniform_struct! {
+    pub struct LightU {
+        pub vec: [f32; 4],
+        pub color: [f32; 4],
+    }
+}
+
+uniform_struct! {
+    /// shaders/globals.wgsl's `Globals`: see the comments there.
+    pub struct Globals {
+        pub view_proj: [[f32; 4]; 4],
+        pub eye: [f32; 3],
+        pub light_count: f32,
+        pub map_size: [f32; 2],
+        pub tiling: f32,
+        pub depth: f32,
+        pub ambient: [f32; 3],
+        pub mip_count: f32,
+        pub shadow_steps: f32,
+        pub lod_threshold: f32,
+        pub mip_filtering: f32,
+        pub ao_directions: f32,
+        pub horizon_samples: f32,
+        pub top_max_level: f32,
+        pub max_iterations: f32,
+        pub pad_a: f32,
+        pub lights: [LightU; MAX_LIGHTS],
+        pub shadow_vp: [[f32; 4]; 4],
+        pub shadow_light: f32,
+        pub shadow_texel: f32,
+        pub shadow_size: f32,
+        pub pad_b: f32,
+        pub max_offsets: [[u32; 4]; 4],
+    }
+}
+
+/// The highest max-mip level whose nodes tile the map exactly (its size divides both sides).
+pub fn top_maxmip_level(w: u32, h: u32) -> u32 {
+    let mut l = 0;
+    while l + 1 < mip_count(w, h) && w % (1 << (l + 1)) == 0 && h % (1 << (l + 1)) == 0 {
+        l += 1;
+    }
+    l
+}
+
+/// The scene's bounding sphere (base mesh grown by the displacement depth).
+pub fn bounding_sphere(scene: &Scene) -> (DVec3, f64) {
+    let (lo, hi) = scene.mesh.bounds();
+    (
+        (lo + hi) * 0.5,
+        (hi - lo).length() * 0.5 + scene.material.depth as f64 + 1e-3,
+    )
+}
+
+fn light_uniform(l: &Light) -> LightU {
+    match l {
+        Light::Directional {
+            direction,
+            irradiance,
+            angular_diameter,
+        } => {
+            let d = DVec3::from(*direction).normalize();
+            LightU {
+                vec: [d.x as f32, d.y as f32, d.z as f32, 0.0],
+                color: [
+                    irradiance[0],
+                    irradiance[1],
+                    irradiance[2],
+                    (angular_diameter.to_radians() * 0.5).tan() as f32,
+                ],
+            }
+        }
+        Light::Sphere {
+            position,
+            radius,
+            intensity,
+        } => LightU {
+            vec: [
+                position[0] as f32,
+                position[1] as f32,
+                position[2] as f32,
+                1.0,
+            ],
+            color: [intensity[0], intensity[1], intensity[2], *radius as f32],
+        },
+    }
+}
+
+/// The uniform block for `scene` drawn with `spec`; `shadow` is the shadow map's set-up
+/// (light index, view-projection, texel size, map size) when the pass has one.
+pub fn globals(
+    scene: &Scene,
+    spec: &Spec,
+    shadow: Option<&super::shadow_map::ShadowSetup>,
+) -> Globals {
+    let (c, r) = bounding_sphere(scene);
+    let d = (DVec3::from(scene.camera.eye) - c).length();
+    let far = (d + r) * 1.01 + 1e-3;
+    let near = (d - r).max(far * 1e-5);
+    let mut lights = [LightU {
+        vec: [0.0; 4],
+        color: [0.0; 4],
+    }; MAX_LIGHTS];
+    for (i, l) in scene.lights.iter().enumerate() {
+        lights[i] = light_uniform(l);
+    }
+    let hm = &scene.material.height;
+    let mut max_off = [[0u32; 4]; 4];
+    for (k, v) in max_offsets(hm.width, hm.height)
+        .0
+        .iter()
+        .enumerate()
+        .take(16)
+    {
+        max_off[k / 4][k % 4] = *v;
+    }
+    let o = &spec.pixel;
+    let flag = |b: bool| if b { 1.0 } else { 0.0 };
+    let cam = &scene.camera;
+    Globals {
+        view_proj: cam.view_proj(near, far).to_cols_array_2d(),
+        eye: [cam.eye[0] as f32, cam.eye[1] as f32, cam.eye[2] as f32],
+        light_count: scene.lights.len() as f32,
+        map_size: [hm.width as f32, hm.height as f32],
+        tiling: scene.material.tiling,
+        depth: scene.material.depth,
+        ambient: scene.ambient,
+        mip_count: mip_count(hm.width, hm.height) as f32,
+        shadow_steps: o.shadow_steps as f32,
+        lod_threshold: spec.lod_threshold,
+        mip_filtering: flag(o.mip_filtering),
+        ao_directions: o.ao_directions as f32,
+        horizon_samples: o.horizon_samples as f32,
+        top_max_level: top_maxmip_level(hm.width, hm.height) as f32,
+        max_iterations: spec.max_iterations as f32,
+        pad_a: 0.0,
+        lights,
+        shadow_vp: shadow.map(|s| s.view_proj).unwrap_or([[0.0; 4]; 4]),
+        shadow_light: shadow.map(|s| s.light as f32).unwrap_or(-1.0),
+        shadow_texel: shadow.map(|s| s.texel).unwrap_or(0.0),
+        shadow_size: shadow.map(|s| s.size as f32).unwrap_or(1.0),
+        pad_b: 0.0,
+        max_offsets: max_off,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::methods::{Method, PerPixel};
+    use crate::shaders::ShaderLib;
+
+    /// The members (name, offset) of the composed module's struct `name`.
+    fn wgsl_members(module: &naga::Module, name: &str) -> Vec<(String, usize)> {
+        for (_, ty) in module.types.iter() {
+            let undecorated = ty
+                .name
+                .as_deref()
+                .map(|n| n.split("X_naga_oil").next().unwrap_or(n).to_string());
+            if undecorated.as_deref() == Some(name) {
+                if let naga::TypeInner::Struct { members, .. } = &ty.inner {
+                    return members
+                        .iter()
+                        .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+                        .collect();
+                }
+            }
+        }
+        panic!("no struct {name} in the composed module");
+    }
+
+    #[test]
+    fn uniform_layout() {
+        let lib = ShaderLib::new().unwrap();
+        let spec = Method::pom(PerPixel::off()).spec();
+        let module = lib
+            .compose(&spec, crate::methods::Filtering::Hardware, "method")
+            .unwrap();
+        for (name, fields, size) in [
+            ("Globals", Globals::FIELDS, std::mem::size_of::<Globals>()),
+            ("Light", LightU::FIELDS, std::mem::size_of::<LightU>()),
+        ] {
+            let wgsl = wgsl_members(&module, name);
+            let rust: Vec<(String, usize)> =
+                fields.iter().map(|(n, o)| (n.to_string(), *o)).collect();
+            assert_eq!(wgsl, rust, "{name}: WGSL and Rust layouts differ");
+            let last = module
+                .types
+                .iter()
+                .find(|(_, t)| {
+                    t.name
+                        .as_deref()
+                        .map(|n| n.starts_with(name))
+                        .unwrap_or(false)
+                })
+                .map(|(_, t)| t.inner.size(module.to_ctx()));
+            assert_eq!(last, Some(size as u32), "{name}: size");
+        }
+    }
+}
