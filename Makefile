@@ -18,6 +18,8 @@ demo: setup
 
 test: setup-test
 	cargo test --release --lib --tests 2>&1 | tee .cargo-test.log | grep -E "^(test result|running|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
+	$(VENV)/python -m mypy.stubtest pomkit._core --mypy-config-file pyproject.toml
+	$(VENV)/python -m mypy
 	$(VENV)/python -m pytest tests notebooks --nbmake
 
 bench: setup

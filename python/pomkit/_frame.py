@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Optional
+from typing import Any, Optional
 
 import numpy as np
 
@@ -61,7 +61,7 @@ class Frame:
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
         if path.suffix == ".npz":
-            arrays = {k: v for k, v in dict(color=self.color, uv=self.uv, depth=self.depth, mask=self.mask,
+            arrays: dict[str, Any] = {k: v for k, v in dict(color=self.color, uv=self.uv, depth=self.depth, mask=self.mask,
                                              steps=self.steps, lod=self.lod).items() if v is not None}
             np.savez_compressed(path, **arrays)
         else:

@@ -19,11 +19,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Literal, get_args
 
 __all__ = ["Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "NCS", "Prism", "Tessellated", "Custom"]
 
-_SHADOWS = ("none", "hard", "soft", "horizon")
-_FILTERING = ("hardware", "exact")
+#: the option values, as types (Literal) and as tuples for the checks
+ShadowKind = Literal["none", "hard", "soft", "horizon", "exact"]
+FilteringKind = Literal["hardware", "exact"]
+_SHADOWS: tuple[str, ...] = ("none", "hard", "soft", "horizon")
+_FILTERING: tuple[str, ...] = get_args(FilteringKind)
 
 
 def _int_field(obj, name: str, lo: int = 1, hi: int = 4096) -> None:
@@ -77,7 +81,7 @@ class Bump(Method):
     """Bump mapping (Blinn 1978): the shading normal from the height field's central
     differences; the uv is unchanged."""
 
-    filtering: str = "hardware"
+    filtering: FilteringKind = "hardware"
     _kind = "Bump"
 
     def __post_init__(self):
@@ -88,14 +92,14 @@ class Bump(Method):
 class _PerPixel(Method):
     """Options shared by the per-pixel methods (keyword-only)."""
 
-    shadows: str = field(default="none", kw_only=True)
+    shadows: ShadowKind = field(default="none", kw_only=True)
     shadow_steps: int = field(default=8, kw_only=True)
-    filtering: str = field(default="hardware", kw_only=True)
+    filtering: FilteringKind = field(default="hardware", kw_only=True)
     mip_filtering: bool = field(default=True, kw_only=True)
     ao_directions: int = field(default=0, kw_only=True)
     horizon_samples: int = field(default=8, kw_only=True)
 
-    _shadow_options = _SHADOWS
+    _shadow_options: tuple[str, ...] = _SHADOWS
 
     def __post_init__(self):
         _choice(self, "shadows", self._shadow_options)
@@ -125,7 +129,7 @@ class POM(_PerPixel):
 
     min_steps: int = 8
     max_steps: int = 50
-    shadows: str = field(default="soft", kw_only=True)
+    shadows: ShadowKind = field(default="soft", kw_only=True)
     lod_threshold: float = 4.0
     adaptive: bool = True
     _kind = "POM"
@@ -239,7 +243,7 @@ class Prism(_PerPixel):
     max_steps: int = 50
     outward: bool = False
     exact: bool = False
-    shadows: str = field(default="soft", kw_only=True)
+    shadows: ShadowKind = field(default="soft", kw_only=True)
     _kind = "Prism"
 
     def _validate(self):
@@ -264,7 +268,7 @@ class Tessellated(Method):
     penumbra); "none" turns it off. Other lights are unshadowed; no ambient occlusion."""
 
     texels_per_vertex: float = 1.0
-    shadows: str = "hard"
+    shadows: Literal["none", "hard"] = "hard"
     _kind = "Tessellated"
 
     def __post_init__(self):

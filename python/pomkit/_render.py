@@ -12,7 +12,7 @@ import numpy as np
 from . import _core
 from ._frame import Frame
 from ._methods import Method
-from ._scene import Scene
+from ._scene import Material, Scene
 
 __all__ = ["Renderer", "adapters", "exact_uv"]
 
@@ -53,24 +53,19 @@ class Renderer:
             gpu_ms=gpu, wall_ms=d["wall_ms"], timing="gpu" if gpu is not None else "wall", method=repr(method),
         )
 
-
-def _update_height(self, material, height):
-    """Dynamic height fields: a new Material with `height` in place of `material.height` (same
-    depth, albedo, tiling). When the old map is resident on the GPU and the sizes match, the new
-    texels are written into the same texture and the mean and max pyramids are rebuilt by
-    compute passes: no pipeline is rebuilt and nothing is allocated. Otherwise the new map
-    uploads on the next render. Normals need no update: they are computed per pixel from the
-    height field."""
-    from ._scene import Material
-    if not isinstance(material, Material):
-        raise TypeError(f"material: expected a pomkit.Material, got {type(material).__name__}")
-    new = Material(height, depth=material.depth, albedo=material.albedo, tiling=material.tiling)
-    if new.height.shape == material.height.shape:
-        self._r.update_height(material.height, new.height)
-    return new
-
-
-Renderer.update_height = _update_height  # type: ignore[attr-defined]
+    def update_height(self, material: Material, height) -> Material:
+        """Dynamic height fields: a new Material with `height` in place of `material.height` (same
+        depth, albedo, tiling). When the old map is resident on the GPU and the sizes match, the new
+        texels are written into the same texture and the mean and max pyramids are rebuilt by
+        compute passes: no pipeline is rebuilt and nothing is allocated. Otherwise the new map
+        uploads on the next render. Normals need no update: they are computed per pixel from the
+        height field."""
+        if not isinstance(material, Material):
+            raise TypeError(f"material: expected a pomkit.Material, got {type(material).__name__}")
+        new = Material(height, depth=material.depth, albedo=material.albedo, tiling=material.tiling)
+        if new.height.shape == material.height.shape:
+            self._r.update_height(material.height, new.height)
+        return new
 
 
 def exact_uv(scene: Scene) -> Frame:

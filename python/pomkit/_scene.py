@@ -83,8 +83,8 @@ class Mesh:
 
     @classmethod
     def _from_core(cls, arrays, kind: str) -> "Mesh":
-        p, n, uv, idx, t, s, c = arrays[:7]
-        return cls(*(_readonly(np.asarray(x)) for x in (p, n, uv, idx, t, s, c)), kind=kind)
+        p, n, uv, idx, t, s, c = (_readonly(np.asarray(x)) for x in arrays[:7])
+        return cls(p, n, uv, idx, t, s, c, kind=kind)
 
     @classmethod
     def plane(cls, size: float = 2.0, segments: int = 1) -> "Mesh":

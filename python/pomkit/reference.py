@@ -6,6 +6,8 @@ flip-evaluator, scikit-image, pyrender). Results are cached on disk (see `pomkit
 
 from __future__ import annotations
 
+from typing import Any
+
 import glob
 import math
 import os
@@ -152,6 +154,7 @@ def _emitters(mi, scene: Scene) -> dict:
 
 def _bsdf(mi, scene: Scene):
     m = scene.material
+    refl: dict[str, Any]
     if m.albedo is None:
         refl = {"type": "rgb", "value": [0.5, 0.5, 0.5]}
     else:
