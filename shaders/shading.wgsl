@@ -1,4 +1,4 @@
-// shading.wgsl: Lambertian shading with the shared light model (DESIGN.md, Shading):
+// shading.wgsl: Lambertian shading with the shared light model (docs/conventions.md):
 //     L = albedo/pi * sum(E * max(0, N.L) * visibility) + albedo * ambient * ao
 // with the visibility from the method's shadow kind and the AO from the horizon estimate.
 //

@@ -8,7 +8,7 @@ import pytest
 import pomkit as pk
 from conftest import plane_scene
 
-EXAMPLES = Path(__file__).parent.parent / "docs" / "examples"
+EXAMPLES = Path(pk.__file__).parent / "wgsl"
 STEEP = (EXAMPLES / "steep_custom.wgsl").read_text()
 ENGINE = (EXAMPLES / "engine_pom.wgsl").read_text()
 

@@ -1,6 +1,6 @@
 """Scene model: plain validated data (mesh, material, camera, lights).
 
-Conventions (see docs/conventions.md and DESIGN.md): h = 1 is the base surface, h = 0 lies
+Conventions (see docs/conventions.md): h = 1 is the base surface, h = 0 lies
 `depth` below it along the base normal; array row r, column c is the texel centred at
 u = (c + 0.5) / W, v = (r + 0.5) / H; the camera's ray of pixel (i, j) passes through the
 pixel centre; a directional light's `direction` is the way the light travels.

@@ -69,8 +69,11 @@ def variants(cls, **grid) -> list:
 
 
 def _label(m) -> str:
-    """The method with only the fields that differ from its defaults: POM(max_steps=16)."""
+    """The method with only the fields that differ from its defaults: POM(max_steps=16); a
+    Custom method by its name and parameters."""
     from dataclasses import fields
+    if isinstance(m, pk.Custom):
+        return f"{m.name}({', '.join(f'{k}={v:g}' for k, v in m.params.items())})"
     try:
         default = type(m)()
     except Exception:
@@ -80,7 +83,7 @@ def _label(m) -> str:
 
 
 def _method_name(m) -> str:
-    return getattr(m, "_preset", None) or m.name
+    return getattr(m, "_preset", None) or (m.label if isinstance(m, pk.Custom) else m.name)
 
 
 def _mitsuba_job(args):

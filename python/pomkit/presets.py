@@ -6,9 +6,11 @@ parameters can express it; where they cannot, the docstring says what differs.
 
 from __future__ import annotations
 
-from ._methods import POM, Relief
+from importlib.resources import files
 
-__all__ = ["bevy_pom", "bevy_relief", "godot_deep_parallax", "ALL_PRESETS"]
+from ._methods import POM, Custom, Relief
+
+__all__ = ["bevy_pom", "bevy_relief", "godot_deep_parallax", "engine_pom", "ALL_PRESETS"]
 
 NO_LOD = 1000.0  # engines without a POM -> bump hand-over
 
@@ -35,7 +37,16 @@ def godot_deep_parallax() -> POM:
     return POM(min_steps=8, max_steps=32, shadows="none", lod_threshold=NO_LOD, mip_filtering=True)
 
 
+def engine_pom() -> Custom:
+    """The parallax occlusion loop most engines and tutorials ship (accumulated position, layer
+    count blended by the view angle between 8 and 32, one interpolation between the last two
+    layers, level-0 sampling), as a `pk.Custom` method: pomkit/wgsl/engine_pom.wgsl, our own
+    adaptation of the common description (docs/custom_methods.md)."""
+    src = (files("pomkit") / "wgsl" / "engine_pom.wgsl").read_text()
+    return Custom(wgsl=src, name="engine_pom", params={"min_layers": 8.0, "max_layers": 32.0}, mip_filtering=False)
+
+
 #: name -> factory. Unreal's ParallaxOcclusionMapping material function is not included: its
 #: algorithm is only available in the engine's own sources, which are not public material we can
 #: verify here.
-ALL_PRESETS = {"bevy_pom": bevy_pom, "bevy_relief": bevy_relief, "godot_deep_parallax": godot_deep_parallax}
+ALL_PRESETS = {"bevy_pom": bevy_pom, "bevy_relief": bevy_relief, "godot_deep_parallax": godot_deep_parallax, "engine_pom": engine_pom}
