@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Literal, get_args
+from typing import ClassVar, Literal, get_args
 
 __all__ = ["Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "NCS", "Prism", "Tessellated", "Custom"]
 
@@ -99,7 +99,7 @@ class _PerPixel(Method):
     ao_directions: int = field(default=0, kw_only=True)
     horizon_samples: int = field(default=8, kw_only=True)
 
-    _shadow_options: tuple[str, ...] = _SHADOWS
+    _shadow_options: ClassVar[tuple[str, ...]] = _SHADOWS
 
     def __post_init__(self):
         _choice(self, "shadows", self._shadow_options)
