@@ -97,33 +97,21 @@ struct Bracket {
 // Linear search along the segment in n equal steps with an early out at the first sample at or
 // below the surface. The start point is sampled too, so a surface at the start is hit there.
 fn linear_search(g: Segment, n: f32, lod: f32) -> Bracket {
-    var b: Bracket;
     let dt = 1.0 / n;
-    var t = 0.0;
-    var d = g.h - height_at(g.s, lod);
+    var b: Bracket;
     b.steps = 1.0;
-    b.t_prev = t;
-    b.d_prev = d;
-    b.t_cur = t;
-    b.d_cur = d;
-    if (d <= 0.0) {
-        return b;
-    }
+    b.t_cur = 0.0;
+    b.d_cur = g.h - height_at(g.s, lod);
+    b.t_prev = b.t_cur;
+    b.d_prev = b.d_cur;
     let ni = i32(n);
-    for (var i = 1; i <= ni; i = i + 1) {
+    for (var i = 1; i <= ni && b.d_cur > 0.0; i = i + 1) {
+        b.t_prev = b.t_cur;
+        b.d_prev = b.d_cur;
         // computed from i, not accumulated, so that the last sample is exactly at the end
-        let t_next = f32(i) * dt;
-        let d_next = segment_h(g, t_next) - height_at(segment_s(g, t_next), lod);
+        b.t_cur = f32(i) * dt;
+        b.d_cur = segment_h(g, b.t_cur) - height_at(segment_s(g, b.t_cur), lod);
         b.steps = b.steps + 1.0;
-        b.t_prev = t;
-        b.d_prev = d;
-        b.t_cur = t_next;
-        b.d_cur = d_next;
-        if (d_next <= 0.0) {
-            return b;
-        }
-        t = t_next;
-        d = d_next;
     }
     return b;
 }

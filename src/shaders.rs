@@ -243,21 +243,33 @@ impl ShaderLib {
 pub fn builtin_variants() -> Vec<crate::methods::Method> {
     use crate::methods::*;
     let mut out = vec![
-        Method::Flat(Flat {}),
-        Method::Bump(Bump {
-            filtering: Filtering::Hardware,
-        }),
-        Method::Bump(Bump {
-            filtering: Filtering::Exact,
-        }),
-        Method::Tessellated(Tessellated {
-            texels_per_vertex: 1.0,
-            shadows: Shadows::None,
-        }),
-        Method::Tessellated(Tessellated {
-            texels_per_vertex: 1.0,
-            shadows: Shadows::Hard,
-        }),
+        Method::Flat(Flat {}, PerPixel::off()),
+        Method::Bump(
+            Bump {
+                filtering: Filtering::Hardware,
+            },
+            PerPixel::off(),
+        ),
+        Method::Bump(
+            Bump {
+                filtering: Filtering::Exact,
+            },
+            PerPixel::off(),
+        ),
+        Method::Tessellated(
+            Tessellated {
+                texels_per_vertex: 1.0,
+                shadows: Shadows::None,
+            },
+            PerPixel::off(),
+        ),
+        Method::Tessellated(
+            Tessellated {
+                texels_per_vertex: 1.0,
+                shadows: Shadows::Hard,
+            },
+            PerPixel::off(),
+        ),
     ];
     for shadows in [
         Shadows::None,

@@ -79,7 +79,7 @@ fn bad_sizes_are_refused_before_the_gpu() {
     let lim = r.ctx.limits.max_texture_dimension_2d;
     let hm = HeightMap::new(lim + 1, 1, vec![0.5; lim as usize + 1]).unwrap();
     let e = r
-        .render(&scene(hm, 30.0, 8), &Method::Flat(Flat {}))
+        .render(&scene(hm, 30.0, 8), &Method::Flat(Flat {}, PerPixel::off()))
         .unwrap_err();
     assert!(matches!(e, Error::Limit { .. }), "{e}");
     assert!(e.to_string().contains("max_texture_dimension_2d"));

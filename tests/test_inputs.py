@@ -254,3 +254,36 @@ def test_missing_adapter_names_the_package():
     p = _run(code, POMKIT_BACKEND="vulkan", VK_ICD_FILENAMES="/nonexistent.json", VK_DRIVER_FILES="/nonexistent.json")
     assert p.returncode == 0, p.stderr
     assert p.stdout.startswith("0\nNoAdapterError") and "mesa-vulkan-drivers" in p.stdout, p.stdout
+
+
+def test_numpy_scalars_accepted_everywhere():
+    """Arguments from NumPy (sweeps build them with np.arange/np.linspace) are accepted by the
+    scene and by every method, and stored as plain Python numbers (pomkit/_validate.py)."""
+    i, f, b = np.int64(16), np.float32(0.25), np.bool_(True)
+    methods = [
+        pk.SteepParallax(steps=i), pk.POM(min_steps=np.int32(4), max_steps=i, lod_threshold=f, adaptive=b),
+        pk.Relief(linear_steps=i, binary_steps=np.uint8(3), depth_bias=b), pk.Exact(max_iterations=i),
+        pk.Parallax(scale=f, offset_limiting=b), pk.NCS(step_scale=np.float64(2.0), max_steps=i),
+        pk.Prism(min_steps=i, max_steps=i, outward=np.bool_(False)), pk.Tessellated(texels_per_vertex=f * 4),
+        pk.POM(shadow_steps=i, ao_directions=np.int16(4), horizon_samples=np.int64(6)),
+    ]
+    for m in methods:
+        for k, v in vars(m).items():
+            assert not isinstance(v, np.generic), (type(m).__name__, k, type(v))
+    cam = pk.Camera.look_at(np.array([0, 1.0, 1.5]), fov_y=np.float32(40), width=np.int64(24), height=np.uint16(24))
+    scene = pk.Scene(mesh=pk.Mesh.plane(size=np.float64(2.0), segments=np.int32(2)),
+                     material=pk.Material(pk.textures.bricks(32), depth=np.float32(0.05), tiling=np.int64(2)),
+                     camera=cam, lights=[pk.DirectionalLight((0, -1, 0), irradiance=np.float32(2.0))])
+    frame = pk.Renderer().render(scene, methods[1])
+    assert frame.color.shape == (24, 24, 3) and frame.mask.any()
+
+
+@pytest.mark.parametrize("make, word", [
+    (lambda: pk.SteepParallax(steps=np.float64(2.5)), "steps"),
+    (lambda: pk.POM(adaptive=np.int64(1)), "adaptive"),
+    (lambda: pk.Camera.look_at((0, 1, 1), width=np.float32(10.5)), "width"),
+    (lambda: pk.Relief(binary_steps=np.int64(-1)), "binary_steps"),
+])
+def test_numpy_scalars_checked_like_python_ones(make, word):
+    with pytest.raises((TypeError, ValueError), match=word):
+        make()

@@ -20,13 +20,13 @@ def main(argv=None) -> int:
     t.add_argument("--out", default="docs/tables")
     a = p.parse_args(argv)
     if a.cmd == "demo":
-        from .demo import run_demo
+        from .apps.demo import run_demo
         run_demo(a.out, a.size)
     elif a.cmd == "bench":
-        from .bench import run_bench
+        from .apps.bench import run_bench
         run_bench(a.out, quick=a.quick)
     elif a.cmd == "tables":
-        from .tables import run_tables
+        from .apps.tables import run_tables
         run_tables(a.out)
     elif a.cmd == "info":
         import pomkit as pk

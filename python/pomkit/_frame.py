@@ -2,22 +2,24 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Optional
+from typing import Literal, Optional, get_args
 
 import numpy as np
 
 from ._scene import linear_to_srgb
 
-__all__ = ["Frame"]
+__all__ = ["Frame", "AovName", "AOV_NAMES"]
+
+#: the AOVs a render can return (`Renderer.render(..., aovs=...)`)
+AovName = Literal["color", "uv", "depth", "mask", "steps", "lod", "flags"]
+AOV_NAMES: tuple[str, ...] = get_args(AovName)
 
 
-@dataclass
 class Frame:
     """Arrays are (H, W, ...) with row 0 at the top of the image.
 
-    color: (H, W, 3) float32 linear RGB (None for the geometric oracle)
+    color: (H, W, 3) float32 linear RGB
     uv:    (H, W, 2) hit texture coordinate in the mesh's uv space (not wrapped), NaN where no hit
     depth: (H, W) distance from the eye to the hit point, NaN where no hit
     mask:  (H, W) bool, the pixel shows the surface
@@ -28,42 +30,72 @@ class Frame:
     wall_ms: wall time of submit-and-wait (always measured)
     timing: "gpu" when gpu_ms holds a timestamp measurement, "wall" when only wall_ms exists;
             `time_ms` gives whichever is there.
+
+    A frame holds the AOVs it was rendered with (`aovs`); reading another raises an
+    AttributeError that names the `aovs=` argument of `Renderer.render`.
     """
 
-    color: Optional[np.ndarray]
-    uv: np.ndarray
-    depth: np.ndarray
-    mask: np.ndarray
-    steps: Optional[np.ndarray] = None
-    lod: Optional[np.ndarray] = None
-    flags: Optional[np.ndarray] = None
-    gpu_ms: Optional[float] = None
-    wall_ms: Optional[float] = None
-    timing: str = "gpu"
-    method: str = ""
+    def __init__(self, *, method: str = "", gpu_ms: Optional[float] = None, wall_ms: Optional[float] = None,
+                 timing: Optional[str] = None, **arrays: Optional[np.ndarray]):
+        unknown = set(arrays) - set(AOV_NAMES)
+        if unknown:
+            raise TypeError(f"Frame: unknown AOVs {sorted(unknown)}; known: {AOV_NAMES}")
+        self._arrays: dict[str, np.ndarray] = {k: v for k, v in arrays.items() if v is not None}
+        self.method = method
+        self.gpu_ms = gpu_ms
+        self.wall_ms = wall_ms
+        self.timing = timing if timing is not None else ("gpu" if gpu_ms is not None else "wall")
+
+    @property
+    def aovs(self) -> tuple[str, ...]:
+        """The AOVs this frame holds, in the order of `AOV_NAMES`."""
+        return tuple(k for k in AOV_NAMES if k in self._arrays)
+
+    def has(self, name: str) -> bool:
+        return name in self._arrays
+
+    def _get(self, name: str) -> np.ndarray:
+        try:
+            return self._arrays[name]
+        except KeyError:
+            raise AttributeError(
+                f"{name}: this frame holds only {', '.join(self.aovs) or 'no AOVs'}; "
+                f"render with aovs=(..., {name!r}) (or aovs='all') to get it") from None
+
+    color = property(lambda self: self._get("color"), doc="(H, W, 3) float32 linear RGB")
+    uv = property(lambda self: self._get("uv"), doc="(H, W, 2) hit uv, NaN where no hit")
+    depth = property(lambda self: self._get("depth"), doc="(H, W) eye-to-hit distance, NaN where no hit")
+    mask = property(lambda self: self._get("mask"), doc="(H, W) bool, the pixel shows the surface")
+    steps = property(lambda self: self._get("steps"), doc="(H, W) uint32 height-map samples taken")
+    lod = property(lambda self: self._get("lod"), doc="(H, W) float32 mip level, NaN where no hit")
+    flags = property(lambda self: self._get("flags"), doc="(H, W) uint8, bit 0: iteration bound hit")
 
     @property
     def shape(self) -> tuple[int, int]:
-        return self.mask.shape  # type: ignore[return-value]
+        a = next(iter(self._arrays.values()))
+        return (int(a.shape[0]), int(a.shape[1]))
 
     @property
     def time_ms(self) -> Optional[float]:
         return self.gpu_ms if self.gpu_ms is not None else self.wall_ms
 
+    def __repr__(self) -> str:
+        h, w = self.shape if self._arrays else (0, 0)
+        return f"Frame({w}x{h}, aovs={self.aovs}, {self.timing} {self.time_ms} ms, method={self.method!r})"
+
     def to_srgb8(self) -> np.ndarray:
         """(H, W, 3) uint8 sRGB for display (clamped to [0, 1])."""
-        if self.color is None:
-            raise ValueError("color: this frame has no colour (geometric oracle)")
+        if not self.has("color"):
+            raise AttributeError("color: this frame has no colour (the geometric oracle, or rendered without "
+                                 "'color' in aovs=)")
         return np.round(linear_to_srgb(self.color) * 255.0).astype(np.uint8)
 
     def save(self, path) -> Path:
-        """Write the colour as PNG (sRGB) or, for a .npz path, every AOV."""
+        """Write the colour as PNG (sRGB) or, for a .npz path, every AOV the frame holds."""
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
         if path.suffix == ".npz":
-            arrays: dict[str, Any] = {k: v for k, v in dict(color=self.color, uv=self.uv, depth=self.depth, mask=self.mask,
-                                             steps=self.steps, lod=self.lod).items() if v is not None}
-            np.savez_compressed(path, **arrays)
+            np.savez_compressed(path, **self._arrays)  # type: ignore[arg-type]
         else:
             from PIL import Image
             Image.fromarray(self.to_srgb8()).save(path)

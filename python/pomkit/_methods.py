@@ -17,9 +17,10 @@ Every per-pixel method (Parallax, SteepParallax, POM, Relief, Exact) also takes,
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import ClassVar, Literal, get_args
+
+from . import _validate as _v
 
 __all__ = ["Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "NCS", "Prism", "Tessellated", "Custom"]
 
@@ -30,33 +31,24 @@ _SHADOWS: tuple[str, ...] = ("none", "hard", "soft", "horizon")
 _FILTERING: tuple[str, ...] = get_args(FilteringKind)
 
 
+def _set(obj, name: str, value) -> None:
+    object.__setattr__(obj, name, value)
+
+
 def _int_field(obj, name: str, lo: int = 1, hi: int = 4096) -> None:
-    v = getattr(obj, name)
-    if isinstance(v, bool) or not isinstance(v, int):
-        if isinstance(v, float) and v.is_integer():
-            object.__setattr__(obj, name, int(v))
-            v = int(v)
-        else:
-            raise TypeError(f"{name}: expected an integer, got {type(v).__name__}")
-    if not lo <= v <= hi:
-        raise ValueError(f"{name}: must lie in [{lo}, {hi}], got {v}")
+    _set(obj, name, _v.integer(name, getattr(obj, name), lo, hi))
 
 
 def _choice(obj, name: str, options) -> None:
-    v = getattr(obj, name)
-    if not isinstance(v, str) or v not in options:
-        raise ValueError(f"{name}: must be one of {', '.join(repr(o) for o in options)}, got {v!r}")
+    _v.choice(name, getattr(obj, name), options)
 
 
 def _bool_field(obj, name: str) -> None:
-    if not isinstance(getattr(obj, name), bool):
-        raise TypeError(f"{name}: expected a bool, got {type(getattr(obj, name)).__name__}")
+    _set(obj, name, _v.boolean(name, getattr(obj, name)))
 
 
 def _real_field(obj, name: str, lo: float = -1e6, hi: float = 1e6) -> None:
-    v = getattr(obj, name)
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or not lo <= v <= hi:
-        raise ValueError(f"{name}: must be a finite number in [{lo}, {hi}], got {v!r}")
+    _set(obj, name, _v.number(name, getattr(obj, name), lo, hi))
 
 
 class Method:
@@ -139,8 +131,7 @@ class POM(_PerPixel):
         _int_field(self, "max_steps")
         if self.min_steps > self.max_steps:
             raise ValueError(f"min_steps: must not exceed max_steps ({self.min_steps} > {self.max_steps})")
-        if isinstance(self.lod_threshold, bool) or not isinstance(self.lod_threshold, (int, float)) or not math.isfinite(self.lod_threshold):
-            raise ValueError(f"lod_threshold: must be a finite number, got {self.lod_threshold!r}")
+        _real_field(self, "lod_threshold")
         _bool_field(self, "adaptive")
 
 
@@ -273,9 +264,7 @@ class Tessellated(Method):
 
     def __post_init__(self):
         _choice(self, "shadows", ("none", "hard"))
-        v = self.texels_per_vertex
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (1 / 64 <= v <= 1024):
-            raise ValueError(f"texels_per_vertex: must be a number in [1/64, 1024], got {v!r}")
+        _real_field(self, "texels_per_vertex", 1 / 64, 1024)
 
 
 @dataclass(frozen=True)
@@ -305,8 +294,8 @@ class Custom(_PerPixel):
         for k, v in self.params.items():
             if not isinstance(k, str) or not k.isidentifier() or not k.isascii() or k[-1].isdigit() or k.startswith("_"):
                 raise ValueError(f"params: names must be identifiers that neither start with _ nor end in a digit (WGSL naming rules of the composer), got {k!r}")
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise ValueError(f"params: {k!r} must be a finite number, got {v!r}")
+            _v.number(f"params[{k!r}]", v)
+        _set(self, "params", {k: float(v) for k, v in self.params.items()})
 
     def __hash__(self):
         return hash((self.wgsl, self.name, tuple(self.params.items()), self.shadows, self.filtering))

@@ -47,10 +47,9 @@ class Renderer:
         if not isinstance(method, Method):
             raise TypeError(f"method: expected a pomkit method such as pomkit.POM(), got {type(method).__name__}")
         d = self._r.render(scene._describe(), method)
-        gpu = d["gpu_ms"]
         return Frame(
             color=d["color"], uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["steps"], lod=d["lod"], flags=d["flags"],
-            gpu_ms=gpu, wall_ms=d["wall_ms"], timing="gpu" if gpu is not None else "wall", method=repr(method),
+            gpu_ms=d["gpu_ms"], wall_ms=d["wall_ms"], method=repr(method),
         )
 
     def update_height(self, material: Material, height) -> Material:
@@ -75,4 +74,4 @@ def exact_uv(scene: Scene) -> Frame:
     if not isinstance(scene, Scene):
         raise TypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
     d = _core.exact_uv(scene._describe())
-    return Frame(color=None, uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["cells"], method="exact_uv")
+    return Frame(uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["cells"], method="exact_uv")

@@ -16,44 +16,12 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import _core
+from . import _validate as _v
 
 __all__ = ["Mesh", "Material", "Camera", "DirectionalLight", "SphereLight", "Scene"]
 
 
-def _vec3(name: str, v: Any) -> tuple[float, float, float]:
-    try:
-        a = np.asarray(v, dtype=np.float64).reshape(-1)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name}: expected three numbers, got {v!r}") from None
-    if a.shape != (3,):
-        raise ValueError(f"{name}: expected three numbers, got {a.size}")
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name}: must be finite, got {tuple(a)}")
-    return (float(a[0]), float(a[1]), float(a[2]))
-
-
-def _rgb(name: str, v: Any) -> tuple[float, float, float]:
-    if isinstance(v, (int, float, np.floating, np.integer)) and not isinstance(v, bool):
-        v = (v, v, v)
-    c = _vec3(name, v)
-    if min(c) < 0:
-        raise ValueError(f"{name}: must be >= 0, got {c}")
-    return c
-
-
-def _float_array(name: str, a: Any, ncols: int, dtype=np.float32) -> np.ndarray:
-    try:
-        arr = np.asarray(a)
-    except Exception:
-        raise TypeError(f"{name}: expected an array") from None
-    if arr.dtype.kind not in "fiu":
-        raise TypeError(f"{name}: expected a numeric array, got dtype {arr.dtype}")
-    if arr.ndim != 2 or arr.shape[1] != ncols:
-        raise ValueError(f"{name}: expected shape (n, {ncols}), got {arr.shape}")
-    arr = np.ascontiguousarray(arr, dtype=dtype)
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name}: contains NaN or Inf")
-    return arr
+_vec3, _rgb, _float_array = _v.vec3, _v.rgb, _v.float_array
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:
@@ -177,20 +145,11 @@ class Mesh:
 
 
 def _pos(name: str, x) -> float:
-    if isinstance(x, bool) or not isinstance(x, (int, float, np.integer, np.floating)):
-        raise TypeError(f"{name}: expected a number, got {type(x).__name__}")
-    x = float(x)
-    if not (math.isfinite(x) and x > 0):
-        raise ValueError(f"{name}: must be a finite number > 0, got {x}")
-    return x
+    return _v.number(name, x, 0.0, 1e12, lo_open=True)
 
 
 def _count(name: str, x) -> int:
-    if isinstance(x, bool) or not isinstance(x, (int, np.integer)):
-        raise TypeError(f"{name}: expected an integer, got {type(x).__name__}")
-    if not 1 <= int(x) <= 100_000:
-        raise ValueError(f"{name}: must lie in [1, 100000], got {x}")
-    return int(x)
+    return _v.integer(name, x, 1, 100_000)
 
 
 def _normalize_height(h: Any) -> np.ndarray:
@@ -271,18 +230,8 @@ class Material:
 
     def __post_init__(self):
         object.__setattr__(self, "height", _normalize_height(self.height))
-        if isinstance(self.depth, bool) or not isinstance(self.depth, (int, float, np.integer, np.floating)):
-            raise TypeError(f"depth: expected a number, got {type(self.depth).__name__}")
-        d = float(self.depth)
-        if not math.isfinite(d) or d < 0:
-            raise ValueError(f"depth: must be a finite number >= 0, got {d}")
-        object.__setattr__(self, "depth", d)
-        if isinstance(self.tiling, bool) or not isinstance(self.tiling, (int, float, np.integer, np.floating)):
-            raise TypeError(f"tiling: expected a number, got {type(self.tiling).__name__}")
-        t = float(self.tiling)
-        if not math.isfinite(t) or t <= 0 or t > 1e6:
-            raise ValueError(f"tiling: must be a finite number in (0, 1e6], got {t}")
-        object.__setattr__(self, "tiling", t)
+        object.__setattr__(self, "depth", _v.number("depth", self.depth, 0.0))
+        object.__setattr__(self, "tiling", _v.number("tiling", self.tiling, 0.0, 1e6, lo_open=True))
         object.__setattr__(self, "albedo", _normalize_albedo(self.albedo))
 
 
@@ -306,17 +255,8 @@ class Camera:
     def __post_init__(self):
         eye, target, up = _vec3("eye", self.eye), _vec3("target", self.target), _vec3("up", self.up)
         for name in ("width", "height"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, np.integer)):
-                raise TypeError(f"{name}: expected a positive integer, got {type(v).__name__}")
-            if int(v) <= 0:
-                raise ValueError(f"{name}: image size must be positive, got {v}")
-            object.__setattr__(self, name, int(v))
-        if isinstance(self.fov_y, bool) or not isinstance(self.fov_y, (int, float, np.integer, np.floating)):
-            raise TypeError(f"fov_y: expected a number of degrees, got {type(self.fov_y).__name__}")
-        fov = float(self.fov_y)
-        if not (0.0 < fov < 180.0):
-            raise ValueError(f"fov_y: must lie in (0, 180) degrees, got {fov}")
+            object.__setattr__(self, name, _v.integer(name, getattr(self, name), 1, 1 << 30))
+        fov = _v.number("fov_y", self.fov_y, 0.0, 179.999, lo_open=True)
         f = np.subtract(target, eye)
         if np.linalg.norm(f) < 1e-9:
             raise ValueError("eye: eye and target coincide; move the eye away from the target")
@@ -366,10 +306,7 @@ class DirectionalLight:
             raise ValueError("direction: must be a non-zero vector")
         object.__setattr__(self, "direction", d)
         object.__setattr__(self, "irradiance", _rgb("irradiance", self.irradiance))
-        a = float(self.angular_diameter)
-        if not (0.0 <= a < 180.0):
-            raise ValueError(f"angular_diameter: must lie in [0, 180) degrees, got {a}")
-        object.__setattr__(self, "angular_diameter", a)
+        object.__setattr__(self, "angular_diameter", _v.number("angular_diameter", self.angular_diameter, 0.0, 179.999))
 
     def _describe(self) -> dict:
         return dict(kind="directional", direction=self.direction, irradiance=self.irradiance, angular_diameter=self.angular_diameter)
@@ -387,10 +324,7 @@ class SphereLight:
 
     def __post_init__(self):
         object.__setattr__(self, "position", _vec3("position", self.position))
-        r = float(self.radius)
-        if not (math.isfinite(r) and r >= 0):
-            raise ValueError(f"radius: must be a finite number >= 0, got {r}")
-        object.__setattr__(self, "radius", r)
+        object.__setattr__(self, "radius", _v.number("radius", self.radius, 0.0))
         object.__setattr__(self, "intensity", _rgb("intensity", self.intensity))
 
     def _describe(self) -> dict:

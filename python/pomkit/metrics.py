@@ -68,8 +68,8 @@ def depth_error(frame: Frame, ref: Frame, relative: bool = True) -> dict:
 
 
 def _ldr(f: Frame) -> np.ndarray:
-    if f.color is None:
-        raise ValueError("frame: has no colour to compare")
+    if not f.has("color"):
+        raise ValueError("frame: has no colour to compare (render with 'color' in aovs=)")
     return linear_to_srgb(f.color).astype(np.float32)
 
 

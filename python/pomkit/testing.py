@@ -26,8 +26,8 @@ __all__ = ["assert_close", "reference_frame"]
 
 def _diff_image(frame: Frame, ref: Frame, name: str) -> Path:
     from PIL import Image
-    a = frame.to_srgb8() if frame.color is not None else np.zeros(frame.mask.shape + (3,), np.uint8)
-    b = ref.to_srgb8() if ref.color is not None else np.zeros(ref.mask.shape + (3,), np.uint8)
+    a = frame.to_srgb8() if frame.has("color") else np.zeros(frame.mask.shape + (3,), np.uint8)
+    b = ref.to_srgb8() if ref.has("color") else np.zeros(ref.mask.shape + (3,), np.uint8)
     d = np.abs(a.astype(np.int16) - b.astype(np.int16)).max(-1)
     d = np.clip(d.astype(np.float32) * 4, 0, 255).astype(np.uint8)
     err = np.stack([d, d // 3, 255 - d], -1) * (d[..., None] > 0)

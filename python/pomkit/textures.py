@@ -6,6 +6,8 @@ tiles seamlessly, and is deterministic for a given seed.
 
 from __future__ import annotations
 
+from typing import Callable
+
 import numpy as np
 
 __all__ = ["bricks", "cobblestones", "pyramids", "sine", "noise", "spikes", "text", "constant", "ALL"]
@@ -157,5 +159,5 @@ def text(size: int = 512, message: str = "pomkit", raised: float = 1.0, backgrou
 
 
 #: name -> function, for sweeps over every map
-ALL = {"bricks": bricks, "cobblestones": cobblestones, "pyramids": pyramids, "sine": sine,
+ALL: dict[str, Callable[..., np.ndarray]] = {"bricks": bricks, "cobblestones": cobblestones, "pyramids": pyramids, "sine": sine,
        "noise": noise, "spikes": spikes, "text": text}

@@ -1,5 +1,5 @@
 //! Bump mapping (Blinn 1978): the shading normal from the height field, the uv unchanged.
-use super::{Filtering, Geometry, PerPixel, Spec};
+use super::{Filtering, Geometry, PerPixel, Spec, Unit};
 
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
@@ -7,8 +7,9 @@ pub struct Bump {
     pub filtering: Filtering,
 }
 
-impl Bump {
-    pub fn spec(&self) -> Spec {
+impl Unit for Bump {
+    const PER_PIXEL: bool = false;
+    fn spec(&self, _: &PerPixel) -> Spec {
         Spec::shade_only(
             "BUMP",
             PerPixel {

@@ -1,7 +1,7 @@
 //! A method the user writes: a WGSL module defining `fn march(r: Ray) -> Hit`, run by the
 //! surface pass like the built-in marches (docs/custom_methods.md). Its named parameters become
 //! the uniform block `params` (all f32, in the given order).
-use super::{check_finite, PerPixel, ShaderUnit, Spec};
+use super::{check_finite, PerPixel, ShaderUnit, Spec, Unit};
 use crate::error::{Error, Result};
 use std::hash::{Hash, Hasher};
 
@@ -31,8 +31,10 @@ impl Custom {
         }
         format!("pomkit::custom::{}_{:016x}", self.name, h.finish())
     }
+}
 
-    pub fn spec(&self, o: &PerPixel) -> Spec {
+impl Unit for Custom {
+    fn spec(&self, o: &PerPixel) -> Spec {
         let unit = ShaderUnit {
             path: self.module_path(),
             file: format!("{}.wgsl", self.name),
@@ -42,7 +44,7 @@ impl Custom {
         Spec::surface(unit, o, &params)
     }
 
-    pub fn validate(&self) -> Result<()> {
+    fn validate(&self) -> Result<()> {
         if !is_ident(&self.name) {
             return Err(Error::arg(
                 "name",

@@ -1,5 +1,5 @@
 //! Exact: the max-mip traversal (Tevs et al. 2008), exact.wgsl over maxmip.wgsl.
-use super::{check_range, PerPixel, ShaderUnit, Spec};
+use super::{check_range, PerPixel, ShaderUnit, Spec, Unit};
 use crate::error::Result;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -8,8 +8,8 @@ pub struct Exact {
     pub max_iterations: u32,
 }
 
-impl Exact {
-    pub fn spec(&self, o: &PerPixel) -> Spec {
+impl Unit for Exact {
+    fn spec(&self, o: &PerPixel) -> Spec {
         let wgsl = ShaderUnit::builtin(
             "pomkit::methods::exact",
             "src/methods/exact.wgsl",
@@ -19,7 +19,7 @@ impl Exact {
         s.max_iterations = self.max_iterations;
         s
     }
-    pub fn validate(&self) -> Result<()> {
+    fn validate(&self) -> Result<()> {
         check_range("max_iterations", self.max_iterations, 1, 1 << 24)
     }
 }

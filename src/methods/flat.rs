@@ -1,11 +1,12 @@
 //! Flat: the texture at the rasterised uv, the base normal, no displacement.
-use super::{Geometry, PerPixel, Spec};
+use super::{Geometry, PerPixel, Spec, Unit};
 
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Flat {}
 
-impl Flat {
-    pub fn spec(&self) -> Spec {
+impl Unit for Flat {
+    const PER_PIXEL: bool = false;
+    fn spec(&self, _: &PerPixel) -> Spec {
         Spec::shade_only("FLAT", PerPixel::off(), Geometry::Base)
     }
 }

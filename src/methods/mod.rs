@@ -240,55 +240,85 @@ fn flag(b: bool) -> f32 {
     }
 }
 
-/// A method with its parameters. Variants with a `PerPixel` take shadows and AO.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Method {
-    Flat(Flat),
-    Bump(Bump),
-    Parallax(Parallax, PerPixel),
-    SteepParallax(SteepParallax, PerPixel),
-    Pom(Pom, PerPixel),
-    Relief(Relief, PerPixel),
-    Exact(Exact, PerPixel),
-    Ncs(Ncs, PerPixel),
-    Prism(Prism, PerPixel),
-    Tessellated(Tessellated),
-    Custom(Custom, PerPixel),
+/// One method's unit: its parameter struct says what the renderer runs (`spec`) and checks what
+/// the core needs for safety (`validate`).
+pub trait Unit {
+    /// Whether the method takes the per-pixel options (shadows, filtering, AO): the Python
+    /// dataclass then derives from `_PerPixel`. Otherwise the options are `PerPixel::off()`.
+    const PER_PIXEL: bool = true;
+    fn spec(&self, o: &PerPixel) -> Spec;
+    fn validate(&self) -> Result<()> {
+        Ok(())
+    }
+}
+
+/// The registry: one line per method, `Variant(ParamStruct) = "python _kind"`. It generates the
+/// `Method` enum, its dispatch and the Python extraction (`python/methods.rs`).
+macro_rules! registry {
+    ($($variant:ident($ty:ty) = $kind:literal,)*) => {
+        /// A method with its parameters and the per-pixel options (shadows, AO, filtering).
+        #[derive(Clone, Debug, PartialEq)]
+        pub enum Method {
+            $($variant($ty, PerPixel),)*
+        }
+
+        impl Method {
+            pub fn spec(&self) -> Spec {
+                match self {
+                    $(Method::$variant(m, o) => m.spec(o),)*
+                }
+            }
+            fn unit_validate(&self) -> Result<()> {
+                match self {
+                    $(Method::$variant(m, _) => m.validate(),)*
+                }
+            }
+            /// The Python dataclass's `_kind`.
+            pub fn kind(&self) -> &'static str {
+                match self {
+                    $(Method::$variant(..) => $kind,)*
+                }
+            }
+        }
+
+        /// The Python dataclass whose `_kind` is `kind`, extracted field by field into its
+        /// parameter struct (and its per-pixel options when it takes them). None: unknown kind.
+        #[cfg(feature = "python")]
+        pub(crate) fn from_python(
+            kind: &str,
+            ob: &pyo3::Bound<'_, pyo3::PyAny>,
+        ) -> Option<pyo3::PyResult<Method>> {
+            use pyo3::types::PyAnyMethods;
+            match kind {
+                $($kind => Some((|| {
+                    let o = if <$ty as Unit>::PER_PIXEL { ob.extract::<PerPixel>()? } else { PerPixel::off() };
+                    Ok(Method::$variant(ob.extract::<$ty>()?, o))
+                })()),)*
+                _ => None,
+            }
+        }
+    };
+}
+
+registry! {
+    Flat(Flat) = "Flat",
+    Bump(Bump) = "Bump",
+    Parallax(Parallax) = "Parallax",
+    SteepParallax(SteepParallax) = "SteepParallax",
+    Pom(Pom) = "POM",
+    Relief(Relief) = "Relief",
+    Exact(Exact) = "Exact",
+    Ncs(Ncs) = "NCS",
+    Prism(Prism) = "Prism",
+    Tessellated(Tessellated) = "Tessellated",
+    Custom(Custom) = "Custom",
 }
 
 impl Method {
-    pub fn spec(&self) -> Spec {
-        match self {
-            Method::Flat(m) => m.spec(),
-            Method::Bump(m) => m.spec(),
-            Method::Parallax(m, o) => m.spec(o),
-            Method::SteepParallax(m, o) => m.spec(o),
-            Method::Pom(m, o) => m.spec(o),
-            Method::Relief(m, o) => m.spec(o),
-            Method::Exact(m, o) => m.spec(o),
-            Method::Ncs(m, o) => m.spec(o),
-            Method::Prism(m, o) => m.spec(o),
-            Method::Tessellated(m) => m.spec(),
-            Method::Custom(m, o) => m.spec(o),
-        }
-    }
-
     /// The safety checks: bounded loops and sizes. (Ranges a user should see live in Python.)
     pub fn validate(&self) -> Result<()> {
-        let spec = self.spec();
-        spec.pixel.validate()?;
-        match self {
-            Method::Parallax(m, _) => m.validate(),
-            Method::SteepParallax(m, _) => m.validate(),
-            Method::Pom(m, _) => m.validate(),
-            Method::Relief(m, _) => m.validate(),
-            Method::Exact(m, _) => m.validate(),
-            Method::Ncs(m, _) => m.validate(),
-            Method::Prism(m, _) => m.validate(),
-            Method::Tessellated(m) => m.validate(),
-            Method::Custom(m, _) => m.validate(),
-            Method::Flat(_) | Method::Bump(_) => Ok(()),
-        }
+        self.spec().pixel.validate()?;
+        self.unit_validate()
     }
 
     /// POM with the paper's defaults (8..50 samples, LOD threshold 4) and the given options:

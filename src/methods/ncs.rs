@@ -1,6 +1,6 @@
 //! Normal-based curved silhouettes (Chen & Chang 2008): ncs.wgsl, reading the texture-space
 //! frame maps (texspace.rs).
-use super::{check_range, PerPixel, ShaderUnit, Spec, MAX_STEPS_LIMIT};
+use super::{check_range, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::error::{Error, Result};
 
 #[derive(Clone, Debug, PartialEq)]
@@ -11,8 +11,8 @@ pub struct Ncs {
     pub max_steps: u32,
 }
 
-impl Ncs {
-    pub fn spec(&self, o: &PerPixel) -> Spec {
+impl Unit for Ncs {
+    fn spec(&self, o: &PerPixel) -> Spec {
         let wgsl = ShaderUnit::builtin(
             "pomkit::methods::ncs",
             "src/methods/ncs.wgsl",
@@ -29,7 +29,7 @@ impl Ncs {
         s.frame_maps = true;
         s
     }
-    pub fn validate(&self) -> Result<()> {
+    fn validate(&self) -> Result<()> {
         if !(self.step_scale.is_finite() && self.step_scale > 0.0) {
             return Err(Error::arg(
                 "step_scale",

@@ -1,5 +1,5 @@
 //! Parallax mapping (Kaneko 2001) with optional offset limiting (Welsh 2004): parallax.wgsl.
-use super::{flag, PerPixel, ShaderUnit, Spec};
+use super::{flag, PerPixel, ShaderUnit, Spec, Unit};
 use crate::error::Result;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -10,8 +10,8 @@ pub struct Parallax {
     pub bias: f32,
 }
 
-impl Parallax {
-    pub fn spec(&self, o: &PerPixel) -> Spec {
+impl Unit for Parallax {
+    fn spec(&self, o: &PerPixel) -> Spec {
         let wgsl = ShaderUnit::builtin(
             "pomkit::methods::parallax",
             "src/methods/parallax.wgsl",
@@ -27,7 +27,7 @@ impl Parallax {
             ],
         )
     }
-    pub fn validate(&self) -> Result<()> {
+    fn validate(&self) -> Result<()> {
         super::check_finite("scale", self.scale)?;
         super::check_finite("bias", self.bias)
     }

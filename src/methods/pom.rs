@@ -1,6 +1,6 @@
 //! Parallax occlusion mapping (Brawley & Tatarchuk 2004; Tatarchuk 2006): pom.wgsl, with the
 //! surface pass's LOD blend toward bump mapping.
-use super::{check_range, flag, PerPixel, ShaderUnit, Spec, MAX_STEPS_LIMIT};
+use super::{check_range, flag, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::error::Result;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -13,8 +13,8 @@ pub struct Pom {
     pub adaptive: bool,
 }
 
-impl Pom {
-    pub fn spec(&self, o: &PerPixel) -> Spec {
+impl Unit for Pom {
+    fn spec(&self, o: &PerPixel) -> Spec {
         let wgsl = ShaderUnit::builtin(
             "pomkit::methods::pom",
             "src/methods/pom.wgsl",
@@ -33,7 +33,7 @@ impl Pom {
         s.lod_threshold = self.lod_threshold;
         s
     }
-    pub fn validate(&self) -> Result<()> {
+    fn validate(&self) -> Result<()> {
         check_range("min_steps", self.min_steps, 1, MAX_STEPS_LIMIT)?;
         check_range("max_steps", self.max_steps, 1, MAX_STEPS_LIMIT)?;
         super::check_finite("lod_threshold", self.lod_threshold)

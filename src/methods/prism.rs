@@ -1,6 +1,6 @@
 //! Prism POM (Dachsbacher & Tatarchuk 2007): a pass of its own (prism.wgsl) over the prisms
 //! extruded from the base mesh (geometry::prisms).
-use super::{check_range, flag, Geometry, Pass, PerPixel, ShaderUnit, Spec, MAX_STEPS_LIMIT};
+use super::{check_range, flag, Geometry, Pass, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::error::Result;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -14,8 +14,8 @@ pub struct Prism {
     pub exact: bool,
 }
 
-impl Prism {
-    pub fn spec(&self, o: &PerPixel) -> Spec {
+impl Unit for Prism {
+    fn spec(&self, o: &PerPixel) -> Spec {
         let shader = ShaderUnit::builtin(
             "pomkit::methods::prism",
             "src/methods/prism.wgsl",
@@ -41,7 +41,7 @@ impl Prism {
         };
         s
     }
-    pub fn validate(&self) -> Result<()> {
+    fn validate(&self) -> Result<()> {
         check_range("min_steps", self.min_steps, 1, MAX_STEPS_LIMIT)?;
         check_range("max_steps", self.max_steps, 1, MAX_STEPS_LIMIT)
     }

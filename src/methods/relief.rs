@@ -1,5 +1,5 @@
 //! Relief mapping (Policarpo, Oliveira & Comba 2005): relief.wgsl.
-use super::{check_range, flag, PerPixel, ShaderUnit, Spec, MAX_STEPS_LIMIT};
+use super::{check_range, flag, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::error::Result;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -10,8 +10,8 @@ pub struct Relief {
     pub depth_bias: bool,
 }
 
-impl Relief {
-    pub fn spec(&self, o: &PerPixel) -> Spec {
+impl Unit for Relief {
+    fn spec(&self, o: &PerPixel) -> Spec {
         let wgsl = ShaderUnit::builtin(
             "pomkit::methods::relief",
             "src/methods/relief.wgsl",
@@ -27,7 +27,7 @@ impl Relief {
             ],
         )
     }
-    pub fn validate(&self) -> Result<()> {
+    fn validate(&self) -> Result<()> {
         check_range("linear_steps", self.linear_steps, 1, MAX_STEPS_LIMIT)?;
         check_range("binary_steps", self.binary_steps, 0, 64)
     }

@@ -1,5 +1,5 @@
 //! Steep parallax mapping (McGuire & McGuire 2005): steep.wgsl.
-use super::{check_range, PerPixel, ShaderUnit, Spec, MAX_STEPS_LIMIT};
+use super::{check_range, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::error::Result;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -8,8 +8,8 @@ pub struct SteepParallax {
     pub steps: u32,
 }
 
-impl SteepParallax {
-    pub fn spec(&self, o: &PerPixel) -> Spec {
+impl Unit for SteepParallax {
+    fn spec(&self, o: &PerPixel) -> Spec {
         let wgsl = ShaderUnit::builtin(
             "pomkit::methods::steep",
             "src/methods/steep.wgsl",
@@ -17,7 +17,7 @@ impl SteepParallax {
         );
         Spec::surface(wgsl, o, &[("steps", self.steps as f32)])
     }
-    pub fn validate(&self) -> Result<()> {
+    fn validate(&self) -> Result<()> {
         check_range("steps", self.steps, 1, MAX_STEPS_LIMIT)
     }
 }

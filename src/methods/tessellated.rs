@@ -1,6 +1,6 @@
 //! The displaced mesh itself (Chen & Chang 2008's "ground truth model"), rasterised by the
 //! surface pass and shaded the same way; shadows from a shadow map of itself.
-use super::{Geometry, PerPixel, Shadows, Spec};
+use super::{Geometry, PerPixel, Shadows, Spec, Unit};
 use crate::error::{Error, Result};
 
 #[derive(Clone, Debug, PartialEq)]
@@ -11,8 +11,9 @@ pub struct Tessellated {
     pub shadows: Shadows,
 }
 
-impl Tessellated {
-    pub fn spec(&self) -> Spec {
+impl Unit for Tessellated {
+    const PER_PIXEL: bool = false;
+    fn spec(&self, _: &PerPixel) -> Spec {
         Spec::shade_only(
             "TESSELLATED",
             PerPixel::off().with_shadows(self.shadows),
@@ -21,7 +22,7 @@ impl Tessellated {
             },
         )
     }
-    pub fn validate(&self) -> Result<()> {
+    fn validate(&self) -> Result<()> {
         if !(self.texels_per_vertex.is_finite()
             && (1.0 / 64.0..=1024.0).contains(&self.texels_per_vertex))
         {

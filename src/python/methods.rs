@@ -20,17 +20,27 @@ impl<'a, 'py> FromPyObject<'a, 'py> for Filtering {
     }
 }
 
-fn custom(ob: &Bound<'_, PyAny>) -> PyResult<Custom> {
-    let mut params = Vec::new();
-    for item in ob.getattr("params")?.call_method0("items")?.try_iter()? {
-        let (k, v): (String, f64) = item?.extract()?;
-        params.push((k, v as f32));
+impl<'a, 'py> FromPyObject<'a, 'py> for Flat {
+    type Error = PyErr;
+    fn extract(_: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        Ok(Flat {})
     }
-    Ok(Custom {
-        name: ob.getattr("name")?.extract()?,
-        wgsl: ob.getattr("wgsl")?.extract()?,
-        params,
-    })
+}
+
+impl<'a, 'py> FromPyObject<'a, 'py> for Custom {
+    type Error = PyErr;
+    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        let mut params = Vec::new();
+        for item in ob.getattr("params")?.call_method0("items")?.try_iter()? {
+            let (k, v): (String, f64) = item?.extract()?;
+            params.push((k, v as f32));
+        }
+        Ok(Custom {
+            name: ob.getattr("name")?.extract()?,
+            wgsl: ob.getattr("wgsl")?.extract()?,
+            params,
+        })
+    }
 }
 
 impl<'a, 'py> FromPyObject<'a, 'py> for Method {
@@ -43,24 +53,10 @@ impl<'a, 'py> FromPyObject<'a, 'py> for Method {
                 PyValueError::new_err("method: expected a pomkit method such as pomkit.POM()")
             })?
             .extract()?;
-        let px = || ob.extract::<PerPixel>();
-        Ok(match kind.as_str() {
-            "Flat" => Method::Flat(Flat {}),
-            "Bump" => Method::Bump(ob.extract()?),
-            "Parallax" => Method::Parallax(ob.extract()?, px()?),
-            "SteepParallax" => Method::SteepParallax(ob.extract()?, px()?),
-            "POM" => Method::Pom(ob.extract()?, px()?),
-            "Relief" => Method::Relief(ob.extract()?, px()?),
-            "Exact" => Method::Exact(ob.extract()?, px()?),
-            "NCS" => Method::Ncs(ob.extract()?, px()?),
-            "Prism" => Method::Prism(ob.extract()?, px()?),
-            "Tessellated" => Method::Tessellated(ob.extract()?),
-            "Custom" => Method::Custom(custom(&ob)?, px()?),
-            o => {
-                return Err(PyValueError::new_err(format!(
-                    "method: unknown method kind {o:?}"
-                )))
-            }
+        from_python(&kind, &ob).unwrap_or_else(|| {
+            Err(PyValueError::new_err(format!(
+                "method: unknown method kind {kind:?}"
+            )))
         })
     }
 }

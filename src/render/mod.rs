@@ -69,21 +69,8 @@ impl Fixed {
                 })
             };
             let tex1 = |label, format, usage| {
-                dev.create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d {
-                        width: 1,
-                        height: 1,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage,
-                    view_formats: &[],
-                })
-                .create_view(&Default::default())
+                ctx.texture_2d(label, (1, 1), format, usage)
+                    .create_view(&Default::default())
             };
             let maps = |label| {
                 tex1(

@@ -53,23 +53,7 @@ pub fn row_bytes(w: u32) -> u64 {
 impl Targets {
     pub fn new(ctx: &Context, w: u32, h: u32) -> Self {
         let dev = &ctx.device;
-        let size = wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        };
-        let tex = |label, format, usage| {
-            dev.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
+        let tex = |label, format, usage| ctx.texture_2d(label, (w, h), format, usage);
         let rt = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
         let color_t = tex("color", COLOR_FORMAT, rt);
         let geo_t = tex("geo", COLOR_FORMAT, rt);

@@ -1,0 +1,97 @@
+"""The argument checks the scene model and the methods share.
+
+Each check names the argument in its message and returns the value normalised to a plain Python
+type, so that NumPy scalars (``np.int64(32)``, ``np.float32(0.5)``, ``np.bool_(True)``) are
+accepted wherever a Python number or bool is.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Sequence
+
+import numpy as np
+
+_INTS = (int, np.integer)
+_REALS = (int, float, np.integer, np.floating)
+
+
+def is_number(v: Any) -> bool:
+    """A real number (Python or NumPy), not a bool."""
+    return isinstance(v, _REALS) and not isinstance(v, (bool, np.bool_))
+
+
+def integer(name: str, v: Any, lo: int = 1, hi: int = 4096) -> int:
+    """An integer in [lo, hi]. Integer-valued floats (``32.0``) are accepted."""
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, _REALS):
+        raise TypeError(f"{name}: expected an integer, got {type(v).__name__}")
+    if not isinstance(v, _INTS):
+        if not (math.isfinite(float(v)) and float(v).is_integer()):
+            raise TypeError(f"{name}: expected an integer, got {v!r}")
+    i = int(v)
+    if not lo <= i <= hi:
+        raise ValueError(f"{name}: must lie in [{lo}, {hi}], got {i}")
+    return i
+
+
+def number(name: str, v: Any, lo: float = -math.inf, hi: float = math.inf, *, lo_open: bool = False) -> float:
+    """A finite real number in [lo, hi] (or (lo, hi] with ``lo_open``)."""
+    if not is_number(v):
+        raise TypeError(f"{name}: expected a number, got {type(v).__name__}")
+    x = float(v)
+    low_ok = x > lo if lo_open else x >= lo
+    if not (math.isfinite(x) and low_ok and x <= hi):
+        interval = f"{'(' if lo_open else '['}{lo:g}, {hi:g}]"
+        raise ValueError(f"{name}: must be a finite number in {interval}, got {v!r}")
+    return x
+
+
+def boolean(name: str, v: Any) -> bool:
+    if not isinstance(v, (bool, np.bool_)):
+        raise TypeError(f"{name}: expected a bool, got {type(v).__name__}")
+    return bool(v)
+
+
+def choice(name: str, v: Any, options: Sequence[str]) -> str:
+    if not isinstance(v, str) or v not in options:
+        raise ValueError(f"{name}: must be one of {', '.join(repr(o) for o in options)}, got {v!r}")
+    return v
+
+
+def vec3(name: str, v: Any) -> tuple[float, float, float]:
+    """Three finite numbers."""
+    try:
+        a = np.asarray(v, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name}: expected three numbers, got {v!r}") from None
+    if a.shape != (3,):
+        raise ValueError(f"{name}: expected three numbers, got {a.size}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name}: must be finite, got {tuple(a)}")
+    return (float(a[0]), float(a[1]), float(a[2]))
+
+
+def rgb(name: str, v: Any) -> tuple[float, float, float]:
+    """A colour: one number (grey) or three, all >= 0."""
+    if is_number(v):
+        v = (v, v, v)
+    c = vec3(name, v)
+    if min(c) < 0:
+        raise ValueError(f"{name}: must be >= 0, got {c}")
+    return c
+
+
+def float_array(name: str, a: Any, ncols: int, dtype: Any = np.float32) -> np.ndarray:
+    """An (n, ncols) finite numeric array, C-contiguous in `dtype`."""
+    try:
+        arr = np.asarray(a)
+    except Exception:
+        raise TypeError(f"{name}: expected an array") from None
+    if arr.dtype.kind not in "fiu":
+        raise TypeError(f"{name}: expected a numeric array, got dtype {arr.dtype}")
+    if arr.ndim != 2 or arr.shape[1] != ncols:
+        raise ValueError(f"{name}: expected shape (n, {ncols}), got {arr.shape}")
+    arr = np.ascontiguousarray(arr, dtype=dtype)
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: contains NaN or Inf")
+    return arr
