@@ -233,21 +233,40 @@ impl Context {
     }
 
     pub fn wait(&self) -> Result<()> {
+        self.wait_for(None)
+    }
+
+    /// Block until `submission` (None: the latest) has finished and its callbacks have run.
+    pub fn wait_for(&self, submission: Option<wgpu::SubmissionIndex>) -> Result<()> {
         self.device
-            .poll(wgpu::PollType::wait_indefinitely())
+            .poll(wgpu::PollType::Wait {
+                submission_index: submission,
+                timeout: None,
+            })
             .map(|_| ())
             .map_err(|e| Error::Gpu(format!("waiting for the GPU failed: {e}")))
     }
 
     /// Map a buffer (MAP_READ), hand its bytes to `f`, unmap. No copy of the mapped memory.
     pub fn map_read<T>(&self, buf: &wgpu::Buffer, f: impl FnOnce(&[u8]) -> T) -> Result<T> {
+        self.map_read_after(buf, None, f)
+    }
+
+    /// `map_read` once `submission` has finished, leaving later submissions running: a frame's
+    /// readback overlaps the GPU work of the next (`Renderer::render_many`).
+    pub fn map_read_after<T>(
+        &self,
+        buf: &wgpu::Buffer,
+        submission: Option<wgpu::SubmissionIndex>,
+        f: impl FnOnce(&[u8]) -> T,
+    ) -> Result<T> {
         let slot: Arc<Mutex<Option<std::result::Result<(), wgpu::BufferAsyncError>>>> =
             Arc::new(Mutex::new(None));
         let s2 = slot.clone();
         buf.map_async(wgpu::MapMode::Read, .., move |r| {
             *s2.lock().unwrap() = Some(r);
         });
-        self.wait()?;
+        self.wait_for(submission)?;
         match slot.lock().unwrap().take() {
             Some(Ok(())) => {}
             Some(Err(e)) => return Err(Error::Gpu(format!("buffer map failed: {e}"))),

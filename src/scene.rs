@@ -3,6 +3,111 @@
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use glam::{DMat4, DVec3, DVec4, Mat4};
+use std::hash::{Hash, Hasher};
+use std::sync::Arc;
+
+/// A hash of byte slices (with their lengths): the content keys of the GPU caches.
+pub fn hash_bytes(parts: &[&[u8]]) -> u64 {
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    for p in parts {
+        p.len().hash(&mut h);
+        p.hash(&mut h);
+    }
+    h.finish()
+}
+
+/// Data whose content key the GPU caches look up, checked once when it is shared.
+pub trait ContentKey {
+    fn content_key(&self) -> u64;
+    fn check(&self) -> Result<()>;
+}
+
+/// Immutable scene data with its content key, hashed once when it is made (not per render) and
+/// shared between scenes and frames without copies.
+#[derive(Debug)]
+pub struct Keyed<T> {
+    value: T,
+    pub key: u64,
+}
+
+/// Shared keyed data: what a `Scene` holds for its mesh, height map and albedo.
+pub type Shared<T> = Arc<Keyed<T>>;
+
+/// Check and key `value` once, and share it.
+pub fn shared<T: ContentKey>(value: T) -> Result<Shared<T>> {
+    value.check()?;
+    let key = value.content_key();
+    Ok(Arc::new(Keyed { value, key }))
+}
+
+impl<T> std::ops::Deref for Keyed<T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        &self.value
+    }
+}
+
+impl ContentKey for HeightMap {
+    /// `HeightMap::new` checks the values; this checks the size of maps built by hand.
+    fn check(&self) -> Result<()> {
+        if self.width == 0
+            || self.height == 0
+            || self.data.len() != (self.width * self.height) as usize
+        {
+            return Err(Error::arg(
+                "height",
+                "the map's size does not match its data",
+            ));
+        }
+        Ok(())
+    }
+    fn content_key(&self) -> u64 {
+        hash_bytes(&[
+            &self.width.to_le_bytes(),
+            &self.height.to_le_bytes(),
+            bytemuck::cast_slice(&self.data),
+        ])
+    }
+}
+
+impl ContentKey for Albedo {
+    fn check(&self) -> Result<()> {
+        if self.width == 0
+            || self.height == 0
+            || self.data.len() != (self.width * self.height) as usize
+        {
+            return Err(Error::arg("albedo", "must be a non-empty H x W x 3 array"));
+        }
+        if self.data.iter().any(|p| p.iter().any(|x| !x.is_finite())) {
+            return Err(Error::arg("albedo", "contains NaN or Inf"));
+        }
+        Ok(())
+    }
+    fn content_key(&self) -> u64 {
+        hash_bytes(&[
+            &self.width.to_le_bytes(),
+            &self.height.to_le_bytes(),
+            bytemuck::cast_slice(&self.data),
+        ])
+    }
+}
+
+/// A mesh's arrays hashed in place (no vertex array is built).
+impl ContentKey for Mesh {
+    fn check(&self) -> Result<()> {
+        self.validate()
+    }
+    fn content_key(&self) -> u64 {
+        hash_bytes(&[
+            bytemuck::cast_slice(&self.positions),
+            bytemuck::cast_slice(&self.normals),
+            bytemuck::cast_slice(&self.uvs),
+            bytemuck::cast_slice(&self.tangents),
+            bytemuck::cast_slice(&self.uv_scale),
+            bytemuck::cast_slice(&self.indices),
+        ])
+    }
+}
 
 /// A height map: row-major, `data[r * width + c]` is the texel centred at
 /// u = (c + 0.5) / width, v = (r + 0.5) / height. Values in [0, 1].
@@ -102,13 +207,13 @@ pub struct Albedo {
 
 #[derive(Clone, Debug)]
 pub struct Material {
-    pub height: HeightMap,
+    pub height: Shared<HeightMap>,
     /// world distance between h = 1 (base surface) and h = 0
     pub depth: f32,
     /// repetitions of the map over the mesh's uv square
     pub tiling: f32,
     /// None: constant linear 0.5 grey
-    pub albedo: Option<Albedo>,
+    pub albedo: Option<Shared<Albedo>>,
 }
 
 impl Material {
@@ -125,14 +230,7 @@ impl Material {
                 format!("must be a finite number > 0, got {}", self.tiling),
             ));
         }
-        if let Some(a) = &self.albedo {
-            if a.width == 0 || a.height == 0 || a.data.len() != (a.width * a.height) as usize {
-                return Err(Error::arg("albedo", "must be a non-empty H x W x 3 array"));
-            }
-            if a.data.iter().any(|p| p.iter().any(|x| !x.is_finite())) {
-                return Err(Error::arg("albedo", "contains NaN or Inf"));
-            }
-        }
+        // the height map and albedo were checked when they were shared
         Ok(())
     }
 }
@@ -318,7 +416,7 @@ pub const MAX_LIGHTS: usize = 4;
 
 #[derive(Clone, Debug)]
 pub struct Scene {
-    pub mesh: Mesh,
+    pub mesh: Shared<Mesh>,
     pub material: Material,
     pub camera: Camera,
     pub lights: Vec<Light>,
@@ -327,8 +425,8 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// The checks of the per-render parameters (the shared data was checked when it was made).
     pub fn validate(&self) -> Result<()> {
-        self.mesh.validate()?;
         self.material.validate()?;
         self.camera.validate()?;
         if self.lights.len() > MAX_LIGHTS {

@@ -6,15 +6,15 @@ use pomkit::gpu;
 use pomkit::mesh::Mesh;
 use pomkit::methods::{Flat, Method, PerPixel, Pom};
 use pomkit::render::Renderer;
-use pomkit::scene::{Camera, HeightMap, Light, Material, Scene};
+use pomkit::scene::{shared, Camera, HeightMap, Light, Material, Scene};
 use pomkit::Error;
 
 fn scene(height: HeightMap, theta_deg: f64, size: u32) -> Scene {
     let t = theta_deg.to_radians();
     Scene {
-        mesh: Mesh::plane(2.0, 1).unwrap(),
+        mesh: shared(Mesh::plane(2.0, 1).unwrap()).unwrap(),
         material: Material {
-            height,
+            height: shared(height).unwrap(),
             depth: 0.1,
             tiling: 1.0,
             albedo: None,
@@ -104,7 +104,7 @@ fn gpu_pyramids_equal_the_cpu_ones() {
         let map = HeightMap::from_fn(w, h, |u, v| {
             (0.5 + 0.5 * (13.0 * u).sin() * (7.0 * v).cos()).fract()
         });
-        let (mean, max) = r.read_pyramids(&map).unwrap();
+        let (mean, max) = r.read_pyramids(&shared(map.clone()).unwrap()).unwrap();
         let (cm, cx) = (mean_pyramid(&map), cell_max_pyramid(&map));
         assert_eq!(mean.len(), cm.len());
         for k in 0..cm.len() {

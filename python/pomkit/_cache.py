@@ -29,7 +29,9 @@ def scene_hash(scene, **settings) -> str:
     """sha256 over every array and parameter that changes a render."""
     h = hashlib.sha256()
     d = scene._describe()
-    mesh = d.pop("mesh")
+    d.pop("mesh")
+    d["height"], d["albedo"] = scene.material.height, scene.material.albedo
+    mesh = scene.mesh._arrays()
     for k in sorted(mesh):
         a = np.ascontiguousarray(mesh[k])
         h.update(k.encode() + str(a.dtype).encode() + str(a.shape).encode() + a.tobytes())

@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import os
 import threading
-from typing import Optional
+from typing import Any, Iterable, Literal, Optional, Sequence, Union
 
 import numpy as np
 
 from . import _core
-from ._frame import Frame
+from ._frame import AOV_NAMES, AovName, Frame
 from ._methods import Method
 from ._scene import Material, Scene
 
@@ -41,16 +41,22 @@ class Renderer:
         i = self.info
         return f"Renderer({i['name']!r}, backend={i['backend']!r}, timestamps={i['timestamps']})"
 
-    def render(self, scene: Scene, method: Method) -> Frame:
-        if not isinstance(scene, Scene):
-            raise TypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
-        if not isinstance(method, Method):
-            raise TypeError(f"method: expected a pomkit method such as pomkit.POM(), got {type(method).__name__}")
-        d = self._r.render(scene._describe(), method)
-        return Frame(
-            color=d["color"], uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["steps"], lod=d["lod"], flags=d["flags"],
-            gpu_ms=d["gpu_ms"], wall_ms=d["wall_ms"], method=repr(method),
-        )
+    def render(self, scene: Scene, method: Method, aovs: Aovs = "all") -> Frame:
+        """Render `scene` with `method`. `aovs`: "all" (the default) or the AOVs to return, e.g.
+        ("color", "uv"); the render targets no requested AOV needs are neither written nor read
+        back, and the Frame holds only what was asked for."""
+        _check(scene, method)
+        return _frame(self._r.render(scene._describe(), method, _aovs(aovs)), method)
+
+    def render_many(self, scenes: Iterable[Scene], method: Method, aovs: Aovs = "all") -> list[Frame]:
+        """Render many scenes (one scene under many cameras, a sweep of one parameter...) with one
+        method. Submissions and readbacks are pipelined: frame i+1 renders on the GPU while
+        frame i is read back and unpacked. The frames equal those of `render`, one by one."""
+        scenes = list(scenes)
+        for sc in scenes:
+            _check(sc, method)
+        ds = self._r.render_many([sc._describe() for sc in scenes], method, _aovs(aovs))
+        return [_frame(d, method) for d in ds]
 
     def update_height(self, material: Material, height) -> Material:
         """Dynamic height fields: a new Material with `height` in place of `material.height` (same
@@ -63,8 +69,40 @@ class Renderer:
             raise TypeError(f"material: expected a pomkit.Material, got {type(material).__name__}")
         new = Material(height, depth=material.depth, albedo=material.albedo, tiling=material.tiling)
         if new.height.shape == material.height.shape:
-            self._r.update_height(material.height, new.height)
+            self._r.update_height(material._height_data(), new._height_data())
         return new
+
+
+Aovs = Union[Literal["all"], Sequence[AovName]]
+
+
+def _aovs(aovs: Aovs) -> Optional[Any]:
+    if isinstance(aovs, str):
+        if aovs == "all":
+            return None
+        raise ValueError(f"aovs: expected 'all' or a sequence of AOV names such as ('color', 'uv'), got {aovs!r}")
+    try:
+        names = tuple(aovs)
+    except TypeError:
+        raise TypeError(f"aovs: expected 'all' or a sequence of AOV names such as ('color', 'uv'), got {aovs!r}") from None
+    for n in names:
+        if n not in AOV_NAMES:
+            raise ValueError(f"aovs: unknown AOV {n!r}; the AOVs are {', '.join(AOV_NAMES)}")
+    if not names:
+        raise ValueError("aovs: name at least one AOV, e.g. aovs=('color',)")
+    return names
+
+
+def _check(scene: Any, method: Any) -> None:
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
+    if not isinstance(method, Method):
+        raise TypeError(f"method: expected a pomkit method such as pomkit.POM(), got {type(method).__name__}")
+
+
+def _frame(d: dict, method: Method) -> Frame:
+    return Frame(color=d["color"], uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["steps"], lod=d["lod"],
+                 flags=d["flags"], gpu_ms=d["gpu_ms"], wall_ms=d["wall_ms"], method=repr(method))
 
 
 def exact_uv(scene: Scene) -> Frame:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import Any, Optional, Sequence
 
 import numpy as np
 
@@ -22,6 +22,20 @@ __all__ = ["Mesh", "Material", "Camera", "DirectionalLight", "SphereLight", "Sce
 
 
 _vec3, _rgb, _float_array = _v.vec3, _v.rgb, _v.float_array
+
+
+def _handle(obj: Any, name: str, make: Any) -> Any:
+    """The core handle cached on a frozen scene object (made once, on first use)."""
+    h = obj.__dict__.get(name)
+    if h is None:
+        h = make()
+        object.__setattr__(obj, name, h)
+    return h
+
+
+def _without_handles(self: Any) -> dict:
+    """Pickle state without the core handles (they are remade on the first render)."""
+    return {k: v for k, v in self.__dict__.items() if not k.startswith("_core_")}
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:
@@ -139,9 +153,18 @@ class Mesh:
             raise ValueError("mesh: the trimesh has no uvs (mesh.visual.uv); give it a parameterisation")
         return cls.from_arrays(mesh.vertices, mesh.vertex_normals, uv, mesh.faces)
 
-    def _describe(self) -> dict:
+    def _arrays(self) -> dict:
         return dict(positions=self.positions, normals=self.normals, uvs=self.uvs, indices=self.indices,
                     tangents=self.tangents, uv_scale=self.uv_scale, charts=self.charts)
+
+    def _describe(self) -> "_core.MeshData":
+        """The core's copy of the arrays with their content key, made on the first render and
+        kept (the arrays are read-only), so that later renders neither copy nor hash them."""
+        return _handle(self, "_core_mesh", lambda: _core.MeshData(
+            self.positions, self.normals, self.uvs, self.tangents, self.uv_scale, self.indices,
+            np.ascontiguousarray(self.charts, dtype=np.uint32).reshape(-1, 3)))
+
+    __getstate__ = _without_handles
 
 
 def _pos(name: str, x) -> float:
@@ -233,6 +256,16 @@ class Material:
         object.__setattr__(self, "depth", _v.number("depth", self.depth, 0.0))
         object.__setattr__(self, "tiling", _v.number("tiling", self.tiling, 0.0, 1e6, lo_open=True))
         object.__setattr__(self, "albedo", _normalize_albedo(self.albedo))
+
+    def _height_data(self) -> "_core.HeightData":
+        return _handle(self, "_core_height", lambda: _core.HeightData(self.height))
+
+    def _albedo_data(self) -> "Optional[_core.AlbedoData]":
+        if self.albedo is None:
+            return None
+        return _handle(self, "_core_albedo", lambda: _core.AlbedoData(self.albedo))
+
+    __getstate__ = _without_handles
 
 
 @dataclass(frozen=True)
@@ -369,8 +402,8 @@ class Scene:
         m = self.material
         return dict(
             mesh=self.mesh._describe(),
-            height=m.height,
-            albedo=m.albedo,
+            height=m._height_data(),
+            albedo=m._albedo_data(),
             depth=m.depth,
             tiling=m.tiling,
             camera=self.camera._describe(),

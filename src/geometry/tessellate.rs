@@ -258,7 +258,7 @@ mod tests {
         data[5] = 1.0; // texel (row 1, col 1)
         let hm = HeightMap::new(4, 4, data).unwrap();
         let mat = Material {
-            height: hm,
+            height: crate::scene::shared(hm).unwrap(),
             depth: 0.5,
             tiling: 1.0,
             albedo: None,
@@ -295,7 +295,7 @@ mod tests {
         .unwrap();
         let hm = HeightMap::new(4, 4, vec![1.0; 16]).unwrap();
         let mat = Material {
-            height: hm,
+            height: crate::scene::shared(hm).unwrap(),
             depth: 0.5,
             tiling: 1.0,
             albedo: None,

@@ -13,17 +13,17 @@ pub mod shadow_map;
 pub mod targets;
 pub mod uniforms;
 
-pub use targets::Frame;
+pub use targets::{Aovs, Frame};
 pub use uniforms::top_maxmip_level;
 
 use crate::error::{Error, Result};
 use crate::gpu::Context;
 use crate::heightmap::{GpuHeight, MipBuilder};
 use crate::methods::{Filtering, Geometry, Method, Spec};
-use crate::scene::{HeightMap, Scene};
+use crate::scene::{HeightMap, Keyed, Scene};
 use crate::texspace::{FrameMaps, TexSpace};
 use pipelines::Pipelines;
-use resources::{height_key, mesh_key, GpuMesh, Resources};
+use resources::{GpuMesh, Resources};
 use std::sync::{Arc, Mutex};
 use targets::Targets;
 
@@ -133,7 +133,7 @@ pub struct Renderer {
     /// serialises GPU submissions so that error scopes and timings belong to one render
     submit: Mutex<()>,
     /// the last frame size's targets (used under `submit`)
-    targets: Mutex<Option<Arc<Targets>>>,
+    targets: Mutex<Vec<Arc<Targets>>>,
 }
 
 fn poisoned<T>(_: T) -> Error {
@@ -150,7 +150,7 @@ impl Renderer {
             pipelines,
             resources: Mutex::new(Resources::new()),
             submit: Mutex::new(()),
-            targets: Mutex::new(None),
+            targets: Mutex::new(Vec::new()),
             ctx,
         })
     }
@@ -171,7 +171,7 @@ impl Renderer {
     }
 
     /// The GPU's pyramids for a map (tests): (mean mips, max mips).
-    pub fn read_pyramids(&self, map: &HeightMap) -> Result<(Vec<Vec<f32>>, Vec<Vec<f32>>)> {
+    pub fn read_pyramids(&self, map: &Keyed<HeightMap>) -> Result<(Vec<Vec<f32>>, Vec<Vec<f32>>)> {
         let g = self
             .resources
             .lock()
@@ -196,9 +196,9 @@ impl Renderer {
     /// rebuild both pyramids on the GPU, and re-key the cache entry. No pipeline is rebuilt and
     /// nothing is allocated. Returns false when `old` was not resident (it will upload on the
     /// next render instead).
-    pub fn update_height(&self, old: &HeightMap, new: &HeightMap) -> Result<bool> {
+    pub fn update_height(&self, old: &Keyed<HeightMap>, new: &Keyed<HeightMap>) -> Result<bool> {
         let mut res = self.resources.lock().map_err(poisoned)?;
-        let old_key = height_key(old);
+        let old_key = old.key;
         let Some(g) = res.heights.get(old_key) else {
             return Ok(false);
         };
@@ -208,7 +208,7 @@ impl Renderer {
         let _guard = self.submit.lock().map_err(poisoned)?;
         self.mips.update(&self.ctx, &g, new)?;
         self.ctx.wait()?;
-        Ok(res.heights.rekey(old_key, height_key(new)))
+        Ok(res.heights.rekey(old_key, new.key))
     }
 
     /// Refuse sizes over the device's limits before anything reaches the GPU.
@@ -267,62 +267,109 @@ impl Renderer {
         Ok(())
     }
 
+    /// Render every AOV of one frame.
     pub fn render(&self, scene: &Scene, method: &Method) -> Result<Frame> {
-        scene.validate()?;
+        self.render_aovs(scene, method, Aovs::ALL)
+    }
+
+    /// Render one frame with the AOVs in `aovs`.
+    pub fn render_aovs(&self, scene: &Scene, method: &Method, aovs: Aovs) -> Result<Frame> {
+        let mut frames = self.render_many(std::slice::from_ref(scene), method, aovs)?;
+        Ok(frames.pop().expect("one frame"))
+    }
+
+    /// Render many frames with one method, pipelined: frame i+1 is submitted before frame i is
+    /// read back and unpacked, so that the unpacking overlaps the GPU's work. Each frame is the
+    /// one `render_aovs` would give.
+    pub fn render_many(&self, scenes: &[Scene], method: &Method, aovs: Aovs) -> Result<Vec<Frame>> {
         method.validate()?;
-        self.check_limits(scene)?;
         self.ctx.check_alive()?;
         let spec = method.spec();
         let filtering = self.effective_filtering(spec.pixel.filtering);
-        let shadow = shadow_map::setup(scene, &spec, self.ctx.limits.max_texture_dimension_2d);
         let arg = if matches!(method, Method::Custom(..)) {
             "wgsl"
         } else {
             "method"
         };
-        let variant = self
-            .pipelines
-            .get(&self.ctx, &spec, filtering, shadow.is_some(), arg)?;
-        let (height, albedo, mesh, maps) = {
-            let mut res = self.resources.lock().map_err(poisoned)?;
-            let height = res.height(&self.ctx, &self.mips, &scene.material.height)?;
-            let albedo = res.albedo(&self.ctx, scene.material.albedo.as_ref())?;
-            let base_key = mesh_key(&scene.mesh);
-            let mesh = res.mesh(&self.ctx, scene, spec.geometry, base_key)?;
-            let maps = if spec.frame_maps {
-                debug_assert_eq!(spec.geometry, Geometry::Base);
-                Some(res.frame_maps(&self.ctx, &self.texspace, &mesh, base_key)?)
-            } else {
-                None
-            };
-            (height, albedo, mesh, maps)
-        };
-        let globals = uniforms::globals(scene, &spec, shadow.as_ref());
+        let mut frames = Vec::with_capacity(scenes.len());
         let _guard = self.submit.lock().map_err(poisoned)?;
-        self.draw(
-            scene,
-            &spec,
-            &variant,
-            shadow.as_ref(),
-            &globals,
-            &height,
-            &albedo,
-            &mesh,
-            maps.as_deref(),
-        )
-    }
-
-    /// Render targets and readback buffers for a w x h frame (reused while the size stays).
-    fn targets(&self, w: u32, h: u32) -> Result<Arc<Targets>> {
-        let mut slot = self.targets.lock().map_err(poisoned)?;
-        match slot.as_ref() {
-            Some(t) if t.w == w && t.h == h => Ok(t.clone()),
-            _ => {
-                let t = Arc::new(Targets::new(&self.ctx, w, h));
-                *slot = Some(t.clone());
-                Ok(t)
+        let mut pending: Option<Pending> = None;
+        for scene in scenes {
+            scene.validate()?;
+            self.check_limits(scene)?;
+            let shadow = shadow_map::setup(scene, &spec, self.ctx.limits.max_texture_dimension_2d);
+            let variant = self.pipelines.get(
+                &self.ctx,
+                &spec,
+                filtering,
+                shadow.is_some(),
+                (aovs.color_target(), aovs.geo_target()),
+                arg,
+            )?;
+            let (height, albedo, mesh, maps) = {
+                let mut res = self.resources.lock().map_err(poisoned)?;
+                let height = res.height(&self.ctx, &self.mips, &scene.material.height)?;
+                let albedo = res.albedo(&self.ctx, scene.material.albedo.as_deref())?;
+                let mesh = res.mesh(&self.ctx, scene, spec.geometry)?;
+                let maps = if spec.frame_maps {
+                    debug_assert_eq!(spec.geometry, Geometry::Base);
+                    Some(res.frame_maps(&self.ctx, &self.texspace, &mesh, scene.mesh.key)?)
+                } else {
+                    None
+                };
+                (height, albedo, mesh, maps)
+            };
+            let globals = uniforms::globals(scene, &spec, shadow.as_ref());
+            let next = self.submit(
+                scene,
+                &spec,
+                &variant,
+                shadow.as_ref(),
+                &globals,
+                &height,
+                &albedo,
+                &mesh,
+                maps.as_deref(),
+                aovs,
+            )?;
+            if let Some(p) = pending.replace(next) {
+                frames.push(self.finish(p)?);
             }
         }
+        if let Some(p) = pending {
+            frames.push(self.finish(p)?);
+        }
+        Ok(frames)
+    }
+
+    /// Read back a submitted frame once its submission has finished.
+    fn finish(&self, p: Pending) -> Result<Frame> {
+        self.ctx.scoped(|| {
+            self.ctx.wait_for(Some(p.submission.clone()))?;
+            let wall_ms = p.t0.elapsed().as_secs_f64() * 1e3;
+            p.targets.read(&self.ctx, p.submission, p.aovs, wall_ms)
+        })
+    }
+
+    /// Render targets and readback buffers for a w x h frame that no pending frame is using
+    /// (kept for the next frames of that size; a pipelined batch uses two).
+    fn targets(&self, w: u32, h: u32) -> Result<Arc<Targets>> {
+        let mut pool = self.targets.lock().map_err(poisoned)?;
+        if let Some(t) = pool
+            .iter()
+            .find(|t| t.w == w && t.h == h && Arc::strong_count(t) == 1)
+        {
+            return Ok(t.clone());
+        }
+        // the pool holds the free ones of other sizes too, up to a few
+        if pool.len() >= 4 {
+            if let Some(i) = pool.iter().position(|t| Arc::strong_count(t) == 1) {
+                pool.remove(i);
+            }
+        }
+        let t = Arc::new(Targets::new(&self.ctx, w, h));
+        pool.push(t.clone());
+        Ok(t)
     }
 
     fn bind_group(&self, i: &Inputs<'_>, shadow: &wgpu::TextureView) -> wgpu::BindGroup {
@@ -361,7 +408,7 @@ impl Renderer {
     }
 
     #[allow(clippy::too_many_arguments)]
-    fn draw(
+    fn submit(
         &self,
         scene: &Scene,
         spec: &Spec,
@@ -372,11 +419,11 @@ impl Renderer {
         albedo: &wgpu::TextureView,
         mesh: &GpuMesh,
         maps: Option<&FrameMaps>,
-    ) -> Result<Frame> {
+        aovs: Aovs,
+    ) -> Result<Pending> {
         let ctx = &self.ctx;
         let (w, h) = (scene.camera.width, scene.camera.height);
-        let mut wall_ms = 0.0;
-        let tg = ctx.scoped(|| {
+        ctx.scoped(|| {
             let inputs = Inputs {
                 globals: &ctx.upload(
                     "globals",
@@ -407,7 +454,7 @@ impl Renderer {
             {
                 let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("surface"),
-                    color_attachments: &tg.attachments(),
+                    color_attachments: &tg.attachments(aovs),
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                         view: &tg.depth_v,
                         depth_ops: Some(wgpu::Operations {
@@ -430,13 +477,23 @@ impl Renderer {
                 pass.set_bind_group(0, &bind, &[]);
                 mesh.draw(&mut pass);
             }
-            tg.encode_readback(&mut enc);
+            tg.encode_readback(&mut enc, aovs);
             let t0 = std::time::Instant::now();
-            ctx.queue.submit([enc.finish()]);
-            ctx.wait()?;
-            wall_ms = t0.elapsed().as_secs_f64() * 1e3;
-            Ok(tg)
-        })?;
-        tg.read(ctx, wall_ms)
+            let submission = ctx.queue.submit([enc.finish()]);
+            Ok(Pending {
+                targets: tg,
+                submission,
+                t0,
+                aovs,
+            })
+        })
     }
+}
+
+/// A submitted frame: its targets, its submission and when it was submitted.
+struct Pending {
+    targets: Arc<Targets>,
+    submission: wgpu::SubmissionIndex,
+    t0: std::time::Instant,
+    aovs: Aovs,
 }

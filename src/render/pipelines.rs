@@ -37,8 +37,9 @@ pub struct Pipelines {
 }
 
 /// The key of a shader variant: everything that shapes the composed module.
-fn variant_key(spec: &Spec, filtering: Filtering) -> u64 {
+fn variant_key(spec: &Spec, filtering: Filtering, targets: (bool, bool)) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
+    targets.hash(&mut h);
     match &spec.pass {
         Pass::Surface { march } => {
             ("surface", march.as_ref().map(|m| m.path.as_str())).hash(&mut h)
@@ -121,9 +122,10 @@ impl Pipelines {
         spec: &Spec,
         filtering: Filtering,
         shadow_map: bool,
+        (color, geo): (bool, bool),
         arg: &str,
     ) -> Result<Arc<Variant>> {
-        let key = variant_key(spec, filtering);
+        let key = variant_key(spec, filtering, (color, geo));
         if let Some(v) = self
             .cache
             .lock()
@@ -175,7 +177,11 @@ impl Pipelines {
                     module: &module,
                     entry_point: Some(fs),
                     compilation_options: Default::default(),
-                    targets: &[target.clone(), target],
+                    // a target no requested AOV needs is left out: its output is discarded
+                    targets: &[
+                        color.then(|| target.clone()).flatten(),
+                        geo.then_some(target).flatten(),
+                    ],
                 }),
                 multiview_mask: None,
                 cache: None,

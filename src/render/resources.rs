@@ -6,42 +6,11 @@ use crate::error::{Error, Result};
 use crate::geometry::{prisms, tessellate::tessellate};
 use crate::gpu::Context;
 use crate::heightmap::{mip_count, pyramid, GpuHeight, MipBuilder};
-use crate::mesh::{Mesh, Vertex};
+use crate::mesh::Vertex;
 use crate::methods::Geometry;
-use crate::scene::{Albedo, HeightMap, Scene};
+use crate::scene::{hash_bytes, Albedo, HeightMap, Keyed, Scene};
 use crate::texspace::{FrameMaps, TexSpace};
-use std::collections::hash_map::DefaultHasher;
-use std::hash::{Hash, Hasher};
 use std::sync::Arc;
-
-pub fn hash_bytes(parts: &[&[u8]]) -> u64 {
-    let mut h = DefaultHasher::new();
-    for p in parts {
-        p.len().hash(&mut h);
-        p.hash(&mut h);
-    }
-    h.finish()
-}
-
-pub fn height_key(map: &HeightMap) -> u64 {
-    hash_bytes(&[
-        &map.width.to_le_bytes(),
-        &map.height.to_le_bytes(),
-        bytemuck::cast_slice(&map.data),
-    ])
-}
-
-/// Content key of a mesh: its arrays hashed in place (no vertex array is built).
-pub fn mesh_key(mesh: &Mesh) -> u64 {
-    hash_bytes(&[
-        bytemuck::cast_slice(&mesh.positions),
-        bytemuck::cast_slice(&mesh.normals),
-        bytemuck::cast_slice(&mesh.uvs),
-        bytemuck::cast_slice(&mesh.tangents),
-        bytemuck::cast_slice(&mesh.uv_scale),
-        bytemuck::cast_slice(&mesh.indices),
-    ])
-}
 
 /// A bounded cache, most recently used last.
 pub struct Cached<T> {
@@ -131,29 +100,26 @@ impl Resources {
         &mut self,
         ctx: &Context,
         mips: &MipBuilder,
-        map: &HeightMap,
+        map: &Keyed<HeightMap>,
     ) -> Result<Arc<GpuHeight>> {
-        self.heights
-            .get_or(height_key(map), || mips.create(ctx, map))
+        self.heights.get_or(map.key, || mips.create(ctx, map))
     }
 
     /// The albedo with its box-filtered mips, as half floats (filterable on every adapter).
     pub fn albedo(
         &mut self,
         ctx: &Context,
-        albedo: Option<&Albedo>,
+        albedo: Option<&Keyed<Albedo>>,
     ) -> Result<Arc<wgpu::TextureView>> {
         let grey = Albedo {
             width: 1,
             height: 1,
             data: vec![[0.5, 0.5, 0.5, 1.0]],
         };
-        let a = albedo.unwrap_or(&grey);
-        let key = hash_bytes(&[
-            &a.width.to_le_bytes(),
-            &a.height.to_le_bytes(),
-            bytemuck::cast_slice(&a.data),
-        ]);
+        let (a, key) = match albedo {
+            Some(k) => (&**k, k.key),
+            None => (&grey, 0),
+        };
         self.albedos.get_or(key, || {
             let levels = pyramid(a.width, a.height, a.data.clone(), |q| {
                 std::array::from_fn(|c| (q[0][c] + q[1][c] + q[2][c] + q[3][c]) * 0.25)
@@ -196,9 +162,9 @@ impl Resources {
         ctx: &Context,
         scene: &Scene,
         geometry: Geometry,
-        base_key: u64,
     ) -> Result<Arc<GpuMesh>> {
         let (mesh, m) = (&scene.mesh, &scene.material);
+        let base_key = mesh.key;
         match geometry {
             Geometry::Base => self.meshes.get_or(base_key, || {
                 upload_indexed(ctx, &mesh.vertices(), &mesh.indices)
@@ -206,8 +172,7 @@ impl Resources {
             Geometry::Tessellated { texels_per_vertex } => {
                 let key = hash_bytes(&[
                     &base_key.to_le_bytes(),
-                    bytemuck::cast_slice(&m.height.data),
-                    &m.height.width.to_le_bytes(),
+                    &m.height.key.to_le_bytes(),
                     &m.depth.to_le_bytes(),
                     &m.tiling.to_le_bytes(),
                     &texels_per_vertex.to_le_bytes(),
@@ -229,7 +194,7 @@ impl Resources {
             Geometry::Prisms { outward } => {
                 let key = hash_bytes(&[
                     &base_key.to_le_bytes(),
-                    &height_key(&m.height).to_le_bytes(),
+                    &m.height.key.to_le_bytes(),
                     &m.depth.to_le_bytes(),
                     &m.tiling.to_le_bytes(),
                     &[outward as u8],

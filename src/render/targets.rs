@@ -3,13 +3,68 @@
 //! colour + steps|flags, and uv + distance + lod.
 
 use super::{COLOR_FORMAT, DEPTH_FORMAT};
+use crate::error::{Error, Result};
 use crate::gpu::Context;
 
-/// Per-pixel results of one render. Arrays are row-major (H, W, ...), row 0 at the top.
+/// The AOVs a render returns, as a set. Targets that no requested AOV needs are neither written
+/// nor read back: the colour target holds color, steps and flags; the geo target holds uv,
+/// depth, lod and the mask (which steps and flags need too, to blank the pixels without a hit).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Aovs(u8);
+
+impl Aovs {
+    pub const NAMES: [&'static str; 7] = ["color", "uv", "depth", "mask", "steps", "lod", "flags"];
+    pub const ALL: Aovs = Aovs(0x7f);
+
+    fn bit(name: &str) -> Option<u8> {
+        Self::NAMES.iter().position(|n| *n == name).map(|i| 1 << i)
+    }
+    /// The set of the named AOVs; at least one.
+    pub fn parse<S: AsRef<str>>(names: &[S]) -> Result<Aovs> {
+        let mut bits = 0;
+        for n in names {
+            bits |= Self::bit(n.as_ref()).ok_or_else(|| {
+                Error::arg(
+                    "aovs",
+                    format!(
+                        "unknown AOV {:?}; the AOVs are {}",
+                        n.as_ref(),
+                        Self::NAMES.join(", ")
+                    ),
+                )
+            })?;
+        }
+        if bits == 0 {
+            return Err(Error::arg(
+                "aovs",
+                "name at least one AOV, e.g. aovs=(\"color\",)",
+            ));
+        }
+        Ok(Aovs(bits))
+    }
+    pub fn has(self, name: &str) -> bool {
+        Self::bit(name).is_some_and(|b| self.0 & b != 0)
+    }
+    fn any(self, names: &[&str]) -> bool {
+        names.iter().any(|n| self.has(n))
+    }
+    /// Whether the colour target (colour, steps | flags) is written and read.
+    pub fn color_target(self) -> bool {
+        self.any(&["color", "steps", "flags"])
+    }
+    /// Whether the geo target (uv, distance, lod; the mask) is written and read.
+    pub fn geo_target(self) -> bool {
+        self.any(&["uv", "depth", "mask", "lod", "steps", "flags"])
+    }
+}
+
+/// Per-pixel results of one render. Arrays are row-major (H, W, ...), row 0 at the top. The
+/// AOVs not in `aovs` are empty.
 #[derive(Clone, Debug)]
 pub struct Frame {
     pub width: u32,
     pub height: u32,
+    pub aovs: Aovs,
     /// linear RGB, H*W*3
     pub color: Vec<f32>,
     /// hit uv in mesh uv space (unwrapped), H*W*2, NaN where no hit
@@ -101,7 +156,7 @@ impl Targets {
     }
 
     /// The colour attachments, cleared: no hit is marked by distance -1.0 (as float32 bits).
-    pub fn attachments(&self) -> [Option<wgpu::RenderPassColorAttachment<'_>>; 2] {
+    pub fn attachments(&self, aovs: Aovs) -> [Option<wgpu::RenderPassColorAttachment<'_>>; 2] {
         let att = |view, clear| {
             Some(wgpu::RenderPassColorAttachment {
                 view,
@@ -114,25 +169,34 @@ impl Targets {
             })
         };
         [
-            att(&self.color_v, wgpu::Color::TRANSPARENT),
-            att(
-                &self.geo_v,
-                wgpu::Color {
-                    r: 0.0,
-                    g: 0.0,
-                    b: (-1.0f32).to_bits() as f64,
-                    a: 0.0,
-                },
-            ),
+            aovs.color_target()
+                .then(|| att(&self.color_v, wgpu::Color::TRANSPARENT))
+                .flatten(),
+            aovs.geo_target()
+                .then(|| {
+                    att(
+                        &self.geo_v,
+                        wgpu::Color {
+                            r: 0.0,
+                            g: 0.0,
+                            b: (-1.0f32).to_bits() as f64,
+                            a: 0.0,
+                        },
+                    )
+                })
+                .flatten(),
         ]
     }
 
     /// Copy the targets and the pass's timestamps into the readback buffers.
-    pub fn encode_readback(&self, enc: &mut wgpu::CommandEncoder) {
-        for (t, b) in [
-            (&self.color_t, &self.color_buf),
-            (&self.geo_t, &self.geo_buf),
+    pub fn encode_readback(&self, enc: &mut wgpu::CommandEncoder, aovs: Aovs) {
+        for (t, b, used) in [
+            (&self.color_t, &self.color_buf, aovs.color_target()),
+            (&self.geo_t, &self.geo_buf, aovs.geo_target()),
         ] {
+            if !used {
+                continue;
+            }
             enc.copy_texture_to_buffer(
                 t.as_image_copy(),
                 wgpu::TexelCopyBufferInfo {
@@ -156,12 +220,19 @@ impl Targets {
         }
     }
 
-    /// The Frame from the readback buffers (after the submission finished).
-    pub fn read(&self, ctx: &Context, wall_ms: f64) -> crate::Result<Frame> {
-        let mut frame = Frame::empty(self.w, self.h);
+    /// The Frame from the readback buffers once `submission` has finished.
+    pub fn read(
+        &self,
+        ctx: &Context,
+        submission: wgpu::SubmissionIndex,
+        aovs: Aovs,
+        wall_ms: f64,
+    ) -> crate::Result<Frame> {
+        let mut frame = Frame::empty(self.w, self.h, aovs);
+        let after = Some(submission);
         frame.gpu_ms = match &self.ts_read {
             Some(b) => {
-                let raw = ctx.read_buffer(b)?;
+                let raw = ctx.map_read_after(b, after.clone(), |b| b.to_vec())?;
                 let t: &[u64] = bytemuck::cast_slice(&raw);
                 let period = ctx.queue.get_timestamp_period() as f64;
                 (t[1] > t[0]).then(|| (t[1] - t[0]) as f64 * period / 1e6)
@@ -169,26 +240,39 @@ impl Targets {
             None => None,
         };
         let rb = row_bytes(self.w) as usize;
-        ctx.map_read(&self.geo_buf, |g| frame.unpack_geo(rb, g))?;
-        ctx.map_read(&self.color_buf, |c| frame.unpack_color(rb, c))?;
+        if aovs.geo_target() {
+            ctx.map_read_after(&self.geo_buf, after.clone(), |g| frame.unpack_geo(rb, g))?;
+        }
+        if aovs.color_target() {
+            ctx.map_read_after(&self.color_buf, after, |c| frame.unpack_color(rb, c))?;
+        }
         frame.wall_ms = wall_ms;
         Ok(frame)
     }
 }
 
 impl Frame {
-    fn empty(w: u32, h: u32) -> Self {
+    fn empty(w: u32, h: u32, aovs: Aovs) -> Self {
         let n = (w * h) as usize;
+        fn sized<T: Clone>(on: bool, len: usize, v: T) -> Vec<T> {
+            if on {
+                vec![v; len]
+            } else {
+                Vec::new()
+            }
+        }
         Frame {
             width: w,
             height: h,
-            color: vec![0.0; n * 3],
-            uv: vec![f32::NAN; n * 2],
-            depth: vec![f32::NAN; n],
-            mask: vec![false; n],
-            steps: vec![0; n],
-            lod: vec![f32::NAN; n],
-            flags: vec![0; n],
+            aovs,
+            color: sized(aovs.has("color"), n * 3, 0.0),
+            uv: sized(aovs.has("uv"), n * 2, f32::NAN),
+            depth: sized(aovs.has("depth"), n, f32::NAN),
+            // the mask is kept whenever the geo target is read: steps and flags need it
+            mask: sized(aovs.geo_target(), n, false),
+            steps: sized(aovs.has("steps"), n, 0),
+            lod: sized(aovs.has("lod"), n, f32::NAN),
+            flags: sized(aovs.has("flags"), n, 0),
             gpu_ms: None,
             wall_ms: 0.0,
         }
@@ -197,16 +281,27 @@ impl Frame {
     /// uv, distance and lod from the geo target (distance < 0: no hit); sets the mask.
     fn unpack_geo(&mut self, row_bytes: usize, raw: &[u8]) {
         let w = self.width as usize;
+        let (uv, depth, lod) = (
+            self.aovs.has("uv"),
+            self.aovs.has("depth"),
+            self.aovs.has("lod"),
+        );
         for y in 0..self.height as usize {
             let g: &[f32] = bytemuck::cast_slice(&raw[y * row_bytes..y * row_bytes + w * 16]);
             for (x, px) in g.chunks_exact(4).enumerate() {
                 if px[2] >= 0.0 {
                     let i = y * w + x;
                     self.mask[i] = true;
-                    self.uv[2 * i] = px[0];
-                    self.uv[2 * i + 1] = px[1];
-                    self.depth[i] = px[2];
-                    self.lod[i] = px[3];
+                    if uv {
+                        self.uv[2 * i] = px[0];
+                        self.uv[2 * i + 1] = px[1];
+                    }
+                    if depth {
+                        self.depth[i] = px[2];
+                    }
+                    if lod {
+                        self.lod[i] = px[3];
+                    }
                 }
             }
         }
@@ -215,16 +310,32 @@ impl Frame {
     /// Colour, steps and flags from the colour target (steps and flags only where hit).
     fn unpack_color(&mut self, row_bytes: usize, raw: &[u8]) {
         let w = self.width as usize;
+        let (color, steps, flags) = (
+            self.aovs.has("color"),
+            self.aovs.has("steps"),
+            self.aovs.has("flags"),
+        );
         for y in 0..self.height as usize {
-            let c: &[u32] = bytemuck::cast_slice(&raw[y * row_bytes..y * row_bytes + w * 16]);
-            for (x, px) in c.chunks_exact(4).enumerate() {
-                let i = y * w + x;
-                self.color[3 * i] = f32::from_bits(px[0]);
-                self.color[3 * i + 1] = f32::from_bits(px[1]);
-                self.color[3 * i + 2] = f32::from_bits(px[2]);
-                if self.mask[i] {
-                    self.steps[i] = px[3] & 0x0fff_ffff;
-                    self.flags[i] = (px[3] >> 28) as u8;
+            let row = &raw[y * row_bytes..y * row_bytes + w * 16];
+            if color {
+                let c: &[f32] = bytemuck::cast_slice(row);
+                let out = &mut self.color[3 * y * w..3 * (y + 1) * w];
+                for (o, px) in out.chunks_exact_mut(3).zip(c.chunks_exact(4)) {
+                    o.copy_from_slice(&px[..3]);
+                }
+            }
+            if steps || flags {
+                let c: &[u32] = bytemuck::cast_slice(row);
+                for (x, px) in c.chunks_exact(4).enumerate() {
+                    let i = y * w + x;
+                    if self.mask[i] {
+                        if steps {
+                            self.steps[i] = px[3] & 0x0fff_ffff;
+                        }
+                        if flags {
+                            self.flags[i] = (px[3] >> 28) as u8;
+                        }
+                    }
                 }
             }
         }

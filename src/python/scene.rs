@@ -1,0 +1,279 @@
+//! Scene data across the boundary: meshes (generated or from arrays), and the keyed handles
+//! (`MeshData`, `HeightData`, `AlbedoData`) that the Python scene classes make once, so that a
+//! render neither copies nor hashes their arrays again.
+
+use crate::error::Error;
+use crate::mesh::Mesh;
+use crate::scene::{shared, Albedo, Camera, HeightMap, Light, Material, Scene, Shared};
+use numpy::ndarray::Array;
+use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList, PyTuple};
+
+fn rows<const N: usize>(a: &PyReadonlyArray2<'_, f32>, name: &str) -> PyResult<Vec<[f32; N]>> {
+    let v = a.as_array();
+    if v.shape()[1] != N {
+        return Err(PyValueError::new_err(format!(
+            "{name}: expected shape (n, {N}), got {:?}",
+            v.shape()
+        )));
+    }
+    Ok(v.outer_iter()
+        .map(|r| std::array::from_fn(|k| r[k]))
+        .collect())
+}
+
+type MeshArrays<'py> = (
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+);
+
+fn mesh_out<'py>(py: Python<'py>, m: &Mesh) -> PyResult<MeshArrays<'py>> {
+    let n = m.positions.len();
+    let f = |v: Vec<f32>, k: usize| -> PyResult<Bound<'py, PyAny>> {
+        Ok(Array::from_shape_vec((n, k), v)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?
+            .into_pyarray(py)
+            .into_any())
+    };
+    Ok((
+        f(m.positions.concat(), 3)?,
+        f(m.normals.concat(), 3)?,
+        f(m.uvs.concat(), 2)?,
+        m.indices.clone().into_pyarray(py).into_any(),
+        f(m.tangents.concat(), 4)?,
+        f(m.uv_scale.concat(), 2)?,
+        Array::from_shape_vec((m.charts.len(), 3), m.charts.concat())
+            .map_err(|e| PyValueError::new_err(e.to_string()))?
+            .into_pyarray(py)
+            .into_any(),
+    ))
+}
+
+/// Validate mesh arrays and compute the tangent frames. Returns
+/// (positions, normals, uvs, indices, tangents, uv_scale, degenerate_uv_triangles, fallback_vertices).
+#[pyfunction]
+#[pyo3(signature = (positions, normals, uvs, indices, tangents=None))]
+pub fn mesh_from_arrays<'py>(
+    py: Python<'py>,
+    positions: PyReadonlyArray2<'py, f32>,
+    normals: PyReadonlyArray2<'py, f32>,
+    uvs: PyReadonlyArray2<'py, f32>,
+    indices: PyReadonlyArray1<'py, u32>,
+    tangents: Option<PyReadonlyArray2<'py, f32>>,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let p = rows::<3>(&positions, "positions")?;
+    let n = rows::<3>(&normals, "normals")?;
+    let u = rows::<2>(&uvs, "uvs")?;
+    let i: Vec<u32> = indices.as_array().iter().copied().collect();
+    let t = tangents
+        .as_ref()
+        .map(|t| rows::<4>(t, "tangents"))
+        .transpose()?;
+    let (mesh, rep) = py.detach(|| Mesh::from_arrays(p, n, u, i, t))?;
+    let a = mesh_out(py, &mesh)?;
+    PyTuple::new(
+        py,
+        [
+            a.0,
+            a.1,
+            a.2,
+            a.3,
+            a.4,
+            a.5,
+            a.6,
+            rep.degenerate_uv_triangles.into_pyobject(py)?.into_any(),
+            rep.fallback_vertices.into_pyobject(py)?.into_any(),
+        ],
+    )
+}
+
+/// A generated base mesh: kind in plane, sphere, torus, cylinder, cube.
+#[pyfunction]
+pub fn mesh_generate<'py>(
+    py: Python<'py>,
+    kind: &str,
+    a: f64,
+    b: f64,
+    n1: u32,
+    n2: u32,
+) -> PyResult<MeshArrays<'py>> {
+    let m = match kind {
+        "plane" => Mesh::plane(a, n1),
+        "sphere" => Mesh::sphere(a, n1, n2),
+        "torus" => Mesh::torus(a, b, n1, n2),
+        "cylinder" => Mesh::cylinder(a, b, n1, n2),
+        "cube" => Mesh::cube(a, n1),
+        o => Err(Error::arg("kind", format!("unknown mesh kind {o:?}"))),
+    }?;
+    mesh_out(py, &m)
+}
+
+fn item<'py>(d: &Bound<'py, PyDict>, k: &str) -> PyResult<Bound<'py, PyAny>> {
+    d.get_item(k)?
+        .ok_or_else(|| PyValueError::new_err(format!("scene description lacks {k:?}")))
+}
+
+fn v3(x: &Bound<'_, PyAny>) -> PyResult<[f64; 3]> {
+    x.extract()
+}
+
+/// A mesh converted once and keyed (content hash) for the GPU caches: `pomkit.Mesh` makes one
+/// on its first render and keeps it.
+#[pyclass(name = "MeshData", module = "pomkit._core", frozen)]
+pub struct PyMeshData(pub Shared<Mesh>);
+
+#[pymethods]
+impl PyMeshData {
+    #[new]
+    fn new(
+        positions: PyReadonlyArray2<'_, f32>,
+        normals: PyReadonlyArray2<'_, f32>,
+        uvs: PyReadonlyArray2<'_, f32>,
+        tangents: PyReadonlyArray2<'_, f32>,
+        uv_scale: PyReadonlyArray2<'_, f32>,
+        indices: PyReadonlyArray1<'_, u32>,
+        charts: PyReadonlyArray2<'_, u32>,
+    ) -> PyResult<Self> {
+        let c = charts.as_array();
+        if !c.is_empty() && c.shape()[1] != 3 {
+            return Err(PyValueError::new_err("charts: expected shape (k, 3)"));
+        }
+        let mesh = Mesh {
+            positions: rows::<3>(&positions, "positions")?,
+            normals: rows::<3>(&normals, "normals")?,
+            uvs: rows::<2>(&uvs, "uvs")?,
+            tangents: rows::<4>(&tangents, "tangents")?,
+            uv_scale: rows::<2>(&uv_scale, "uv_scale")?,
+            indices: indices.as_array().iter().copied().collect(),
+            charts: c.outer_iter().map(|r| [r[0], r[1], r[2]]).collect(),
+        };
+        Ok(PyMeshData(shared(mesh)?))
+    }
+    /// The content key the GPU caches use.
+    #[getter]
+    fn key(&self) -> u64 {
+        self.0.key
+    }
+}
+
+/// A height map converted once and keyed: `pomkit.Material` makes one on its first render.
+#[pyclass(name = "HeightData", module = "pomkit._core", frozen)]
+pub struct PyHeightData(pub Shared<HeightMap>);
+
+#[pymethods]
+impl PyHeightData {
+    #[new]
+    fn new(height: PyReadonlyArray2<'_, f32>) -> PyResult<Self> {
+        let v = height.as_array();
+        let (h, w) = (v.shape()[0] as u32, v.shape()[1] as u32);
+        let data = match v.as_slice() {
+            Some(s) => s.to_vec(),
+            None => v.iter().copied().collect(),
+        };
+        Ok(PyHeightData(shared(HeightMap::new(w, h, data)?)?))
+    }
+    #[getter]
+    fn key(&self) -> u64 {
+        self.0.key
+    }
+}
+
+/// A linear RGB albedo converted once and keyed.
+#[pyclass(name = "AlbedoData", module = "pomkit._core", frozen)]
+pub struct PyAlbedoData(pub Shared<Albedo>);
+
+#[pymethods]
+impl PyAlbedoData {
+    #[new]
+    fn new(albedo: PyReadonlyArray3<'_, f32>) -> PyResult<Self> {
+        let av = albedo.as_array();
+        if av.shape()[2] != 3 {
+            return Err(PyValueError::new_err("albedo: expected shape (H, W, 3)"));
+        }
+        let data = av
+            .outer_iter()
+            .flat_map(|r| {
+                r.outer_iter()
+                    .map(|p| [p[0], p[1], p[2], 1.0])
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        Ok(PyAlbedoData(shared(Albedo {
+            width: av.shape()[1] as u32,
+            height: av.shape()[0] as u32,
+            data,
+        })?))
+    }
+    #[getter]
+    fn key(&self) -> u64 {
+        self.0.key
+    }
+}
+
+/// Build a core Scene from the dict that `pomkit.Scene._describe()` returns: the mesh, height
+/// map and albedo arrive as keyed handles (shared, not copied).
+pub fn scene_from_py(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
+    let mesh = item(d, "mesh")?.cast::<PyMeshData>()?.get().0.clone();
+    let height = item(d, "height")?.cast::<PyHeightData>()?.get().0.clone();
+    let albedo = item(d, "albedo")?;
+    let albedo = if albedo.is_none() {
+        None
+    } else {
+        Some(albedo.cast::<PyAlbedoData>()?.get().0.clone())
+    };
+    let material = Material {
+        height,
+        depth: item(d, "depth")?.extract()?,
+        tiling: item(d, "tiling")?.extract()?,
+        albedo,
+    };
+    let cam = item(d, "camera")?;
+    let cam = cam.cast::<PyDict>()?;
+    let camera = Camera {
+        eye: v3(&item(cam, "eye")?)?,
+        target: v3(&item(cam, "target")?)?,
+        up: v3(&item(cam, "up")?)?,
+        fov_y: item(cam, "fov_y")?.extract()?,
+        width: item(cam, "width")?.extract()?,
+        height: item(cam, "height")?.extract()?,
+    };
+    let mut lights = Vec::new();
+    let ls = item(d, "lights")?;
+    for l in ls.cast::<PyList>()?.iter() {
+        let l = l.cast::<PyDict>()?.clone();
+        let kind: String = item(&l, "kind")?.extract()?;
+        let rgb = |x: Bound<'_, PyAny>| -> PyResult<[f32; 3]> { x.extract() };
+        lights.push(match kind.as_str() {
+            "directional" => Light::Directional {
+                direction: v3(&item(&l, "direction")?)?,
+                irradiance: rgb(item(&l, "irradiance")?)?,
+                angular_diameter: item(&l, "angular_diameter")?.extract()?,
+            },
+            "sphere" => Light::Sphere {
+                position: v3(&item(&l, "position")?)?,
+                radius: item(&l, "radius")?.extract()?,
+                intensity: rgb(item(&l, "intensity")?)?,
+            },
+            o => {
+                return Err(PyValueError::new_err(format!(
+                    "lights: unknown light kind {o:?}"
+                )))
+            }
+        });
+    }
+    let ambient: [f32; 3] = item(d, "ambient")?.extract()?;
+    Ok(Scene {
+        mesh,
+        material,
+        camera,
+        lights,
+        ambient,
+    })
+}
