@@ -5,13 +5,16 @@ SHELL := /bin/bash
 export XDG_RUNTIME_DIR ?= /tmp/pomkit-xdg-$(shell id -u)
 VENV := .venv/bin
 
-.PHONY: setup setup-test demo test bench clean
+.PHONY: setup setup-test setup-bench demo test bench clean
 
 setup:
 	scripts/setup.sh
 
 setup-test:
-	scripts/setup.sh test reference notebooks
+	scripts/setup.sh test reference notebooks bench distributed
+
+setup-bench:
+	scripts/setup.sh bench
 
 demo: setup
 	$(VENV)/python -m pomkit demo
@@ -22,7 +25,7 @@ test: setup-test
 	$(VENV)/python -m mypy
 	$(VENV)/python -m pytest tests notebooks --nbmake
 
-bench: setup
+bench: setup-bench
 	$(VENV)/python -m pomkit bench
 
 clean:

@@ -11,13 +11,20 @@ def test_pareto_front():
 
 def test_sweep_rows(tmp_path):
     methods = variants(pk.POM, max_steps=[8, 16], shadows=["none"]) + [pk.Exact()]
-    rows = sweep(methods, scenes=["pyramids"], angles=[30.0, 70.0], settings=dict(size=32), repeats=1,
+    rows = sweep(methods, scenes=["pyramids"], angles=[30.0, 70.0], settings=dict(size=32), repeats=2,
                  csv_path=str(tmp_path / "t.csv"), progress=False)
     rows = rows.to_dict("records") if hasattr(rows, "to_dict") else rows
     assert len(rows) == 6
-    need = {"method", "params", "scene", "angle", "gpu_ms", "gpu_ms_min", "gpu_ms_max", "ms_per_mpix", "mean_steps",
-            "uv_p50", "uv_p95", "uv_p99", "mask_iou", "flip"}
+    need = {"method", "label", "safety", "scene", "angle", "gpu_ms", "gpu_ms_p25", "gpu_ms_p75", "march_ms", "call_ms",
+            "repeats", "ms_per_mpix", "mean_steps", "uv_p50", "uv_p95", "uv_p99", "mask_iou", "flip"}
     assert need <= set(rows[0])
+    for x in rows:
+        # every row is labelled, without stray spaces (the quick bench once wrote '' and 'Exact ')
+        assert x["method"] and x["method"] == x["method"].strip() and x["label"] == x["label"].strip()
+        assert x["gpu_ms_p25"] <= x["gpu_ms"] <= x["gpu_ms_p75"] and x["repeats"] >= 1
+    assert {x["label"] for x in rows} == {"POM(shadows='none', max_steps=8)", "POM(shadows='none', max_steps=16)", "Exact()"}
+    assert {x["safety"] for x in rows if x["method"] == "Exact"} == {"safe"}
+    assert {x["safety"] for x in rows if x["method"] == "POM"} == {"approximate"}
     exact = [x for x in rows if x["method"] == "Exact"]
     assert all(x["uv_p99"] < 0.1 for x in exact)
     assert (tmp_path / "t.csv").read_text().count("\n") == 7
@@ -29,3 +36,53 @@ def test_presets_are_valid_methods():
     s = plane_scene(pk.textures.bricks(64), size=32)
     for name, fn in pk.presets.ALL_PRESETS.items():
         assert r.render(s, fn()).mask.any(), name
+
+
+def _deterministic(rows):
+    from pomkit.bench import TIMING_COLUMNS
+    rows = rows.to_dict("records") if hasattr(rows, "to_dict") else rows
+    return [{k: v for k, v in r.items() if k not in TIMING_COLUMNS} for r in rows]
+
+
+def test_sweep_on_a_dask_cluster_equals_the_local_sweep():
+    """Any concurrent.futures.Executor runs the sweep; here Dask's LocalCluster with two worker
+    processes, each opening its own device. The rows equal a local sweep's, timings aside."""
+    import math
+
+    distributed = __import__("pytest").importorskip("distributed", reason="the [distributed] extra")
+    methods = [pk.POM(shadows="none", max_steps=16), pk.Relief(), pk.Exact(), pk.Custom(
+        wgsl=(__import__("pathlib").Path(pk.__file__).parent / "wgsl" / "steep_custom.wgsl").read_text(),
+        name="steep_custom", params={"steps": 16.0})]
+    kw = dict(scenes=["bricks", "spikes"], angles=[40.0, 75.0], settings=dict(size=32, flip=False), repeats=1,
+              progress=False)
+    local = _deterministic(sweep(methods, **kw))
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cl, \
+            distributed.Client(cl) as client:
+        remote = _deterministic(sweep(methods, executor=client.get_executor(), **kw))
+        assert len(client.scheduler_info()["workers"]) == 2
+    assert len(local) == len(remote) == 16
+    for a, b in zip(local, remote):
+        assert a.keys() == b.keys()
+        for k in a:
+            same = (a[k] == b[k]) or (isinstance(a[k], float) and math.isnan(a[k]) and math.isnan(b[k]))
+            assert same, (k, a[k], b[k])
+
+
+def test_bench_without_its_extra_names_the_extra():
+    """`python -m pomkit bench` without matplotlib/pandas/tqdm: one line naming the extra, exit 2."""
+    import subprocess
+    import sys
+    code = (
+        "import sys, importlib.abc\n"
+        "class Block(importlib.abc.MetaPathFinder):\n"
+        "    def find_spec(self, name, path, target=None):\n"
+        "        if name.split('.')[0] in ('matplotlib', 'pandas', 'tqdm'): raise ImportError(name)\n"
+        "sys.meta_path.insert(0, Block())\n"
+        "import importlib.util\n"
+        "importlib.util.find_spec = lambda n, *a: None if n in ('matplotlib', 'pandas', 'tqdm') else 1\n"
+        "from pomkit.__main__ import main\n"
+        "sys.exit(main(['bench', '--quick']))\n")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 2, p.stderr
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1 and "pip install pomkit[bench]" in lines[0], p.stderr

@@ -23,8 +23,12 @@ def main(argv=None) -> int:
         from .apps.demo import run_demo
         run_demo(a.out, a.size)
     elif a.cmd == "bench":
-        from .apps.bench import run_bench
-        run_bench(a.out, quick=a.quick)
+        from .apps import bench
+        missing = bench.missing_extra()
+        if missing:
+            print(f"python -m pomkit bench needs {', '.join(missing)}: pip install pomkit[bench]", file=sys.stderr)
+            return 2
+        bench.run_bench(a.out, quick=a.quick)
     elif a.cmd == "tables":
         from .apps.tables import run_tables
         run_tables(a.out)

@@ -60,6 +60,13 @@ class Method:
     def name(self) -> str:
         return type(self).__name__
 
+    @property
+    def safety(self) -> str:
+        """"safe": the method never misses a feature of the bilinear height field (it finds the
+        first intersection, up to float precision); "approximate": it may step over thin
+        features or stop early. Tables and charts carry this label."""
+        return "approximate"
+
 
 @dataclass(frozen=True)
 class Flat(Method):
@@ -191,6 +198,10 @@ class Exact(_PerPixel):
 
     max_iterations: int = 4096
     _kind = "Exact"
+
+    @property
+    def safety(self) -> str:
+        return "safe"
     _shadow_options = _SHADOWS + ("exact",)
 
     def _validate(self):
@@ -236,6 +247,11 @@ class Prism(_PerPixel):
     exact: bool = False
     shadows: ShadowKind = field(default="soft", kw_only=True)
     _kind = "Prism"
+
+    @property
+    def safety(self) -> str:
+        # exact=True marches each prism's segment with the max-mip traversal
+        return "safe" if self.exact else "approximate"
 
     def _validate(self):
         _bool_field(self, "exact")

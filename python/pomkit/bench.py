@@ -10,9 +10,8 @@ from __future__ import annotations
 
 import csv
 import math
-import os
 import time
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import Executor
 from pathlib import Path
 from typing import Iterable, Optional
 
@@ -21,7 +20,8 @@ import numpy as np
 import pomkit as pk
 from . import metrics
 
-__all__ = ["sweep", "variants", "plane_scene", "time_method", "swimming", "pareto_front"]
+__all__ = ["sweep", "variants", "plane_scene", "time_method", "time_methods", "swimming", "pareto_front", "label",
+           "method_name", "write_csv", "TIMING_COLUMNS"]
 
 
 def plane_scene(height, theta_deg: float, size: int, depth: float = 0.08, tiling: float = 1.0,
@@ -37,21 +37,54 @@ def plane_scene(height, theta_deg: float, size: int, depth: float = 0.08, tiling
     )
 
 
+def _stats(xs: list[float]) -> dict:
+    q25, q50, q75 = np.percentile(xs, [25, 50, 75])
+    return dict(median=float(q50), p25=float(q25), p75=float(q75))
+
+
+def time_methods(r: pk.Renderer, scene: pk.Scene, methods: list, aovs: tuple[pk.AovName, ...] = ("color",), min_repeats: int = 5,
+                 max_repeats: int = 25, rel_tol: float = 0.02, baseline: bool = True) -> list[dict]:
+    """Time `methods` on one scene: one warm-up render each (pipelines, uploads), then rounds in
+    which every method renders once, in an order rotated each round (interleaved, so that the
+    machine's drift falls on all of them alike). After `min_repeats` rounds, rounds continue
+    until no method's median moves by more than `rel_tol` between rounds, or `max_repeats`.
+
+    Returns per method: median, p25, p75 (ms; GPU timestamps where the adapter has them, else
+    wall time), `call_ms` (median wall time of the Python call), `march_ms` (median cost above
+    Flat timed in the same rounds; `baseline=False` skips Flat), `repeats` and `timing`."""
+    ms = list(methods) + ([pk.Flat()] if baseline else [])
+    for m in ms:
+        r.render(scene, m, aovs=aovs)
+    times: list[list[float]] = [[] for _ in ms]
+    calls: list[list[float]] = [[] for _ in ms]
+    timing = "gpu"
+    prev = None
+    for k in range(max_repeats):
+        n = len(ms)
+        for j in range(n):
+            i = (j + k) % n
+            t0 = time.perf_counter()
+            f = r.render(scene, ms[i], aovs=aovs)
+            calls[i].append((time.perf_counter() - t0) * 1e3)
+            times[i].append(f.time_ms or 0.0)
+            timing = f.timing
+        med = [float(np.median(t)) for t in times]
+        if k + 1 >= min_repeats and prev is not None and all(
+                abs(a - b) <= rel_tol * max(b, 1e-9) for a, b in zip(med, prev)):
+            break
+        prev = med
+    flat = float(np.median(times[-1])) if baseline else float("nan")
+    out = []
+    for i in range(len(methods)):
+        st = _stats(times[i])
+        out.append(dict(ms=st["median"], ms_p25=st["p25"], ms_p75=st["p75"], march_ms=st["median"] - flat,
+                        call_ms=float(np.median(calls[i])), repeats=len(times[i]), timing=timing))
+    return out
+
+
 def time_method(r: pk.Renderer, scene: pk.Scene, method, repeats: int = 5) -> dict:
-    """Median, min and max time of `repeats` renders after a warm-up (pipeline creation and
-    uploads happen in the warm-up)."""
-    f = r.render(scene, method)
-    ts: list[float] = []
-    walls: list[float] = []
-    calls: list[float] = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        f = r.render(scene, method)
-        calls.append((time.perf_counter() - t0) * 1e3)
-        ts.append(f.time_ms or 0.0)
-        walls.append(f.wall_ms or 0.0)
-    return dict(ms=float(np.median(ts)), ms_min=float(np.min(ts)), ms_max=float(np.max(ts)), timing=f.timing,
-                call_ms=float(np.median(calls)), steps=float(f.steps[f.mask].mean()) if f.mask.any() else 0.0, frame=f)
+    """One method's timing (see `time_methods`), with Flat as the baseline."""
+    return time_methods(r, scene, [method], min_repeats=repeats)[0]
 
 
 def variants(cls, **grid) -> list:
@@ -63,29 +96,23 @@ def variants(cls, **grid) -> list:
     return [cls(**d) for d in out]
 
 
-def _label(m) -> str:
-    """The method with only the fields that differ from its defaults: POM(max_steps=16); a
-    Custom method by its name and parameters."""
+def label(m) -> str:
+    """The method with only the fields that differ from its defaults, e.g. POM(max_steps=16);
+    a Custom method by its name and parameters; a preset by its name."""
     from dataclasses import fields
+    preset = getattr(m, "_preset", None)
+    if preset:
+        return preset
     if isinstance(m, pk.Custom):
         return f"{m.name}({', '.join(f'{k}={v:g}' for k, v in m.params.items())})"
-    try:
-        default = type(m)()
-    except Exception:
-        return repr(m)
+    default = type(m)()
     diff = [f"{f.name}={getattr(m, f.name)!r}" for f in fields(m) if getattr(m, f.name) != getattr(default, f.name)]
     return f"{m.name}({', '.join(diff)})"
 
 
-def _method_name(m) -> str:
+def method_name(m) -> str:
+    """The family a method belongs to in tables and charts (its preset's name if it is one)."""
     return getattr(m, "_preset", None) or (m.label if isinstance(m, pk.Custom) else m.name)
-
-
-def _mitsuba_job(args):
-    scene, spp = args
-    from . import reference
-    reference.render_mitsuba(scene, spp=spp)  # fills the on-disk cache
-    return True
 
 
 def _scene_for(name_or_height, angle, size, depth, tiling):
@@ -101,77 +128,114 @@ def _scene_for(name_or_height, angle, size, depth, tiling):
     return name, plane_scene(h, angle, size, depth=depth, tiling=tiling)
 
 
+def _sweep_scene(job: tuple) -> list[dict]:
+    """The rows of one (scene, angle): runs where it is sent (an executor's worker opens its own
+    device on its first render)."""
+    scene_spec, angle, methods, cfg, reference, repeats = job
+    sname, scene = _scene_for(scene_spec, angle, cfg["size"], cfg["depth"], cfg["tiling"])
+    r = pk.Renderer()
+    flip = cfg["flip"]
+    if reference == "exact":
+        ref = pk.exact_uv(scene)
+        cref = r.render(scene, pk.Tessellated(texels_per_vertex=0.5), aovs=("color", "mask")) if flip else None
+    elif reference == "tessellated":
+        ref = cref = r.render(scene, pk.Tessellated(texels_per_vertex=0.5))
+    else:
+        from . import reference as R
+        ref = cref = R.render_mitsuba(scene, spp=cfg["spp"])
+    aovs: tuple[pk.AovName, ...] = ("color", "uv", "mask", "steps") if flip else ("uv", "mask", "steps")
+    times = time_methods(r, scene, methods, aovs=("color",), min_repeats=repeats)
+    mpix = scene.camera.width * scene.camera.height / 1e6
+    rows = []
+    for m, t in zip(methods, times):
+        f = r.render(scene, m, aovs=aovs)
+        e = metrics.uv_error(f, ref, scene)
+        fl = float("nan")
+        if flip and cref is not None:
+            try:
+                fl = metrics.flip(f, cref)
+            except ImportError:
+                pass
+        steps = float(f.steps[f.mask].mean()) if f.mask.any() else 0.0
+        rows.append(dict(method=method_name(m), label=label(m), safety=m.safety, scene=sname, angle=angle,
+                         size=cfg["size"], gpu_ms=t["ms"], gpu_ms_p25=t["ms_p25"], gpu_ms_p75=t["ms_p75"],
+                         march_ms=t["march_ms"], call_ms=t["call_ms"], repeats=t["repeats"], timing=t["timing"],
+                         ms_per_mpix=t["ms"] / mpix, mean_steps=steps, uv_p50=e["p50"], uv_p95=e["p95"],
+                         uv_p99=e["p99"], mask_iou=e["mask_iou"], flip=fl))
+    return rows
+
+
+#: the columns that hold timings (they differ between runs; the rest is deterministic)
+TIMING_COLUMNS = ("gpu_ms", "gpu_ms_p25", "gpu_ms_p75", "march_ms", "call_ms", "repeats", "ms_per_mpix", "timing")
+
+
 def sweep(methods: Iterable, scenes: Iterable = ("bricks",), angles: Iterable[float] = (60.0,),
-          settings: Optional[dict] = None, reference: str = "exact", repeats: int = 3,
-          csv_path: Optional[str] = None, progress: bool = True, workers: int = 0):
+          settings: Optional[dict] = None, reference: str = "exact", repeats: int = 5,
+          csv_path: Optional[str] = None, progress: bool = True, executor: Optional[Executor] = None):
     """Render, time and measure every (method, scene, angle).
 
     methods: Method instances (see `variants` and `pomkit.presets`); scenes: texture names from
     `pk.textures.ALL`, "sineF" for a sine of frequency F, or (name, height array) pairs;
-    settings: size (256), depth (0.08), tiling (1.0), spp (64, Mitsuba);
+    settings: size (256), depth (0.08), tiling (1.0), spp (64, Mitsuba), flip (True: FLIP
+    against the colour reference);
     reference: "exact" (the CPU oracle; FLIP then against Tessellated(0.5) colour), "tessellated"
-    or "mitsuba" (rendered first, through a process pool of `workers` processes when > 0, and
-    cached on disk).
-    Rows: method, params, scene, angle, gpu_ms (median) with min/max, ms_per_mpix, call_ms, mean
-    steps, uv p50/p95/p99 (texels), mask IoU, FLIP. Returns a pandas DataFrame when pandas is
-    installed, else a list of dicts; writes CSV to `csv_path` when given."""
+    or "mitsuba" (cached on disk);
+    repeats: the least number of interleaved timing rounds (see `time_methods`);
+    executor: any `concurrent.futures.Executor` (a process pool, Dask's `client.get_executor()`,
+    Ray's): each (scene, angle) is one task, rendered, timed and measured where it is sent; each
+    worker opens its own device. Timings from workers that share a machine's cores compete.
+
+    Rows: method, label, safety ("safe": never misses a feature of the bilinear field;
+    "approximate"), scene, angle, size, gpu_ms (median) with its p25/p75, march_ms (cost above
+    Flat), call_ms, repeats, timing, ms_per_mpix, mean_steps, uv p50/p95/p99 (texels), mask IoU,
+    FLIP. Returns a pandas DataFrame when pandas is installed, else a list of dicts; writes CSV
+    to `csv_path` when given."""
     if reference not in ("exact", "tessellated", "mitsuba"):
         raise ValueError(f"reference: must be 'exact', 'tessellated' or 'mitsuba', got {reference!r}")
-    cfg: dict = dict(size=256, depth=0.08, tiling=1.0, spp=64)
+    cfg: dict = dict(size=256, depth=0.08, tiling=1.0, spp=64, flip=True)
     cfg.update(settings or {})
     methods = list(methods)
-    jobs = [(s, a) for s in scenes for a in angles]
-    r = pk.Renderer()
-    built = {(str(s if isinstance(s, str) else s[0]), a): _scene_for(s, a, cfg["size"], cfg["depth"], cfg["tiling"])
-             for s, a in jobs}
-    if reference == "mitsuba" and workers > 0:
-        with ProcessPoolExecutor(workers) as ex:
-            list(ex.map(_mitsuba_job, [(sc, cfg["spp"]) for _, sc in built.values()]))
+    for m in methods:
+        if not isinstance(m, pk.Method):
+            raise TypeError(f"methods: expected pomkit methods such as pomkit.POM(), got {type(m).__name__}")
+    jobs = [(s, a, methods, cfg, reference, repeats) for s in scenes for a in angles]
     bar = None
     if progress:
         try:
             from tqdm.auto import tqdm
-            bar = tqdm(total=len(built) * len(methods), desc="pomkit sweep", leave=False)
+            bar = tqdm(total=len(jobs), desc="pomkit sweep", leave=False)
         except ImportError:
             bar = None
-    rows = []
-    for (sname, angle), (_, scene) in built.items():
-        if reference == "exact":
-            ref = pk.exact_uv(scene)
-            cref = r.render(scene, pk.Tessellated(texels_per_vertex=0.5))
-        elif reference == "tessellated":
-            ref = cref = r.render(scene, pk.Tessellated(texels_per_vertex=0.5))
-        else:
-            from . import reference as R
-            ref = cref = R.render_mitsuba(scene, spp=cfg["spp"])
-        for m in methods:
-            t = time_method(r, scene, m, repeats=repeats)
-            f = t.pop("frame")
-            e = metrics.uv_error(f, ref, scene)
-            try:
-                fl = metrics.flip(f, cref)
-            except ImportError:
-                fl = float("nan")
-            mpix = scene.camera.width * scene.camera.height / 1e6
-            rows.append(dict(method=_method_name(m), params=_label(m), scene=sname, angle=angle, size=cfg["size"],
-                             gpu_ms=t["ms"], gpu_ms_min=t["ms_min"], gpu_ms_max=t["ms_max"], timing=t["timing"],
-                             ms_per_mpix=t["ms"] / mpix, call_ms=t["call_ms"], mean_steps=t["steps"],
-                             uv_p50=e["p50"], uv_p95=e["p95"], uv_p99=e["p99"], mask_iou=e["mask_iou"], flip=fl))
-            if bar is not None:
-                bar.update(1)
+    rows: list[dict] = []
+    if executor is None:
+        results: Iterable[list[dict]] = map(_sweep_scene, jobs)
+    else:
+        results = (f.result() for f in [executor.submit(_sweep_scene, j) for j in jobs])
+    for rs in results:
+        rows += rs
+        if bar is not None:
+            bar.update(1)
     if bar is not None:
         bar.close()
     if csv_path:
-        Path(csv_path).parent.mkdir(parents=True, exist_ok=True)
-        with open(csv_path, "w", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-            w.writeheader()
-            w.writerows(rows)
+        write_csv(rows, csv_path)
     try:
         import pandas as pd
         return pd.DataFrame(rows)
     except ImportError:
         return rows
+
+
+def write_csv(rows: list[dict], path) -> None:
+    """Rows with possibly different keys, as one CSV (missing cells empty)."""
+    keys: list[str] = []
+    for row in rows:
+        keys += [k for k in row if k not in keys]
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=keys)
+        w.writeheader()
+        w.writerows(rows)
 
 
 def swimming(method, scene_height, frames: int = 16, step_deg: float = 0.5, start_deg: float = 55.0, size: int = 128) -> float:
@@ -183,7 +247,7 @@ def swimming(method, scene_height, frames: int = 16, step_deg: float = 0.5, star
     acc = []
     for k in range(frames):
         sc = plane_scene(scene_height, start_deg + step_deg * k, size)
-        f = r.render(sc, method)
+        f = r.render(sc, method, aovs=("uv", "mask"))
         o = pk.exact_uv(sc)
         if prev is not None:
             pf, po = prev

@@ -20,8 +20,8 @@ def _check(frame, ref):
     for name, f in (("frame", frame), ("ref", ref)):
         if not isinstance(f, Frame):
             raise TypeError(f"{name}: expected a pomkit.Frame, got {type(f).__name__}")
-    if frame.mask.shape != ref.mask.shape:
-        raise ValueError(f"ref: frame is {frame.mask.shape} but ref is {ref.mask.shape}; render both at one size")
+    if frame.shape != ref.shape:
+        raise ValueError(f"ref: frame is {frame.shape} but ref is {ref.shape}; render both at one size")
 
 
 def mask_iou(frame: Frame, ref: Frame) -> float:

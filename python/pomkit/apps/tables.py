@@ -89,7 +89,7 @@ def stability_table(textures=("bricks", "spikes"), size: int = 128, map_size: in
 
 def timing_table(size: int = 512, repeats: int = 7) -> str:
     """GPU time of each method at size^2, bricks at 60 degrees, as ratios to Flat (one run)."""
-    from .bench import time_method
+    from pomkit.bench import time_method
     r = pk.Renderer()
     sc = _plane(pk.textures.bricks(512), 60.0, size, [pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0)])
     rows = ["| method | ms (median of %d) | x Flat | mean steps |" % repeats, "|---|---|---|---|"]
@@ -106,7 +106,7 @@ def silhouettes_table(size: int = 256) -> str:
     """POM, NCS and Tessellated against Mitsuba on the torus and the sphere (IoU, uv p95, FLIP,
     time relative to POM), and NCS's step_scale sweep on the torus (early terminations, error)."""
     from pomkit import reference as R
-    from .bench import time_method
+    from pomkit.bench import time_method
     r = pk.Renderer()
     rows = ["| mesh | method | mask IoU | uv p95 (texels) | FLIP | time / POM | early terminations |", "|---|---|---|---|---|---|---|"]
     sweep_rows = []
