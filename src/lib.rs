@@ -9,6 +9,7 @@ pub mod exact;
 pub mod geometry;
 pub mod gpu;
 pub mod heightmap;
+pub mod imageio;
 pub mod mesh;
 pub mod methods;
 pub mod render;

@@ -9,7 +9,7 @@ import numpy as np
 from ._methods import Method
 
 __all__ = ["AlbedoData", "DeviceLostError", "GpuError", "HeightData", "MeshData", "NCS_MAP_SIZE", "NoAdapterError", "Renderer",
-           "__version__", "adapters", "exact_uv", "mesh_from_arrays", "mesh_generate", "tessellate"]
+           "__version__", "adapters", "exact_uv", "load_image", "mesh_from_arrays", "mesh_generate", "tessellate"]
 __version__: str
 NCS_MAP_SIZE: int
 
@@ -57,3 +57,4 @@ def mesh_from_arrays(positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray
                      tangents: Optional[np.ndarray] = None) -> tuple[Any, ...]: ...
 def mesh_generate(kind: Literal["plane", "sphere", "torus", "cylinder", "cube"], a: float, b: float, n1: int,
                   n2: int) -> tuple[np.ndarray, ...]: ...
+def load_image(path: Any, kind: Literal["height", "albedo"]) -> tuple[np.ndarray, int]: ...

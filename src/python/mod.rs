@@ -2,6 +2,7 @@
 //! for PyErr`), method dataclasses extracted into the core's types (methods.rs). No logic.
 
 mod frame;
+mod io;
 mod methods;
 mod scene;
 
@@ -258,6 +259,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene::mesh_from_arrays, m)?)?;
     m.add_function(wrap_pyfunction!(scene::mesh_generate, m)?)?;
     m.add_function(wrap_pyfunction!(tessellate, m)?)?;
+    m.add_function(wrap_pyfunction!(io::load_image, m)?)?;
     m.add("GpuError", m.py().get_type::<GpuError>())?;
     m.add("DeviceLostError", m.py().get_type::<DeviceLostError>())?;
     m.add("NoAdapterError", m.py().get_type::<NoAdapterError>())?;

@@ -1,0 +1,42 @@
+//! Image files across the boundary: the core decodes them (`imageio.rs`), this returns arrays.
+
+use crate::imageio::{load_albedo, load_height, Pixels};
+use numpy::ndarray::Array;
+use numpy::IntoPyArray;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use std::path::PathBuf;
+
+/// Decode an image file: kind "height" -> ((H, W) float32, bits), "albedo" -> ((H, W, 3)
+/// float32, bits). Integer files are scaled to [0, 1]; float files keep their values.
+#[pyfunction]
+pub fn load_image<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    kind: &str,
+) -> PyResult<(Bound<'py, PyAny>, u32)> {
+    let load: fn(&std::path::Path) -> crate::Result<Pixels> = match kind {
+        "height" => load_height,
+        "albedo" => load_albedo,
+        o => {
+            return Err(PyValueError::new_err(format!(
+                "kind: 'height' or 'albedo', got {o:?}"
+            )))
+        }
+    };
+    let p = py.detach(|| load(&path))?;
+    let (h, w) = (p.height as usize, p.width as usize);
+    let e = |e: numpy::ndarray::ShapeError| PyValueError::new_err(e.to_string());
+    let a = if p.channels == 1 {
+        Array::from_shape_vec((h, w), p.data)
+            .map_err(e)?
+            .into_pyarray(py)
+            .into_any()
+    } else {
+        Array::from_shape_vec((h, w, p.channels), p.data)
+            .map_err(e)?
+            .into_pyarray(py)
+            .into_any()
+    };
+    Ok((a, p.bits))
+}
