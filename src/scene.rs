@@ -47,48 +47,45 @@ impl<T> std::ops::Deref for Keyed<T> {
     }
 }
 
+/// A 2-D image's key (size and texels) and size check, shared by height maps and albedos.
+fn image_key<T: bytemuck::Pod>(w: u32, h: u32, data: &[T]) -> u64 {
+    hash_bytes(&[
+        &w.to_le_bytes(),
+        &h.to_le_bytes(),
+        bytemuck::cast_slice(data),
+    ])
+}
+
+fn check_image_size(arg: &str, w: u32, h: u32, len: usize) -> Result<()> {
+    if w == 0 || h == 0 || len != (w as usize) * (h as usize) {
+        return Err(Error::arg(
+            arg,
+            format!("must be a non-empty image whose data matches its size {w}x{h}"),
+        ));
+    }
+    Ok(())
+}
+
 impl ContentKey for HeightMap {
     /// `HeightMap::new` checks the values; this checks the size of maps built by hand.
     fn check(&self) -> Result<()> {
-        if self.width == 0
-            || self.height == 0
-            || self.data.len() != (self.width * self.height) as usize
-        {
-            return Err(Error::arg(
-                "height",
-                "the map's size does not match its data",
-            ));
-        }
-        Ok(())
+        check_image_size("height", self.width, self.height, self.data.len())
     }
     fn content_key(&self) -> u64 {
-        hash_bytes(&[
-            &self.width.to_le_bytes(),
-            &self.height.to_le_bytes(),
-            bytemuck::cast_slice(&self.data),
-        ])
+        image_key(self.width, self.height, &self.data)
     }
 }
 
 impl ContentKey for Albedo {
     fn check(&self) -> Result<()> {
-        if self.width == 0
-            || self.height == 0
-            || self.data.len() != (self.width * self.height) as usize
-        {
-            return Err(Error::arg("albedo", "must be a non-empty H x W x 3 array"));
-        }
+        check_image_size("albedo", self.width, self.height, self.data.len())?;
         if self.data.iter().any(|p| p.iter().any(|x| !x.is_finite())) {
             return Err(Error::arg("albedo", "contains NaN or Inf"));
         }
         Ok(())
     }
     fn content_key(&self) -> u64 {
-        hash_bytes(&[
-            &self.width.to_le_bytes(),
-            &self.height.to_le_bytes(),
-            bytemuck::cast_slice(&self.data),
-        ])
+        image_key(self.width, self.height, &self.data)
     }
 }
 
