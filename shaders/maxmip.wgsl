@@ -15,13 +15,13 @@
 
 #define_import_path pomkit::maxmip
 
-#import pomkit::globals::{G, height_tex}
+#import pomkit::globals::G
 #import pomkit::height::{cell_taps, height_texel, max_at}
 
 // First t in [t0, t1] where the ray (x(t), y(t), h(t)) = (X0 + dX t, Y0 + dY t, h0 + dh t) meets
 // the bilinear patch of cell c, or -1.
 fn cell_intersect(c: vec2<i32>, x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32, t0: f32, t1: f32) -> f32 {
-    let k = cell_taps(c, vec2<i32>(textureDimensions(height_tex, 0)), vec2<f32>(0.0));
+    let k = cell_taps(c, vec2<i32>(G.map_size), vec2<f32>(0.0));
     let a = height_texel(k.xa, k.ya, 0).r;
     let b = height_texel(k.xb, k.ya, 0).r;
     let cc = height_texel(k.xa, k.yb, 0).r;
@@ -93,15 +93,54 @@ fn maxmip_traverse(x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32, t_max: 
     let t_full = select(1.0 - h0, h0, dh < 0.0);
     let t_end = min(t_full, t_max);
     let top = i32(G.top_max_level);
-    var level = top;
     var t = 0.0;
     let max_it = u32(max_iterations);
     let step = vec2<i32>(select(-1, 1, dx >= 0.0), select(-1, 1, dy >= 0.0));
-    var node = vec2<i32>(floor(vec2<f32>(x0, y0) / f32(1 << u32(top))));
+    // The walk starts bottom-up, at the cell the ray starts in, and ascends as it skips nodes:
+    // most rays meet the surface within a few cells of where they enter the shell, and a
+    // top-down start paid a descent through every level for each of them. Exactness does not
+    // depend on where the walk starts.
+    var level = 0;
+    var node = vec2<i32>(floor(vec2<f32>(x0, y0)));
     var it = 0u;
     var found = false;
     var t_hit = 0.0;
+    // The cell the ray starts in, first: where the ray starts on or just above the surface (a
+    // plateau, the top of a prism segment) this is the hit, found in one step instead of a
+    // descent through every level. Exact either way: it is the first cell the ray crosses.
+    {
+        var tx0 = 1e30;
+        if (dx != 0.0) {
+            tx0 = (f32(node.x) + select(0.0, 1.0, dx > 0.0) - x0) / dx;
+        }
+        var ty0 = 1e30;
+        if (dy != 0.0) {
+            ty0 = (f32(node.y) + select(0.0, 1.0, dy > 0.0) - y0) / dy;
+        }
+        let t_exit0 = clamp(min(tx0, ty0), 0.0, t_end);
+        it = 1u;
+        let th = cell_intersect(node, x0, y0, h0, dx, dy, dh, 0.0, t_exit0);
+        if (th >= 0.0) {
+            found = true;
+            t_hit = th;
+        }
+        // on to the next cell, and up from there
+        t = t_exit0;
+        if (tx0 <= ty0) {
+            node.x = node.x + step.x;
+        }
+        if (ty0 <= tx0) {
+            node.y = node.y + step.y;
+        }
+        if (top > 0) {
+            level = 1;
+            node = vec2<i32>(floor(vec2<f32>(node) * 0.5));
+        }
+    }
     loop {
+        if (found) {
+            break;
+        }
         if (t >= t_end) {
             break;
         }

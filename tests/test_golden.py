@@ -24,6 +24,11 @@ _PRISM = ("the prism march now runs the shared segment search: sample points s_e
           "58 pixels on the seams between the plane's two prisms lost their hit, where the rounding of the last "
           "sample decided whether the hit fell in this prism (issue 12 replaces the per-face march by one walk)")
 
+_MAXMIP = ("issue 11: the max-mip walk starts bottom-up at the ray's first cell (tested first) instead of "
+           "descending from the top level, so it takes fewer iterations (steps, by design: bricks at 60 deg 9.7 -> "
+           "3.7) and solves the same patch's quadratic from another start t: within 2.3e-5 texel (3 f32 ulps of "
+           "uv on a 128-texel map), no coverage or flag changed")
+
 #: frame-key suffix -> (why its arithmetic moved, max uv change in texels, max colour change, max
 #: pixels whose coverage changed)
 TOLERANT: dict[str, tuple[str, float, float, int]] = {
@@ -36,7 +41,13 @@ TOLERANT: dict[str, tuple[str, float, float, int]] = {
     "-prism": (_PRISM, 1e-4, 2e-5, 0),
     "-prism_out": (_PRISM, 1e-4, 2e-5, 0),
     "spikes-85-prism": (_PRISM, 1e-4, 2e-5, 58),
+    "-exact": (_MAXMIP, 3e-5, 5e-6, 0),
+    "-exact_shadow": (_MAXMIP, 3e-5, 5e-6, 0),
+    "-prism_exact": (_MAXMIP, 3e-5, 5e-5, 0),
 }
+
+#: frames whose step counts changed by design (the reason is in TOLERANT)
+STEPS_CHANGED = ("-exact", "-exact_shadow", "-prism_exact")
 
 
 def _tolerance(key: str):
@@ -64,5 +75,6 @@ def test_golden_frame(renderer, key, scene, method):
     assert d.max() <= uv_tol, f"{key}: uv moved by {d.max():.2e} texel ({why})"
     assert np.abs(f.color[both] - DATA[f"{key}/color"][both]).max() <= color_tol, f"{key}: colour ({why})"
     steps = np.abs(f.steps[both].astype(np.int64) - DATA[f"{key}/steps"][both])
-    assert steps.max() <= 1, f"{key}: steps ({why})"
+    if not key.endswith(STEPS_CHANGED):
+        assert steps.max() <= 1, f"{key}: steps ({why})"
     np.testing.assert_array_equal(f.flags, DATA[f"{key}/flags"])
