@@ -30,9 +30,10 @@ struct Taps {
 fn cell_taps(c: vec2<i32>, dims: vec2<i32>, fr: vec2<f32>) -> Taps {
     var t: Taps;
     t.xa = wrap_i(c.x, dims.x);
-    t.xb = wrap_i(c.x + 1, dims.x);
     t.ya = wrap_i(c.y, dims.y);
-    t.yb = wrap_i(c.y + 1, dims.y);
+    // the next texel, wrapped: the same as wrap_i(c + 1) without a second division
+    t.xb = select(t.xa + 1, 0, t.xa + 1 >= dims.x);
+    t.yb = select(t.ya + 1, 0, t.ya + 1 >= dims.y);
     t.fr = fr;
     return t;
 }

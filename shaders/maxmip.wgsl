@@ -15,17 +15,20 @@
 
 #define_import_path pomkit::maxmip
 
-#import pomkit::globals::G
-#import pomkit::height::{cell_taps, height_texel, max_at}
+#import pomkit::globals::{G, height_tex, height_samp}
+#import pomkit::height::max_at
 
 // First t in [t0, t1] where the ray (x(t), y(t), h(t)) = (X0 + dX t, Y0 + dY t, h0 + dh t) meets
 // the bilinear patch of cell c, or -1.
 fn cell_intersect(c: vec2<i32>, x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32, t0: f32, t1: f32) -> f32 {
-    let k = cell_taps(c, vec2<i32>(G.map_size), vec2<f32>(0.0));
-    let a = height_texel(k.xa, k.ya, 0).r;
-    let b = height_texel(k.xb, k.ya, 0).r;
-    let cc = height_texel(k.xa, k.yb, 0).r;
-    let d = height_texel(k.xb, k.yb, 0).r;
+    // the cell's four corners in one gather (level 0, wrapped by the repeating sampler): at the
+    // point between the four texel centres c .. c + 1 the gather's footprint is exactly them
+    // (w: (c.x, c.y), z: (c.x + 1, c.y), x: (c.x, c.y + 1), y: (c.x + 1, c.y + 1))
+    let q = textureGather(0, height_tex, height_samp, (vec2<f32>(c) + 1.0) / G.map_size);
+    let a = q.w;
+    let b = q.z;
+    let cc = q.x;
+    let d = q.y;
     let a1 = b - a;
     let a2 = cc - a;
     let a3 = a - b - cc + d;

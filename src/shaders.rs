@@ -305,6 +305,22 @@ pub fn builtin_variants() -> Vec<crate::methods::Method> {
                 },
                 o.clone(),
             ));
+            for (cones, refine) in [
+                (Cones::Conservative, Refine::Exact),
+                (Cones::Relaxed, Refine::Binary),
+                (Cones::Conservative, Refine::None),
+            ] {
+                out.push(Method::ConeStep(
+                    ConeStep {
+                        cones,
+                        refine,
+                        max_steps: 64,
+                        binary_steps: 8,
+                        max_iterations: 4096,
+                    },
+                    o.clone(),
+                ));
+            }
             out.push(Method::Exact(
                 Exact {
                     max_iterations: 4096,

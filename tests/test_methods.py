@@ -218,3 +218,43 @@ def test_stability_error_falls_as_steps_rise(renderer, tex, theta):
         p95 = [err_texels(renderer.render(scene, make(n)), o, scene)["p95"] for n in (8, 16, 32, 64, 128)]
         assert all(b <= a + 0.05 for a, b in zip(p95, p95[1:])), (tex, theta, make(8).name, p95)
         assert p95[-1] < p95[0] or p95[0] < 0.01
+
+
+@pytest.mark.parametrize("tex", TEXTURES)
+def test_cone_step_matches_the_oracle_up_to_88_degrees(renderer, tex):
+    # conservative cones with the exact refinement: the cones only skip empty space, each cell
+    # the walk enters is intersected exactly (measured: p99 <= 0.001 texel on 128^2 maps)
+    h = pk.textures.ALL[tex](128)
+    for theta in (0.0, 30.0, 60.0, 80.0, 85.0, 88.0):
+        scene = plane_scene(h, depth=0.08, theta_deg=theta, size=64, dist=1.6, fov=40)
+        f = renderer.render(scene, pk.ConeStep())
+        e = err_texels(f, pk.exact_uv(scene), scene)
+        assert e["p99"] <= 0.1, (tex, theta, e["p99"])
+        assert not (f.flags[f.mask] & 1).any()
+
+
+@pytest.mark.parametrize("tex", ["noise", "sine", "bricks"])
+def test_relaxed_cones_with_binary_refinement_converge(renderer, tex):
+    # relaxed cones step into the surface; the bisection between the last point above and the
+    # first below halves the error with every step, down to the oracle
+    scene = plane_scene(pk.textures.ALL[tex](128), depth=0.08, theta_deg=50.0, size=64, dist=1.6, fov=40)
+    oracle = pk.exact_uv(scene)
+    p50 = []
+    for n in (0, 2, 4, 8, 16):
+        f = renderer.render(scene, pk.ConeStep(cones="relaxed", refine="binary", binary_steps=n))
+        p50.append(err_texels(f, oracle, scene)["p50"])
+    assert all(b <= a + 1e-4 for a, b in zip(p50, p50[1:])), p50
+    assert p50[-1] <= 0.01 and p50[0] > 4 * p50[-1], p50
+
+
+def test_cone_map_follows_update_height(renderer):
+    # update_height rebuilds the cone map: the frame of the new map equals a fresh renderer's
+    a, b = pk.textures.bricks(64), pk.textures.spikes(64)
+    scene = plane_scene(a, depth=0.1, theta_deg=70.0, size=48)
+    renderer.render(scene, pk.ConeStep())
+    new = renderer.update_height(scene.material, b)
+    moved = renderer.render(scene.replace(material=new), pk.ConeStep(), aovs=("uv", "mask"))
+    fresh = pk.Renderer().render(plane_scene(b, depth=0.1, theta_deg=70.0, size=48), pk.ConeStep(), aovs=("uv", "mask"))
+    assert np.array_equal(moved.uv, fresh.uv, equal_nan=True) and np.array_equal(moved.mask, fresh.mask)
+    e = err_texels(moved, pk.exact_uv(scene.replace(material=new)), scene)
+    assert e["p99"] <= 0.1

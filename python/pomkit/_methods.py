@@ -22,7 +22,8 @@ from typing import ClassVar, Literal, get_args
 
 from . import _validate as _v
 
-__all__ = ["Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "NCS", "Prism", "Tessellated", "Custom"]
+__all__ = ["Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "ConeStep", "NCS", "Prism", "Tessellated",
+           "Custom"]
 
 #: the option values, as types (Literal) and as tuples for the checks
 ShadowKind = Literal["none", "hard", "soft", "horizon", "exact"]
@@ -208,6 +209,46 @@ class Exact(_PerPixel):
         _int_field(self, "max_iterations", 1, 1 << 24)
 
 
+ConeKind = Literal["conservative", "relaxed"]
+RefineKind = Literal["exact", "binary", "none"]
+
+
+@dataclass(frozen=True)
+class ConeStep(_PerPixel):
+    """Cone step mapping (Dummer 2006) over a cone map built on the GPU from the max-mip pyramid
+    (one Rg32Float texel per cell: no more memory than a two-channel copy of the map), cached with
+    the height map and rebuilt after `update_height`.
+
+    cones: "conservative" cones bound the bilinear field pomkit renders, not only its texel
+    centres (Ban & Valasek 2024): no cone step crosses the surface. "relaxed" cones are wider
+    (measured at the far end of each distance band, base at the cell's own max): faster, may
+    step into a feature (Policarpo & Oliveira 2007).
+    refine: "exact" hands over to the max-mip walk with the exact patch intersection where the
+    cones stop carrying the ray a cell per step: with conservative cones the result is exact
+    (the cones only skip empty space). "binary" bisects `binary_steps` times between the last
+    point above and the first below the surface (for relaxed cones). "none" is the raw march.
+    max_steps: cone steps before the refinement takes over ("exact") or the march stops, flagged
+    in `Frame.flags & 1` ("binary", "none"); `max_iterations` bounds the max-mip walk."""
+
+    cones: ConeKind = "conservative"
+    refine: RefineKind = "exact"
+    max_steps: int = 64
+    binary_steps: int = 8
+    max_iterations: int = 4096
+    _kind = "ConeStep"
+
+    def _validate(self):
+        _choice(self, "cones", get_args(ConeKind))
+        _choice(self, "refine", get_args(RefineKind))
+        _int_field(self, "max_steps")
+        _int_field(self, "binary_steps", 0, 64)
+        _int_field(self, "max_iterations", 1, 1 << 24)
+
+    @property
+    def safety(self) -> str:
+        return "safe" if (self.cones, self.refine) == ("conservative", "exact") else "approximate"
+
+
 @dataclass(frozen=True)
 class NCS(_PerPixel):
     """Normal-based curved silhouettes (Chen & Chang 2008): no prisms. The base mesh's normals,
@@ -322,4 +363,4 @@ class Custom(_PerPixel):
 
 
 #: every built-in method class, for sweeps
-ALL_METHODS = (Flat, Bump, Parallax, SteepParallax, POM, Relief, Exact, NCS, Prism, Tessellated)
+ALL_METHODS = (Flat, Bump, Parallax, SteepParallax, POM, Relief, Exact, ConeStep, NCS, Prism, Tessellated)

@@ -8,6 +8,7 @@
 //! The core checks only what it needs for safety (bounded loops, memory): see `Method::validate`.
 
 mod bump;
+mod cone_step;
 mod custom;
 mod exact;
 mod flat;
@@ -20,6 +21,7 @@ mod steep;
 mod tessellated;
 
 pub use bump::Bump;
+pub use cone_step::{ConeStep, Cones, Refine};
 pub use custom::Custom;
 pub use exact::Exact;
 pub use flat::Flat;
@@ -194,6 +196,8 @@ pub struct Spec {
     pub geometry: Geometry,
     /// NCS's texture-space frame maps
     pub frame_maps: bool,
+    /// ConeStep's cone map (binding 12)
+    pub cone_map: Option<Cones>,
     /// the uniform block `params` (binding 11), field by field, all f32
     pub params: Vec<(String, f32)>,
     pub pixel: PerPixel,
@@ -211,6 +215,7 @@ impl Spec {
             defs: vec!["MARCH"],
             geometry: Geometry::Base,
             frame_maps: false,
+            cone_map: None,
             params: params.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
             pixel: pixel.clone(),
             lod_threshold: 0.0,
@@ -224,6 +229,7 @@ impl Spec {
             defs: vec![def],
             geometry,
             frame_maps: false,
+            cone_map: None,
             params: Vec::new(),
             pixel,
             lod_threshold: 0.0,
@@ -308,6 +314,7 @@ registry! {
     Pom(Pom) = "POM",
     Relief(Relief) = "Relief",
     Exact(Exact) = "Exact",
+    ConeStep(ConeStep) = "ConeStep",
     Ncs(Ncs) = "NCS",
     Prism(Prism) = "Prism",
     Tessellated(Tessellated) = "Tessellated",

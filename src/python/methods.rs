@@ -20,6 +20,20 @@ impl<'a, 'py> FromPyObject<'a, 'py> for Filtering {
     }
 }
 
+impl<'a, 'py> FromPyObject<'a, 'py> for Cones {
+    type Error = PyErr;
+    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        Ok(Cones::parse(&ob.extract::<String>()?)?)
+    }
+}
+
+impl<'a, 'py> FromPyObject<'a, 'py> for Refine {
+    type Error = PyErr;
+    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        Ok(Refine::parse(&ob.extract::<String>()?)?)
+    }
+}
+
 impl<'a, 'py> FromPyObject<'a, 'py> for Flat {
     type Error = PyErr;
     fn extract(_: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {

@@ -16,6 +16,7 @@ pub mod uniforms;
 pub use targets::{Aovs, Frame};
 pub use uniforms::top_maxmip_level;
 
+use crate::conemap::{ConeBuilder, Cones};
 use crate::error::{Error, Result};
 use crate::gpu::Context;
 use crate::heightmap::{GpuHeight, MipBuilder};
@@ -39,6 +40,7 @@ struct Fixed {
     no_shadow: wgpu::TextureView,
     no_maps: FrameMaps,
     no_prisms: wgpu::Buffer,
+    no_cones: wgpu::Buffer,
 }
 
 impl Fixed {
@@ -98,6 +100,12 @@ impl Fixed {
                     DEPTH_FORMAT,
                     wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT,
                 ),
+                no_cones: dev.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("no cone map"),
+                    size: 8,
+                    usage: wgpu::BufferUsages::STORAGE,
+                    mapped_at_creation: false,
+                }),
                 no_maps: FrameMaps {
                     n: maps("no frame map N"),
                     t: maps("no frame map T"),
@@ -121,6 +129,7 @@ struct Inputs<'a> {
     albedo: &'a wgpu::TextureView,
     maps: &'a FrameMaps,
     mesh: &'a GpuMesh,
+    cones: &'a wgpu::Buffer,
 }
 
 pub struct Renderer {
@@ -129,6 +138,7 @@ pub struct Renderer {
     fixed: Fixed,
     mips: MipBuilder,
     texspace: TexSpace,
+    cone_builder: ConeBuilder,
     resources: Mutex<Resources>,
     /// serialises GPU submissions so that error scopes and timings belong to one render
     submit: Mutex<()>,
@@ -147,6 +157,7 @@ impl Renderer {
             fixed: Fixed::new(&ctx)?,
             mips: MipBuilder::new(&ctx, &pipelines.lib)?,
             texspace: TexSpace::new(&ctx, &pipelines.lib)?,
+            cone_builder: ConeBuilder::new(&ctx, &pipelines.lib)?,
             pipelines,
             resources: Mutex::new(Resources::new()),
             submit: Mutex::new(()),
@@ -183,6 +194,16 @@ impl Renderer {
         ))
     }
 
+    /// The cone map of a height map (tests): (base, w) per cell, row-major.
+    pub fn read_cone_map(&self, map: &Keyed<HeightMap>, cones: Cones) -> Result<Vec<[f32; 2]>> {
+        let m = {
+            let mut res = self.resources.lock().map_err(poisoned)?;
+            let g = res.height(&self.ctx, &self.mips, map)?;
+            res.cone_map(&self.ctx, &self.cone_builder, &g, map.key, cones)?
+        };
+        self.cone_builder.read_back(&self.ctx, &m)
+    }
+
     /// The filtering a method actually gets: exact where the adapter cannot filter float32.
     pub fn effective_filtering(&self, f: Filtering) -> Filtering {
         if self.ctx.float32_filterable {
@@ -208,6 +229,10 @@ impl Renderer {
         let _guard = self.submit.lock().map_err(poisoned)?;
         self.mips.update(&self.ctx, &g, new)?;
         self.ctx.wait()?;
+        // the cone maps of the old map are stale: they rebuild from the new pyramid on next use
+        for kind in [Cones::Conservative, Cones::Relaxed] {
+            res.cones.remove(resources::cone_key(old_key, kind));
+        }
         Ok(res.heights.rekey(old_key, new.key))
     }
 
@@ -306,9 +331,19 @@ impl Renderer {
                 (aovs.color_target(), aovs.geo_target()),
                 arg,
             )?;
-            let (height, albedo, mesh, maps) = {
+            let (height, albedo, mesh, maps, cones) = {
                 let mut res = self.resources.lock().map_err(poisoned)?;
                 let height = res.height(&self.ctx, &self.mips, &scene.material.height)?;
+                let cones = match spec.cone_map {
+                    Some(kind) => Some(res.cone_map(
+                        &self.ctx,
+                        &self.cone_builder,
+                        &height,
+                        scene.material.height.key,
+                        kind,
+                    )?),
+                    None => None,
+                };
                 let albedo = res.albedo(&self.ctx, scene.material.albedo.as_deref())?;
                 let mesh = res.mesh(&self.ctx, scene, spec.geometry)?;
                 let maps = if spec.frame_maps {
@@ -317,7 +352,7 @@ impl Renderer {
                 } else {
                     None
                 };
-                (height, albedo, mesh, maps)
+                (height, albedo, mesh, maps, cones)
             };
             let globals = uniforms::globals(scene, &spec, shadow.as_ref());
             let next = self.submit(
@@ -330,6 +365,7 @@ impl Renderer {
                 &albedo,
                 &mesh,
                 maps.as_deref(),
+                cones.as_ref().map(|c| &c.buf),
                 aovs,
             )?;
             if let Some(p) = pending.replace(next) {
@@ -389,6 +425,7 @@ impl Renderer {
             R::TextureView(&i.maps.t),
             prisms.as_entire_binding(),
             i.params.as_entire_binding(),
+            i.cones.as_entire_binding(),
         ];
         let entries: Vec<wgpu::BindGroupEntry> = resources
             .into_iter()
@@ -419,6 +456,7 @@ impl Renderer {
         albedo: &wgpu::TextureView,
         mesh: &GpuMesh,
         maps: Option<&FrameMaps>,
+        cones: Option<&wgpu::Buffer>,
         aovs: Aovs,
     ) -> Result<Pending> {
         let ctx = &self.ctx;
@@ -439,6 +477,7 @@ impl Renderer {
                 albedo,
                 maps: maps.unwrap_or(&self.fixed.no_maps),
                 mesh,
+                cones: cones.unwrap_or(&self.fixed.no_cones),
             };
             let mut enc = ctx
                 .device

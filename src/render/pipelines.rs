@@ -98,6 +98,7 @@ impl Pipelines {
                     uint(9),
                     storage(10),
                     uniform(crate::shaders::PARAMS_BINDING),
+                    storage(12),
                 ],
             });
             let layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {

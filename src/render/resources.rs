@@ -2,6 +2,7 @@
 //! pyramids), albedos, meshes (base, tessellated, prisms) and NCS frame maps. Each cache is
 //! bounded (least recently used goes first) and can be re-keyed in place (`update_height`).
 
+use crate::conemap::{ConeBuilder, ConeMap, Cones};
 use crate::error::{Error, Result};
 use crate::geometry::{prisms, tessellate::tessellate};
 use crate::gpu::Context;
@@ -11,6 +12,11 @@ use crate::methods::Geometry;
 use crate::scene::{hash_bytes, Albedo, HeightMap, Keyed, Scene};
 use crate::texspace::{FrameMaps, TexSpace};
 use std::sync::Arc;
+
+/// The cone cache's key of a height map's cones.
+pub fn cone_key(height_key: u64, cones: Cones) -> u64 {
+    hash_bytes(&[&height_key.to_le_bytes(), &[cones as u8]])
+}
 
 /// A bounded cache, most recently used last.
 pub struct Cached<T> {
@@ -55,6 +61,10 @@ impl<T> Cached<T> {
             None => false,
         }
     }
+    /// Drop an entry (it is rebuilt on its next use).
+    pub fn remove(&mut self, key: u64) {
+        self.entries.retain(|(k, _)| *k != key);
+    }
 }
 
 pub struct GpuMesh {
@@ -84,6 +94,8 @@ pub struct Resources {
     pub albedos: Cached<wgpu::TextureView>,
     pub meshes: Cached<GpuMesh>,
     pub frame_maps: Cached<FrameMaps>,
+    /// cone maps, keyed by the height map's key and the kind of cones
+    pub cones: Cached<ConeMap>,
 }
 
 impl Resources {
@@ -93,6 +105,7 @@ impl Resources {
             albedos: Cached::new(8),
             meshes: Cached::new(8),
             frame_maps: Cached::new(4),
+            cones: Cached::new(8),
         }
     }
 
@@ -213,6 +226,20 @@ impl Resources {
                 })
             }
         }
+    }
+
+    /// The cone map of a resident height map.
+    pub fn cone_map(
+        &mut self,
+        ctx: &Context,
+        builder: &ConeBuilder,
+        height: &GpuHeight,
+        height_key: u64,
+        cones: Cones,
+    ) -> Result<Arc<ConeMap>> {
+        self.cones.get_or(cone_key(height_key, cones), || {
+            builder.build(ctx, height, cones)
+        })
     }
 
     /// NCS's frame maps of the base mesh (`mesh` must be the base mesh's upload).

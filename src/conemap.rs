@@ -1,0 +1,149 @@
+//! Cone maps (ConeStep), built on the GPU from the max-mip pyramid by shaders/conemap.wgsl: one
+//! (base, w) pair of f32 per cell of the bilinear field, in a storage buffer (two channels of
+//! the map's size). See the shader for the bound.
+
+use crate::error::Result;
+use crate::gpu::{layout, Context};
+use crate::heightmap::{max_offsets, GpuHeight};
+use crate::render::top_maxmip_level;
+
+pub const CONEMAP_SHADER: &str = include_str!("../shaders/conemap.wgsl");
+
+/// Which cones: conservative against the bilinear field, or relaxed (wider, refined).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Cones {
+    Conservative,
+    Relaxed,
+}
+
+pub struct ConeBuilder {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+/// A built cone map: (base, w) per cell, row-major.
+pub struct ConeMap {
+    pub buf: wgpu::Buffer,
+    pub width: u32,
+    pub height: u32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct ConeParams {
+    size: [u32; 2],
+    top: u32,
+    relaxed: u32,
+    offsets: [[u32; 4]; 4],
+}
+
+impl ConeBuilder {
+    pub fn new(ctx: &Context, lib: &crate::shaders::ShaderLib) -> Result<Self> {
+        let module = lib.compose_pass(CONEMAP_SHADER, "shaders/conemap.wgsl")?;
+        ctx.scoped(|| {
+            let dev = &ctx.device;
+            let cs = wgpu::ShaderStages::COMPUTE;
+            let layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("cone map"),
+                entries: &[
+                    layout::buffer(0, cs, wgpu::BufferBindingType::Storage { read_only: true }),
+                    layout::buffer(1, cs, wgpu::BufferBindingType::Uniform),
+                    layout::buffer(2, cs, wgpu::BufferBindingType::Storage { read_only: false }),
+                ],
+            });
+            let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("cone map"),
+                bind_group_layouts: &[Some(&layout)],
+                immediate_size: 0,
+            });
+            let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("pomkit cone map"),
+                source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
+            });
+            let pipeline = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("cone map"),
+                layout: Some(&pl),
+                module: &module,
+                entry_point: Some("build"),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            Ok(ConeBuilder { pipeline, layout })
+        })
+    }
+
+    /// Build the cone map of a resident height map (its max pyramid must be current).
+    pub fn build(&self, ctx: &Context, g: &GpuHeight, cones: Cones) -> Result<ConeMap> {
+        ctx.scoped(|| {
+            let buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("cone map"),
+                size: g.width as u64 * g.height as u64 * 8,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let mut offsets = [[0u32; 4]; 4];
+            for (k, v) in max_offsets(g.width, g.height).0.iter().enumerate().take(16) {
+                offsets[k / 4][k % 4] = *v;
+            }
+            let p = ConeParams {
+                size: [g.width, g.height],
+                top: top_maxmip_level(g.width, g.height),
+                relaxed: (cones == Cones::Relaxed) as u32,
+                offsets,
+            };
+            let ubuf = ctx.upload(
+                "cone params",
+                bytemuck::bytes_of(&p),
+                wgpu::BufferUsages::UNIFORM,
+            );
+            let bg = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("cone map"),
+                layout: &self.layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: g.max_buf.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: ubuf.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: buf.as_entire_binding(),
+                    },
+                ],
+            });
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            {
+                let mut pass = enc.begin_compute_pass(&Default::default());
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &bg, &[]);
+                pass.dispatch_workgroups(g.width.div_ceil(8), g.height.div_ceil(8), 1);
+            }
+            ctx.queue.submit([enc.finish()]);
+            Ok(ConeMap {
+                buf,
+                width: g.width,
+                height: g.height,
+            })
+        })
+    }
+
+    /// Read a cone map back (tests): (base, w) per cell, row-major.
+    pub fn read_back(&self, ctx: &Context, m: &ConeMap) -> Result<Vec<[f32; 2]>> {
+        let size = m.width as u64 * m.height as u64 * 8;
+        let buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("cone readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        enc.copy_buffer_to_buffer(&m.buf, 0, &buf, 0, size);
+        ctx.queue.submit([enc.finish()]);
+        ctx.map_read(&buf, |raw| {
+            bytemuck::cast_slice::<u8, [f32; 2]>(raw).to_vec()
+        })
+    }
+}
