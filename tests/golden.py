@@ -47,8 +47,8 @@ def planar_methods():
         "flat": pk.Flat(), "bump": pk.Bump(), "bump_exactf": pk.Bump(filtering="exact"),
         "parallax": pk.Parallax(), "parallax_nolimit": pk.Parallax(offset_limiting=False, scale=0.8, bias=0.01),
         "steep": pk.SteepParallax(), "steep_hard": pk.SteepParallax(steps=12, shadows="hard"),
-        "pom": pk.POM(), "pom_none": pk.POM(shadows="none"), "pom_fixed": pk.POM(adaptive=False, min_steps=8, max_steps=8, shadows="hard"),
-        "pom_level0": pk.POM(mip_filtering=False, shadows="horizon", ao_directions=4), "pom_exactf": pk.POM(filtering="exact"),
+        "pom": pk.POM(mip_filtering=True), "pom_none": pk.POM(shadows="none", mip_filtering=True), "pom_fixed": pk.POM(adaptive=False, min_steps=8, max_steps=8, shadows="hard", mip_filtering=True),
+        "pom_level0": pk.POM(mip_filtering=False, shadows="horizon", ao_directions=4), "pom_exactf": pk.POM(filtering="exact", mip_filtering=True),
         "relief": pk.Relief(), "relief_bias": pk.Relief(depth_bias=True, shadows="soft"),
         "exact": pk.Exact(), "exact_shadow": pk.Exact(shadows="exact", ao_directions=8),
         "tess": pk.Tessellated(), "tess_none": pk.Tessellated(shadows="none"),
@@ -58,7 +58,7 @@ def planar_methods():
 
 def curved_methods():
     return {
-        "pom": pk.POM(), "ncs": pk.NCS(), "ncs_c1": pk.NCS(step_scale=1.0, max_steps=32, shadows="hard"),
+        "pom": pk.POM(mip_filtering=True), "ncs": pk.NCS(), "ncs_c1": pk.NCS(step_scale=1.0, max_steps=32, shadows="hard"),
         "prism": pk.Prism(), "prism_out": pk.Prism(outward=True, shadows="horizon"), "prism_exact": pk.Prism(exact=True),
         "tess": pk.Tessellated(),
     }

@@ -90,8 +90,9 @@ def run_demo(out: str = "pomkit-out", size: int = 384) -> Path:
     oracle = pk.exact_uv(small)
     h, w = small.material.height.shape
     lines = []
-    for label, m in (("POM (default)", pk.POM(shadows="none")),
-                     ("POM, level-0 march", pk.POM(shadows="none", mip_filtering=False, lod_threshold=100.0)),
+    for label, m in (("POM (default: level-0 march)", pk.POM(shadows="none")),
+                     ("POM, mip-filtered march", pk.POM(shadows="none", mip_filtering=True)),
+                     ("ConeStep (conservative, exact)", pk.ConeStep()),
                      ("Exact (max-mip)", pk.Exact())):
         f = r.render(small, m)
         e = pk.metrics.uv_error(f, oracle, small)
