@@ -97,7 +97,7 @@ def default_methods() -> dict:
     view-ray search)."""
     return {
         "Flat": pk.Flat(), "Bump": pk.Bump(), "Parallax": pk.Parallax(), "SteepParallax": pk.SteepParallax(),
-        "POM": pk.POM(shadows="none"), "Relief": pk.Relief(), "Exact": pk.Exact(),
+        "POM": pk.POM(shadows="none"), "Relief": pk.Relief(), "Exact": pk.Exact(), "ConeStep": pk.ConeStep(),
         "Tessellated": pk.Tessellated(shadows="none"),
     }
 
@@ -110,8 +110,8 @@ def stability_table(textures=("bricks", "spikes"), size: int = 128, map_size: in
     for tex in textures:
         h = pk.textures.ALL[tex](map_size)
         lines += [f"\n**{tex}** ({map_size}² map, {size}² frame, depth 0.08): uv p95 in texels\n",
-                  "| method | " + " | ".join(f"{a:g}°" for a in STABILITY_ANGLES) + " |",
-                  "|---|" + "---|" * len(STABILITY_ANGLES)]
+                  "| method | safety | " + " | ".join(f"{a:g}°" for a in STABILITY_ANGLES) + " |",
+                  "|---|---|" + "---|" * len(STABILITY_ANGLES)]
         oracles = {a: (sc, pk.exact_uv(sc)) for a in STABILITY_ANGLES for sc in [_plane(h, a, size)]}
         iters = []
         for name, m in methods.items():
@@ -123,24 +123,29 @@ def stability_table(textures=("bricks", "spikes"), size: int = 128, map_size: in
                 row.append(f"{e['p95']:.3f}")
                 if name == "Exact":
                     iters.append((a, float(f.steps[f.mask].mean()), int(f.steps[f.mask].max()), int((f.flags[f.mask] & 1).sum())))
-            lines.append(f"| {name} | " + " | ".join(row) + " |")
+            lines.append(f"| {name} | {m.safety} | " + " | ".join(row) + " |")
         lines += ["", "Exact's traversal iterations (mean / max / rays at the bound): " +
                   ", ".join(f"{a:g}°: {mn:.1f} / {mx} / {b}" for a, mn, mx, b in iters)]
     return "\n".join(lines)
 
 
 def timing_table(size: int = 512, repeats: int = 7) -> str:
-    """GPU time of each method at size^2, bricks at 60 degrees, as ratios to Flat (one run)."""
-    from pomkit.bench import time_method
+    """GPU time of each method at size^2, bricks at 60 degrees: medians of interleaved rounds
+    (one run), as ratios to Flat, with the cost above Flat ("march ms")."""
+    from pomkit.bench import time_methods
     r = pk.Renderer()
     sc = _plane(pk.textures.bricks(512), 60.0, size, [pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0)])
-    rows = ["| method | ms (median of %d) | x Flat | mean steps |" % repeats, "|---|---|---|---|"]
-    base = None
-    for name, m in {**default_methods(), "POM (soft shadows)": pk.POM(), "Exact (exact shadows)": pk.Exact(shadows="exact"),
-                    "POM (horizon shadows, AO 8)": pk.POM(shadows="horizon", ao_directions=8)}.items():
-        t = time_method(r, sc, m, repeats=repeats)
-        base = base or t["ms"]
-        rows.append(f"| {name} | {t['ms']:.2f} ({t['timing']}) | {t['ms'] / base:.2f} | {t['steps']:.1f} |")
+    ms = {**default_methods(), "POM (soft shadows)": pk.POM(), "Exact (exact shadows)": pk.Exact(shadows="exact"),
+          "POM (horizon shadows, AO 8)": pk.POM(shadows="horizon", ao_directions=8)}
+    ts = time_methods(r, sc, list(ms.values()), min_repeats=repeats)
+    flat = ts[list(ms).index("Flat")]["ms"]
+    rows = [f"| method | safety | ms (median, IQR; {ts[0]['timing']}) | march ms | x Flat | mean steps |",
+            "|---|---|---|---|---|---|"]
+    for (name, m), t in zip(ms.items(), ts):
+        f = r.render(sc, m, aovs=("steps", "mask"))
+        steps = float(f.steps[f.mask].mean()) if f.mask.any() else 0.0
+        rows.append(f"| {name} | {m.safety} | {t['ms']:.2f} ({t['ms_p25']:.2f}-{t['ms_p75']:.2f}) | {t['march_ms']:.2f} | "
+                    f"{t['ms'] / flat:.2f} | {steps:.1f} |")
     return "\n".join(rows)
 
 
