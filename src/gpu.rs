@@ -282,6 +282,51 @@ impl Context {
         Ok(out)
     }
 
+    /// Map several buffers (MAP_READ) once `submission` has finished, with one wait for all of
+    /// them, hand their bytes to `f` (in order), unmap.
+    pub fn map_read_all<T>(
+        &self,
+        bufs: &[&wgpu::Buffer],
+        submission: Option<wgpu::SubmissionIndex>,
+        f: impl FnOnce(&[&[u8]]) -> T,
+    ) -> Result<T> {
+        type Slot = Arc<Mutex<Option<std::result::Result<(), wgpu::BufferAsyncError>>>>;
+        let slots: Vec<Slot> = bufs
+            .iter()
+            .map(|b| {
+                let slot: Slot = Arc::new(Mutex::new(None));
+                let s2 = slot.clone();
+                b.map_async(wgpu::MapMode::Read, .., move |r| {
+                    *s2.lock().unwrap() = Some(r);
+                });
+                slot
+            })
+            .collect();
+        self.wait_for(submission)?;
+        for s in &slots {
+            match s.lock().unwrap().take() {
+                Some(Ok(())) => {}
+                Some(Err(e)) => return Err(Error::Gpu(format!("buffer map failed: {e}"))),
+                None => return Err(Error::Gpu("buffer map did not complete".into())),
+            }
+        }
+        let out = {
+            let views = bufs
+                .iter()
+                .map(|b| {
+                    b.get_mapped_range(..)
+                        .map_err(|e| Error::Gpu(format!("{e}")))
+                })
+                .collect::<Result<Vec<_>>>()?;
+            let bytes: Vec<&[u8]> = views.iter().map(|v| &v[..]).collect();
+            f(&bytes)
+        };
+        for b in bufs {
+            b.unmap();
+        }
+        Ok(out)
+    }
+
     /// Read a buffer (MAP_READ) back to host memory.
     pub fn read_buffer(&self, buf: &wgpu::Buffer) -> Result<Vec<u8>> {
         self.map_read(buf, |b| b.to_vec())

@@ -229,23 +229,34 @@ impl Targets {
         wall_ms: f64,
     ) -> crate::Result<Frame> {
         let mut frame = Frame::empty(self.w, self.h, aovs);
-        let after = Some(submission);
-        frame.gpu_ms = match &self.ts_read {
-            Some(b) => {
-                let raw = ctx.map_read_after(b, after.clone(), |b| b.to_vec())?;
-                let t: &[u64] = bytemuck::cast_slice(&raw);
-                let period = ctx.queue.get_timestamp_period() as f64;
-                (t[1] > t[0]).then(|| (t[1] - t[0]) as f64 * period / 1e6)
-            }
-            None => None,
-        };
-        let rb = row_bytes(self.w) as usize;
+        // one wait for every buffer the frame reads
+        let mut bufs: Vec<&wgpu::Buffer> = Vec::with_capacity(3);
         if aovs.geo_target() {
-            ctx.map_read_after(&self.geo_buf, after.clone(), |g| frame.unpack_geo(rb, g))?;
+            bufs.push(&self.geo_buf);
         }
         if aovs.color_target() {
-            ctx.map_read_after(&self.color_buf, after, |c| frame.unpack_color(rb, c))?;
+            bufs.push(&self.color_buf);
         }
+        if let Some(b) = &self.ts_read {
+            bufs.push(b);
+        }
+        let rb = row_bytes(self.w) as usize;
+        let period = ctx.queue.get_timestamp_period() as f64;
+        ctx.map_read_all(&bufs, Some(submission), |raw| {
+            let mut k = 0;
+            if aovs.geo_target() {
+                frame.unpack_geo(rb, raw[k]);
+                k += 1;
+            }
+            if aovs.color_target() {
+                frame.unpack_color(rb, raw[k]);
+                k += 1;
+            }
+            if self.ts_read.is_some() {
+                let t: &[u64] = bytemuck::cast_slice(&raw[k][..16]);
+                frame.gpu_ms = (t[1] > t[0]).then(|| (t[1] - t[0]) as f64 * period / 1e6);
+            }
+        })?;
         frame.wall_ms = wall_ms;
         Ok(frame)
     }
