@@ -153,7 +153,7 @@ def silhouettes_table(size: int = 256) -> str:
     """POM, NCS and Tessellated against Mitsuba on the torus and the sphere (IoU, uv p95, FLIP,
     time relative to POM), and NCS's step_scale sweep on the torus (early terminations, error)."""
     from pomkit import reference as R
-    from pomkit.bench import time_method
+    from pomkit.bench import time_methods
     r = pk.Renderer()
     rows = ["| mesh | method | mask IoU | uv p95 (texels) | FLIP | time / POM | early terminations |", "|---|---|---|---|---|---|---|"]
     sweep_rows = []
@@ -162,11 +162,11 @@ def silhouettes_table(size: int = 256) -> str:
                       camera=pk.Camera.look_at((0.0, 1.0, 2.8), fov_y=40, width=size, height=size),
                       lights=[pk.DirectionalLight((-0.4, -1, -0.3), 3.0)])
         ref = R.render_mitsuba(sc, spp=16)
-        base = None
-        for m in (pk.POM(), pk.NCS(), pk.Prism(), pk.Prism(exact=True), pk.Tessellated(0.5)):
-            t = time_method(r, sc, m, repeats=3)
-            f = t["frame"]
-            base = base or t["ms"]
+        sil: list[pk.Method] = [pk.POM(), pk.NCS(), pk.Prism(), pk.Prism(exact=True), pk.Tessellated(0.5)]
+        times = time_methods(r, sc, sil, min_repeats=3)
+        base = times[0]["ms"]
+        for m, t in zip(sil, times):
+            f = r.render(sc, m)
             e = metrics.uv_error(f, ref, sc)
             early = int(((f.flags & 2) > 0).sum())
             label = m.name + (" (exact)" if getattr(m, "exact", False) else "")
