@@ -6,33 +6,19 @@ use crate::methods::*;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-impl<'a, 'py> FromPyObject<'a, 'py> for Shadows {
-    type Error = PyErr;
-    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
-        Ok(Shadows::parse(&ob.extract::<String>()?)?)
-    }
+/// The string options, parsed by the core (which names the argument in its errors).
+macro_rules! from_str_option {
+    ($($t:ty),*) => {$(
+        impl<'a, 'py> FromPyObject<'a, 'py> for $t {
+            type Error = PyErr;
+            fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+                Ok(<$t>::parse(&ob.extract::<String>()?)?)
+            }
+        }
+    )*};
 }
 
-impl<'a, 'py> FromPyObject<'a, 'py> for Filtering {
-    type Error = PyErr;
-    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
-        Ok(Filtering::parse(&ob.extract::<String>()?)?)
-    }
-}
-
-impl<'a, 'py> FromPyObject<'a, 'py> for Cones {
-    type Error = PyErr;
-    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
-        Ok(Cones::parse(&ob.extract::<String>()?)?)
-    }
-}
-
-impl<'a, 'py> FromPyObject<'a, 'py> for Refine {
-    type Error = PyErr;
-    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
-        Ok(Refine::parse(&ob.extract::<String>()?)?)
-    }
-}
+from_str_option!(Shadows, Filtering, Cones, Refine);
 
 impl<'a, 'py> FromPyObject<'a, 'py> for Flat {
     type Error = PyErr;
