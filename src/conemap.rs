@@ -4,8 +4,7 @@
 
 use crate::error::Result;
 use crate::gpu::{layout, Context};
-use crate::heightmap::{max_offsets, GpuHeight};
-use crate::render::top_maxmip_level;
+use crate::heightmap::{max_offset_table, top_maxmip_level, GpuHeight};
 
 pub const CONEMAP_SHADER: &str = include_str!("../shaders/conemap.wgsl");
 
@@ -81,15 +80,11 @@ impl ConeBuilder {
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             });
-            let mut offsets = [[0u32; 4]; 4];
-            for (k, v) in max_offsets(g.width, g.height).0.iter().enumerate().take(16) {
-                offsets[k / 4][k % 4] = *v;
-            }
             let p = ConeParams {
                 size: [g.width, g.height],
                 top: top_maxmip_level(g.width, g.height),
                 relaxed: (cones == Cones::Relaxed) as u32,
-                offsets,
+                offsets: max_offset_table(g.width, g.height),
             };
             let ubuf = ctx.upload(
                 "cone params",

@@ -247,43 +247,16 @@ impl Context {
             .map_err(|e| Error::Gpu(format!("waiting for the GPU failed: {e}")))
     }
 
-    /// Map a buffer (MAP_READ), hand its bytes to `f`, unmap. No copy of the mapped memory.
+    /// Map a buffer (MAP_READ) after all submitted work, hand its bytes to `f`, unmap. No copy
+    /// of the mapped memory.
     pub fn map_read<T>(&self, buf: &wgpu::Buffer, f: impl FnOnce(&[u8]) -> T) -> Result<T> {
-        self.map_read_after(buf, None, f)
+        self.map_read_all(&[buf], None, |b| f(b[0]))
     }
 
-    /// `map_read` once `submission` has finished, leaving later submissions running: a frame's
-    /// readback overlaps the GPU work of the next (`Renderer::render_many`).
-    pub fn map_read_after<T>(
-        &self,
-        buf: &wgpu::Buffer,
-        submission: Option<wgpu::SubmissionIndex>,
-        f: impl FnOnce(&[u8]) -> T,
-    ) -> Result<T> {
-        let slot: Arc<Mutex<Option<std::result::Result<(), wgpu::BufferAsyncError>>>> =
-            Arc::new(Mutex::new(None));
-        let s2 = slot.clone();
-        buf.map_async(wgpu::MapMode::Read, .., move |r| {
-            *s2.lock().unwrap() = Some(r);
-        });
-        self.wait_for(submission)?;
-        match slot.lock().unwrap().take() {
-            Some(Ok(())) => {}
-            Some(Err(e)) => return Err(Error::Gpu(format!("buffer map failed: {e}"))),
-            None => return Err(Error::Gpu("buffer map did not complete".into())),
-        }
-        let out = {
-            let view = buf
-                .get_mapped_range(..)
-                .map_err(|e| Error::Gpu(format!("{e}")))?;
-            f(&view)
-        };
-        buf.unmap();
-        Ok(out)
-    }
-
-    /// Map several buffers (MAP_READ) once `submission` has finished, with one wait for all of
-    /// them, hand their bytes to `f` (in order), unmap.
+    /// Map several buffers (MAP_READ) once `submission` (None: all submitted work) has
+    /// finished, with one wait for all of them, hand their bytes to `f` (in order), unmap. Later
+    /// submissions keep running: a frame's readback overlaps the next frame's GPU work
+    /// (`Renderer::render_many`).
     pub fn map_read_all<T>(
         &self,
         bufs: &[&wgpu::Buffer],

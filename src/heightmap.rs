@@ -99,6 +99,24 @@ pub fn max_offsets(w: u32, h: u32) -> (Vec<u32>, u32) {
     (off, acc)
 }
 
+/// `max_offsets` as the uniform table the shaders index (`array<vec4<u32>, 4>`, 16 levels).
+pub fn max_offset_table(w: u32, h: u32) -> [[u32; 4]; 4] {
+    let mut t = [[0u32; 4]; 4];
+    for (k, v) in max_offsets(w, h).0.iter().enumerate().take(16) {
+        t[k / 4][k % 4] = *v;
+    }
+    t
+}
+
+/// The highest max-mip level whose nodes tile the map exactly (its size divides both sides).
+pub fn top_maxmip_level(w: u32, h: u32) -> u32 {
+    let mut l = 0;
+    while l + 1 < mip_count(w, h) && w % (1 << (l + 1)) == 0 && h % (1 << (l + 1)) == 0 {
+        l += 1;
+    }
+    l
+}
+
 /// Compute pipelines that fill the pyramids.
 pub struct MipBuilder {
     layout: wgpu::BindGroupLayout,

@@ -28,15 +28,16 @@ def cache_dir() -> Path:
 def scene_hash(scene, **settings) -> str:
     """sha256 over every array and parameter that changes a render."""
     h = hashlib.sha256()
-    d = scene._describe()
-    d.pop("mesh")
-    d["height"], d["albedo"] = scene.material.height, scene.material.albedo
+    m = scene.material
+    # the scene's parameters as `Scene._describe` gives them, without making the core's copies
+    # of the arrays (they are hashed here from the arrays themselves)
+    d = dict(depth=m.depth, tiling=m.tiling, camera=scene.camera._describe(),
+             lights=[l._describe() for l in scene.lights], ambient=scene.ambient)
     mesh = scene.mesh._arrays()
     for k in sorted(mesh):
         a = np.ascontiguousarray(mesh[k])
         h.update(k.encode() + str(a.dtype).encode() + str(a.shape).encode() + a.tobytes())
-    for k in ("height", "albedo"):
-        a = d.pop(k)
+    for k, a in (("height", m.height), ("albedo", m.albedo)):
         if a is not None:
             a = np.ascontiguousarray(a)
             h.update(k.encode() + str(a.shape).encode() + a.tobytes())

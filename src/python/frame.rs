@@ -1,9 +1,10 @@
 //! Frames across the boundary: the core's Frame as a dict of numpy arrays (moved, not copied);
 //! the AOVs the frame does not hold are None.
 
+use super::nd_array;
 use crate::render::{Aovs, Frame};
-use numpy::ndarray::{Array, Dimension, IntoDimension};
-use numpy::{Element, IntoPyArray};
+use numpy::ndarray::{Dimension, IntoDimension};
+use numpy::Element;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -37,8 +38,7 @@ fn array<'py, T: Element, D: Dimension>(
     if v.is_empty() {
         return Ok(None);
     }
-    let a = Array::from_shape_vec(shape, v).map_err(|e| PyValueError::new_err(e.to_string()))?;
-    Ok(Some(a.into_pyarray(py).into_any()))
+    nd_array(py, shape, v).map(Some)
 }
 
 pub fn frame_to_py<'py>(py: Python<'py>, f: Frame) -> PyResult<Bound<'py, PyDict>> {

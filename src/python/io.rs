@@ -1,8 +1,7 @@
 //! Image files across the boundary: the core decodes them (`imageio.rs`), this returns arrays.
 
+use super::nd_array;
 use crate::imageio::{load_albedo, load_height, Pixels};
-use numpy::ndarray::Array;
-use numpy::IntoPyArray;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use std::path::PathBuf;
@@ -26,17 +25,10 @@ pub fn load_image<'py>(
     };
     let p = py.detach(|| load(&path))?;
     let (h, w) = (p.height as usize, p.width as usize);
-    let e = |e: numpy::ndarray::ShapeError| PyValueError::new_err(e.to_string());
     let a = if p.channels == 1 {
-        Array::from_shape_vec((h, w), p.data)
-            .map_err(e)?
-            .into_pyarray(py)
-            .into_any()
+        nd_array(py, (h, w), p.data)?
     } else {
-        Array::from_shape_vec((h, w, p.channels), p.data)
-            .map_err(e)?
-            .into_pyarray(py)
-            .into_any()
+        nd_array(py, (h, w, p.channels), p.data)?
     };
     Ok((a, p.bits))
 }

@@ -39,6 +39,16 @@ create_exception!(
     "No GPU adapter is available."
 );
 
+/// A numpy array of `shape` that takes ownership of `v` (no copy).
+pub(crate) fn nd_array<'py, T: numpy::Element, D: numpy::ndarray::Dimension>(
+    py: Python<'py>,
+    shape: impl numpy::ndarray::IntoDimension<Dim = D>,
+    v: Vec<T>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let a = Array::from_shape_vec(shape, v).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    Ok(a.into_pyarray(py).into_any())
+}
+
 impl From<Error> for PyErr {
     fn from(e: Error) -> PyErr {
         match e {
@@ -174,32 +184,11 @@ fn exact_uv<'py>(py: Python<'py>, scene: &Bound<'py, PyDict>) -> PyResult<Bound<
     let scene = scene_from_py(scene)?;
     let o = py.detach(move || exact_hits(&scene))?;
     let (h, w) = (o.height as usize, o.width as usize);
-    let e = |e: numpy::ndarray::ShapeError| PyValueError::new_err(e.to_string());
     let d = PyDict::new(py);
-    d.set_item(
-        "uv",
-        Array::from_shape_vec((h, w, 2), o.uv)
-            .map_err(e)?
-            .into_pyarray(py),
-    )?;
-    d.set_item(
-        "depth",
-        Array::from_shape_vec((h, w), o.depth)
-            .map_err(e)?
-            .into_pyarray(py),
-    )?;
-    d.set_item(
-        "mask",
-        Array::from_shape_vec((h, w), o.mask)
-            .map_err(e)?
-            .into_pyarray(py),
-    )?;
-    d.set_item(
-        "cells",
-        Array::from_shape_vec((h, w), o.cells)
-            .map_err(e)?
-            .into_pyarray(py),
-    )?;
+    d.set_item("uv", nd_array(py, (h, w, 2), o.uv)?)?;
+    d.set_item("depth", nd_array(py, (h, w), o.depth)?)?;
+    d.set_item("mask", nd_array(py, (h, w), o.mask)?)?;
+    d.set_item("cells", nd_array(py, (h, w), o.cells)?)?;
     Ok(d)
 }
 
@@ -216,33 +205,12 @@ fn tessellate<'py>(
     let t = py.detach(move || {
         crate::geometry::tessellate::tessellate(&scene.mesh, &scene.material, texels_per_vertex)
     })?;
-    let e = |e: numpy::ndarray::ShapeError| PyValueError::new_err(e.to_string());
     let n = t.positions.len();
     let d = PyDict::new(py);
-    d.set_item(
-        "positions",
-        Array::from_shape_vec((n, 3), t.positions.concat())
-            .map_err(e)?
-            .into_pyarray(py),
-    )?;
-    d.set_item(
-        "normals",
-        Array::from_shape_vec((n, 3), t.normals.concat())
-            .map_err(e)?
-            .into_pyarray(py),
-    )?;
-    d.set_item(
-        "uvs",
-        Array::from_shape_vec((n, 2), t.uvs.concat())
-            .map_err(e)?
-            .into_pyarray(py),
-    )?;
-    d.set_item(
-        "faces",
-        Array::from_shape_vec((t.indices.len() / 3, 3), t.indices)
-            .map_err(e)?
-            .into_pyarray(py),
-    )?;
+    d.set_item("positions", nd_array(py, (n, 3), t.positions.concat())?)?;
+    d.set_item("normals", nd_array(py, (n, 3), t.normals.concat())?)?;
+    d.set_item("uvs", nd_array(py, (n, 2), t.uvs.concat())?)?;
+    d.set_item("faces", nd_array(py, (t.indices.len() / 3, 3), t.indices)?)?;
     Ok(d)
 }
 

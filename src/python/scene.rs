@@ -2,10 +2,10 @@
 //! (`MeshData`, `HeightData`, `AlbedoData`) that the Python scene classes make once, so that a
 //! render neither copies nor hashes their arrays again.
 
+use super::nd_array;
 use crate::error::Error;
 use crate::mesh::Mesh;
 use crate::scene::{shared, Albedo, Camera, HeightMap, Light, Material, Scene, Shared};
-use numpy::ndarray::Array;
 use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -36,12 +36,7 @@ type MeshArrays<'py> = (
 
 fn mesh_out<'py>(py: Python<'py>, m: &Mesh) -> PyResult<MeshArrays<'py>> {
     let n = m.positions.len();
-    let f = |v: Vec<f32>, k: usize| -> PyResult<Bound<'py, PyAny>> {
-        Ok(Array::from_shape_vec((n, k), v)
-            .map_err(|e| PyValueError::new_err(e.to_string()))?
-            .into_pyarray(py)
-            .into_any())
-    };
+    let f = |v: Vec<f32>, k: usize| nd_array(py, (n, k), v);
     Ok((
         f(m.positions.concat(), 3)?,
         f(m.normals.concat(), 3)?,
@@ -49,10 +44,7 @@ fn mesh_out<'py>(py: Python<'py>, m: &Mesh) -> PyResult<MeshArrays<'py>> {
         m.indices.clone().into_pyarray(py).into_any(),
         f(m.tangents.concat(), 4)?,
         f(m.uv_scale.concat(), 2)?,
-        Array::from_shape_vec((m.charts.len(), 3), m.charts.concat())
-            .map_err(|e| PyValueError::new_err(e.to_string()))?
-            .into_pyarray(py)
-            .into_any(),
+        nd_array(py, (m.charts.len(), 3), m.charts.concat())?,
     ))
 }
 

@@ -13,8 +13,8 @@ pub mod shadow_map;
 pub mod targets;
 pub mod uniforms;
 
+pub use crate::heightmap::top_maxmip_level;
 pub use targets::{Aovs, Frame};
-pub use uniforms::top_maxmip_level;
 
 use crate::conemap::{ConeBuilder, Cones};
 use crate::error::{Error, Result};
@@ -240,16 +240,19 @@ impl Renderer {
     pub fn check_limits(&self, scene: &Scene) -> Result<()> {
         let lim = &self.ctx.limits;
         let maxd = lim.max_texture_dimension_2d;
+        let dims = |arg: &str, what: &str, w: u32, h: u32| -> Result<()> {
+            if w > maxd || h > maxd {
+                return Err(Error::limit(
+                    arg,
+                    format!(
+                        "{what} {w}x{h} exceeds the device's max_texture_dimension_2d = {maxd}"
+                    ),
+                ));
+            }
+            Ok(())
+        };
         let cam = &scene.camera;
-        if cam.width > maxd || cam.height > maxd {
-            return Err(Error::limit(
-                "width",
-                format!(
-                    "frame {}x{} exceeds the device's max_texture_dimension_2d = {maxd}",
-                    cam.width, cam.height
-                ),
-            ));
-        }
+        dims("width", "frame", cam.width, cam.height)?;
         let bytes = targets::row_bytes(cam.width) * cam.height as u64;
         if bytes > lim.max_buffer_size {
             return Err(Error::limit(
@@ -258,25 +261,9 @@ impl Renderer {
             ));
         }
         let hm = &scene.material.height;
-        if hm.width > maxd || hm.height > maxd {
-            return Err(Error::limit(
-                "height",
-                format!(
-                    "height map {}x{} exceeds the device's max_texture_dimension_2d = {maxd}",
-                    hm.width, hm.height
-                ),
-            ));
-        }
+        dims("height", "height map", hm.width, hm.height)?;
         if let Some(a) = &scene.material.albedo {
-            if a.width > maxd || a.height > maxd {
-                return Err(Error::limit(
-                    "albedo",
-                    format!(
-                        "albedo {}x{} exceeds the device's max_texture_dimension_2d = {maxd}",
-                        a.width, a.height
-                    ),
-                ));
-            }
+            dims("albedo", "albedo", a.width, a.height)?;
         }
         let vbytes =
             scene.mesh.positions.len() as u64 * std::mem::size_of::<crate::mesh::Vertex>() as u64;

@@ -2,7 +2,7 @@
 //! method's spec. `uniform_layout` (a test) checks that every field has the same name and
 //! offset in Rust and in the composed WGSL.
 
-use crate::heightmap::{max_offsets, mip_count};
+use crate::heightmap::{max_offset_table, mip_count, top_maxmip_level};
 use crate::methods::Spec;
 use crate::scene::{Light, Scene, MAX_LIGHTS};
 use glam::DVec3;
@@ -55,15 +55,6 @@ uniform_struct! {
         pub pad_b: f32,
         pub max_offsets: [[u32; 4]; 4],
     }
-}
-
-/// The highest max-mip level whose nodes tile the map exactly (its size divides both sides).
-pub fn top_maxmip_level(w: u32, h: u32) -> u32 {
-    let mut l = 0;
-    while l + 1 < mip_count(w, h) && w % (1 << (l + 1)) == 0 && h % (1 << (l + 1)) == 0 {
-        l += 1;
-    }
-    l
 }
 
 /// The scene's bounding sphere (base mesh grown by the displacement depth).
@@ -128,15 +119,7 @@ pub fn globals(
         lights[i] = light_uniform(l);
     }
     let hm = &scene.material.height;
-    let mut max_off = [[0u32; 4]; 4];
-    for (k, v) in max_offsets(hm.width, hm.height)
-        .0
-        .iter()
-        .enumerate()
-        .take(16)
-    {
-        max_off[k / 4][k % 4] = *v;
-    }
+    let max_off = max_offset_table(hm.width, hm.height);
     let o = &spec.pixel;
     let flag = |b: bool| if b { 1.0 } else { 0.0 };
     let cam = &scene.camera;
