@@ -2,11 +2,20 @@
 // every backend (GL cannot render to Rgba32Float).
 #define_import_path pomkit::aov
 
+#import pomkit::globals::G
+
 struct FsOut {
     // rgb: linear radiance (float bits), a: steps (low 28 bits) | flags << 28
     @location(0) color: vec4<u32>,
     // xy: hit uv (mesh space, unwrapped), z: distance eye -> hit, w: mip level used
     @location(1) geo: vec4<u32>,
+    // the object's index (AOV `object`)
+    @location(2) id: u32,
+#ifdef MARCH
+    // the displaced hit's depth (pixel depth offset): objects meet where their displaced
+    // surfaces meet
+    @builtin(frag_depth) depth: f32,
+#endif
 }
 
 // flags (AOV `flags`): 1 = the march hit its iteration bound, 2 = NCS early termination
@@ -18,5 +27,6 @@ fn write_aovs(color: vec3<f32>, steps: u32, flags: u32, uv: vec2<f32>, dist: f32
     let c = bitcast<vec3<u32>>(color);
     o.color = vec4<u32>(c, min(steps, 0x0fffffffu) | (flags << 28u));
     o.geo = bitcast<vec4<u32>>(vec4<f32>(uv, dist, lod));
+    o.id = u32(G.object_id);
     return o;
 }

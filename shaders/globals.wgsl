@@ -47,6 +47,18 @@ struct Globals {
     pad_b: f32,
     // element offset of each max-pyramid level in max_buf
     max_offsets: array<vec4<u32>, 4>,
+    // the object drawn (one block per object; see object.wgsl): object-to-world matrix, the
+    // inverse transpose (normals), the inverse (world-to-object), the eye in object space, the
+    // object's index (the `object` AOV), 1 when the transform is not the identity
+    model: mat4x4<f32>,
+    normal_mat: mat4x4<f32>,
+    model_inv: mat4x4<f32>,
+    eye_object: vec3<f32>,
+    object_id: f32,
+    transformed: f32,
+    pad_c: f32,
+    pad_d: f32,
+    pad_e: f32,
 }
 
 @group(0) @binding(0) var<uniform> G: Globals;

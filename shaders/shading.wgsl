@@ -12,22 +12,38 @@
 #import pomkit::lights::{LightSample, light_sample}
 #import pomkit::shadows::{ShadowResult, shadow_march, exact_shadow, shadow_map_visibility}
 #import pomkit::horizon::{horizon_shadow, horizon_ao}
+#import pomkit::object::dir_to_object
 
-fn light_visibility(f: Frame, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, i: u32, ls: LightSample, lod: f32) -> ShadowResult {
+// The visibility of light i at the hit: the method's self-shadowing (when `self_shadows`), times
+// the scene's shadow map where it has one for this light (CAST_SHADOWS; Tessellated's own
+// shadows are that map). `p` and `n` are in world space; the self-shadow marches run in the
+// object's texture space, so the light's direction goes to object space first.
+fn light_visibility(f: Frame, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, i: u32, ls: LightSample, lod: f32, self_shadows: bool) -> ShadowResult {
     var r: ShadowResult;
     r.visibility = 1.0;
     r.steps = 0.0;
 #ifdef TESSELLATED
-    r.visibility = shadow_map_visibility(i, p, n);
+    if (self_shadows) {
+        r.visibility = shadow_map_visibility(i, p, n);
+    }
 #else
+#if SHADOWS != 0
+    if (self_shadows) {
+        var lo = ls;
+        lo.dir = dir_to_object(ls.dir);
 #if SHADOWS == 3
-    r = horizon_shadow(f, s, h, ls);
+        r = horizon_shadow(f, s, h, lo);
 #else
 #if SHADOWS == 4
-    r = exact_shadow(f, s, h, ls);
+        r = exact_shadow(f, s, h, lo);
 #else
-    r = shadow_march(f, s, h, ls, lod);
+        r = shadow_march(f, s, h, lo, lod);
 #endif
+#endif
+    }
+#endif
+#ifdef CAST_SHADOWS
+    r.visibility = r.visibility * shadow_map_visibility(i, p, n);
 #endif
 #endif
     return r;
@@ -38,6 +54,8 @@ struct Shaded {
     steps: f32,
 }
 
+// `f` is the object-space tangent frame at the hit, `p` the world hit point, `n` the world
+// shading normal.
 fn shade(f: Frame, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, lod: f32, with_shadows: bool, px: vec2<f32>) -> Shaded {
     var o: Shaded;
     o.steps = 0.0;
@@ -50,15 +68,9 @@ fn shade(f: Frame, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, lod: f32, w
         if (ndl <= 0.0) {
             continue;
         }
-        var vis = 1.0;
-#if SHADOWS != 0
-        if (with_shadows) {
-            let r = light_visibility(f, s, h, p, n, i, ls, lod);
-            vis = r.visibility;
-            o.steps = o.steps + r.steps;
-        }
-#endif
-        sum = sum + ls.e * ndl * vis;
+        let r = light_visibility(f, s, h, p, n, i, ls, lod, with_shadows);
+        o.steps = o.steps + r.steps;
+        sum = sum + ls.e * ndl * r.visibility;
     }
     var ao = 1.0;
 #ifndef TESSELLATED

@@ -18,16 +18,17 @@
 #import pomkit::height::{height_normal, height_lod, compute_lod}
 #import pomkit::march::{Ray, Hit}
 #import pomkit::shading::shade
+#import pomkit::object::{to_world, normal_to_world, stretch, clip_depth}
 
 @vertex
 fn vs_main(v: VertexIn) -> VertexOut {
-    return pass_through(v, G.view_proj * vec4<f32>(v.position, 1.0));
+    return pass_through(v, G.view_proj * (G.model * vec4<f32>(v.position, 1.0)));
 }
 
 // Tessellated's shadow map: the displaced mesh's depth seen from the light.
 @vertex
 fn vs_shadow(v: VertexIn) -> @builtin(position) vec4<f32> {
-    return G.shadow_vp * vec4<f32>(v.position, 1.0);
+    return G.shadow_vp * (G.model * vec4<f32>(v.position, 1.0));
 }
 
 // 0: full march, 1: bump only; in between, the weight of bump mapping (Tatarchuk 2006's
@@ -45,27 +46,32 @@ fn fs_main(in: VertexOut) -> FsOut {
     let s0 = in.uv * tiling;
     // explicit LOD, from derivatives taken here in uniform control flow
     let lod = compute_lod(s0);
-    let to_p = in.world - G.eye;
+    // the mesh, its frame and the march live in object space (`in.world` is the object-space
+    // position); distances along the view ray scale to world space by `stretch`
+    let to_p = in.world - G.eye_object;
     let base_dist = length(to_p);
     let view = to_p / max(base_dist, 1e-20);
     let px = in.clip.xy;
+    let p_base = to_world(in.world);
+    let k = stretch(view);
+    var frag_depth = in.clip.z;
 
     var color = vec3<f32>(0.0);
     var steps = 0.0;
     var flags = 0u;
     var s_hit = s0;
-    var dist = base_dist;
+    var dist = base_dist * k;
 
 #ifdef FLAT
-    color = shade(f, s0, 1.0, in.world, f.n, lod, false, px).color;
+    color = shade(f, s0, 1.0, p_base, normal_to_world(f.n), lod, false, px).color;
 #endif
 #ifdef BUMP
     // Blinn 1978: the normal from the height field, uv unchanged
-    color = shade(f, s0, 1.0, in.world, height_normal(f, s0, lod), lod, false, px).color;
+    color = shade(f, s0, 1.0, p_base, normal_to_world(height_normal(f, s0, lod)), lod, false, px).color;
 #endif
 #ifdef TESSELLATED
     // base frame, height-field normal at the rasterised uv, level 0: this is the true surface
-    let sh = shade(f, s0, 1.0, in.world, height_normal(f, s0, 0.0), lod, true, px);
+    let sh = shade(f, s0, 1.0, p_base, normal_to_world(height_normal(f, s0, 0.0)), lod, true, px);
     color = sh.color;
     steps = sh.steps;
 #endif
@@ -89,19 +95,24 @@ fn fs_main(in: VertexOut) -> FsOut {
         if (hit.exited) {
             discard;
         }
-        let p = in.world + view * hit.len;
-        let sh = shade(hit.f, hit.s, hit.h, p, height_normal(hit.f, hit.s, hit.lod), hit.lod, true, px);
+        let p = to_world(in.world + view * hit.len);
+        let sh = shade(hit.f, hit.s, hit.h, p, normal_to_world(height_normal(hit.f, hit.s, hit.lod)), hit.lod, true, px);
         c_march = sh.color;
         steps = hit.steps + sh.steps;
         flags = hit.flags;
         s_hit = hit.s;
-        dist = base_dist + hit.len;
+        dist = (base_dist + hit.len) * k;
+        frag_depth = clip_depth(p);
     }
     var c_bump = vec3<f32>(0.0);
     if (w_bump > 0.0) {
-        c_bump = shade(f, s0, 1.0, in.world, height_normal(f, s0, lod), lod, false, px).color;
+        c_bump = shade(f, s0, 1.0, p_base, normal_to_world(height_normal(f, s0, lod)), lod, false, px).color;
     }
     color = mix(c_march, c_bump, w_bump);
 #endif
-    return write_aovs(color, u32(steps), flags, s_hit / tiling, dist, lod);
+    var o = write_aovs(color, u32(steps), flags, s_hit / tiling, dist, lod);
+#ifdef MARCH
+    o.depth = frag_depth;
+#endif
+    return o;
 }

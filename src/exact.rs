@@ -42,7 +42,14 @@ pub const MAX_CELLS: u32 = 4_000_000;
 
 pub fn exact_hits(scene: &Scene) -> Result<OracleFrame> {
     scene.validate()?;
-    let m = &scene.mesh;
+    let obj = scene.only_object("the CPU oracle (exact_uv)")?;
+    if !obj.transform.is_identity() {
+        return Err(Error::arg(
+            "transform",
+            "the CPU oracle (exact_uv) takes an untransformed object; bake the transform into the mesh",
+        ));
+    }
+    let m = &obj.mesh;
     let p = |i: u32| {
         let a = m.positions[i as usize];
         DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)
@@ -110,7 +117,7 @@ pub fn exact_hits(scene: &Scene) -> Result<OracleFrame> {
         .unwrap_or(1)
         .min(8);
     let rows_per = (h as usize).div_ceil(threads);
-    let mat = &scene.material;
+    let mat = &obj.material;
     std::thread::scope(|sc| {
         let mut uv_rest: &mut [f64] = &mut out.uv;
         let mut d_rest: &mut [f64] = &mut out.depth;

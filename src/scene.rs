@@ -351,10 +351,13 @@ impl Camera {
 #[derive(Clone, Debug)]
 pub enum Light {
     /// `direction` is the way the light travels; irradiance on a surface facing the light.
+    /// `cast_shadows`: objects shadow each other from this light through a shadow map (the
+    /// first such light; see render::shadow_map).
     Directional {
         direction: [f64; 3],
         irradiance: [f32; 3],
         angular_diameter: f64,
+        cast_shadows: bool,
     },
     /// A sphere light of radiant intensity `intensity` (W/sr): irradiance I / r^2.
     Sphere {
@@ -371,6 +374,7 @@ impl Light {
                 direction,
                 irradiance,
                 angular_diameter,
+                ..
             } => {
                 let d = DVec3::from(*direction);
                 if !d.is_finite() || d.length() < 1e-12 {
@@ -411,10 +415,115 @@ impl Light {
 
 pub const MAX_LIGHTS: usize = 4;
 
+/// An object-to-world transform: an affine 4x4 matrix (it may scale non-uniformly). Positions
+/// map by `m`, directions by its linear part, normals by the inverse transpose. The displacement
+/// `depth` is in object units: the displaced surface is `m` applied to the object-space one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Transform {
+    pub m: DMat4,
+}
+
+impl Default for Transform {
+    fn default() -> Self {
+        Self { m: DMat4::IDENTITY }
+    }
+}
+
+impl Transform {
+    /// An affine, finite, invertible matrix; `arg` names the argument in errors.
+    pub fn new(m: DMat4, arg: &str) -> Result<Self> {
+        if !m.is_finite() {
+            return Err(Error::arg(arg, "must be finite (it holds NaN or Inf)"));
+        }
+        let r = m.row(3);
+        if r != DVec4::new(0.0, 0.0, 0.0, 1.0) {
+            return Err(Error::arg(
+                arg,
+                format!("must be affine: its last row must be [0, 0, 0, 1], got {r:?}"),
+            ));
+        }
+        // singular (or nearly): the scale of the smallest axis against the largest
+        let lin = glam::DMat3::from_mat4(m);
+        let scale = lin
+            .x_axis
+            .length()
+            .max(lin.y_axis.length())
+            .max(lin.z_axis.length());
+        if !(lin.determinant().abs() > 1e-12 * scale.powi(3)) || scale == 0.0 {
+            return Err(Error::arg(
+                arg,
+                "is singular (it flattens the object); give an invertible matrix",
+            ));
+        }
+        Ok(Self { m })
+    }
+    pub fn is_identity(&self) -> bool {
+        self.m == DMat4::IDENTITY
+    }
+    pub fn point(&self, p: DVec3) -> DVec3 {
+        self.m.transform_point3(p)
+    }
+    /// The largest factor by which the transform stretches a length (its largest singular
+    /// value, by power iteration on the linear part's Gram matrix).
+    pub fn max_scale(&self) -> f64 {
+        if self.is_identity() {
+            return 1.0;
+        }
+        let l = glam::DMat3::from_mat4(self.m);
+        let g = l.transpose() * l;
+        let mut v = DVec3::new(0.577, 0.577, 0.578);
+        let mut s2 = 0.0;
+        for _ in 0..64 {
+            let w = g * v;
+            s2 = w.length();
+            if s2 == 0.0 {
+                return 0.0;
+            }
+            v = w / s2;
+        }
+        s2.sqrt()
+    }
+}
+
+/// One object of a scene: a base mesh, its material, and where it stands.
 #[derive(Clone, Debug)]
-pub struct Scene {
+pub struct Object {
     pub mesh: Shared<Mesh>,
     pub material: Material,
+    pub transform: Transform,
+}
+
+impl Object {
+    /// The world box of the base mesh's vertices, and the world distance the displacement can
+    /// move a point (`depth` times the transform's largest stretch).
+    pub fn bounds(&self) -> (DVec3, DVec3, f64) {
+        let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+        if self.transform.is_identity() {
+            (lo, hi) = self.mesh.bounds();
+        } else {
+            for p in &self.mesh.positions {
+                let w = self
+                    .transform
+                    .point(DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64));
+                lo = lo.min(w);
+                hi = hi.max(w);
+            }
+        }
+        (
+            lo,
+            hi,
+            self.material.depth as f64 * self.transform.max_scale(),
+        )
+    }
+}
+
+/// The most objects a scene may hold (object ids are stored in 32 bits; this bounds the draws).
+pub const MAX_OBJECTS: usize = 4096;
+
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// at least one; an object's index is its id in the `object` AOV
+    pub objects: Vec<Object>,
     pub camera: Camera,
     pub lights: Vec<Light>,
     /// constant environment radiance, linear RGB
@@ -422,9 +531,62 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// A scene of one object at the origin (no transform).
+    pub fn single(
+        mesh: Shared<Mesh>,
+        material: Material,
+        camera: Camera,
+        lights: Vec<Light>,
+        ambient: [f32; 3],
+    ) -> Self {
+        Scene {
+            objects: vec![Object {
+                mesh,
+                material,
+                transform: Transform::default(),
+            }],
+            camera,
+            lights,
+            ambient,
+        }
+    }
+
+    /// The only object, for what is defined on one object (the CPU oracle, the displaced mesh);
+    /// `what` names the caller in the error.
+    pub fn only_object(&self, what: &str) -> Result<&Object> {
+        match self.objects.as_slice() {
+            [o] => Ok(o),
+            _ => Err(Error::arg(
+                "scene",
+                format!(
+                    "{what} takes a scene of one object, got {}; render the objects one by one",
+                    self.objects.len()
+                ),
+            )),
+        }
+    }
+
     /// The checks of the per-render parameters (the shared data was checked when it was made).
     pub fn validate(&self) -> Result<()> {
-        self.material.validate()?;
+        if self.objects.is_empty() {
+            return Err(Error::arg(
+                "objects",
+                "is empty; give at least one pomkit.Object",
+            ));
+        }
+        if self.objects.len() > MAX_OBJECTS {
+            return Err(Error::arg(
+                "objects",
+                format!(
+                    "at most {MAX_OBJECTS} objects are supported, got {}",
+                    self.objects.len()
+                ),
+            ));
+        }
+        for o in &self.objects {
+            o.material.validate()?;
+            Transform::new(o.transform.m, "transform")?;
+        }
         self.camera.validate()?;
         if self.lights.len() > MAX_LIGHTS {
             return Err(Error::arg(

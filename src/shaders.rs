@@ -25,6 +25,10 @@ pub const LIBRARY: &[(&str, &str)] = &[
         "shaders/vertex.wgsl",
         include_str!("../shaders/vertex.wgsl"),
     ),
+    (
+        "shaders/object.wgsl",
+        include_str!("../shaders/object.wgsl"),
+    ),
     ("shaders/aov.wgsl", include_str!("../shaders/aov.wgsl")),
     ("shaders/frame.wgsl", include_str!("../shaders/frame.wgsl")),
     (

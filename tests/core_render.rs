@@ -11,15 +11,15 @@ use pomkit::Error;
 
 fn scene(height: HeightMap, theta_deg: f64, size: u32) -> Scene {
     let t = theta_deg.to_radians();
-    Scene {
-        mesh: shared(Mesh::plane(2.0, 1).unwrap()).unwrap(),
-        material: Material {
+    Scene::single(
+        shared(Mesh::plane(2.0, 1).unwrap()).unwrap(),
+        Material {
             height: shared(height).unwrap(),
             depth: 0.1,
             tiling: 1.0,
             albedo: None,
         },
-        camera: Camera {
+        Camera {
             eye: [0.0, 2.0 * t.cos(), 2.0 * t.sin()],
             target: [0.0; 3],
             up: [0.0, 0.0, -1.0],
@@ -27,13 +27,14 @@ fn scene(height: HeightMap, theta_deg: f64, size: u32) -> Scene {
             width: size,
             height: size,
         },
-        lights: vec![Light::Directional {
+        vec![Light::Directional {
             direction: [-0.3, -1.0, -0.2],
             irradiance: [2.0; 3],
             angular_diameter: 1.0,
+            cast_shadows: false,
         }],
-        ambient: [0.05; 3],
-    }
+        [0.05; 3],
+    )
 }
 
 fn renderer() -> Renderer {

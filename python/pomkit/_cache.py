@@ -28,19 +28,31 @@ def cache_dir() -> Path:
 def scene_hash(scene, **settings) -> str:
     """sha256 over every array and parameter that changes a render."""
     h = hashlib.sha256()
-    m = scene.material
     # the scene's parameters as `Scene._describe` gives them, without making the core's copies
-    # of the arrays (they are hashed here from the arrays themselves)
-    d = dict(depth=m.depth, tiling=m.tiling, camera=scene.camera._describe(),
-             lights=[l._describe() for l in scene.lights], ambient=scene.ambient)
-    mesh = scene.mesh._arrays()
-    for k in sorted(mesh):
-        a = np.ascontiguousarray(mesh[k])
-        h.update(k.encode() + str(a.dtype).encode() + str(a.shape).encode() + a.tobytes())
-    for k, a in (("height", m.height), ("albedo", m.albedo)):
-        if a is not None:
-            a = np.ascontiguousarray(a)
-            h.update(k.encode() + str(a.shape).encode() + a.tobytes())
+    # of the arrays (they are hashed here from the arrays themselves). A one-object scene without
+    # a transform hashes as scenes did before objects existed, so that cached references stay.
+    lights = []
+    for l in scene.lights:
+        ld = l._describe()
+        if not ld.get("cast_shadows", True):
+            del ld["cast_shadows"]
+        lights.append(ld)
+    first = scene.objects[0]
+    d = dict(depth=first.material.depth, tiling=first.material.tiling, camera=scene.camera._describe(),
+             lights=lights, ambient=scene.ambient)
+    for i, o in enumerate(scene.objects):
+        m = o.material
+        if i > 0 or not o.is_identity:
+            h.update(f"object{i}".encode() + np.ascontiguousarray(o.transform).tobytes())
+            h.update(json.dumps(dict(depth=m.depth, tiling=m.tiling)).encode())
+        mesh = o.mesh._arrays()
+        for k in sorted(mesh):
+            a = np.ascontiguousarray(mesh[k])
+            h.update(k.encode() + str(a.dtype).encode() + str(a.shape).encode() + a.tobytes())
+        for k, a in (("height", m.height), ("albedo", m.albedo)):
+            if a is not None:
+                a = np.ascontiguousarray(a)
+                h.update(k.encode() + str(a.shape).encode() + a.tobytes())
     h.update(json.dumps(d, sort_keys=True, default=str).encode())
     h.update(json.dumps(settings, sort_keys=True, default=str).encode())
     h.update(f"format{FORMAT}".encode())

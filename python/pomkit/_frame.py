@@ -12,7 +12,7 @@ from ._scene import linear_to_srgb
 __all__ = ["Frame", "AovName", "AOV_NAMES"]
 
 #: the AOVs a render can return (`Renderer.render(..., aovs=...)`)
-AovName = Literal["color", "uv", "depth", "mask", "steps", "lod", "flags"]
+AovName = Literal["color", "uv", "depth", "mask", "steps", "lod", "flags", "object"]
 AOV_NAMES: tuple[str, ...] = get_args(AovName)
 
 
@@ -26,6 +26,7 @@ class Frame:
     steps: (H, W) uint32 height-map samples taken (view ray + shadow rays)
     lod:   (H, W) float32 mip level the LOD system used, NaN where no hit
     flags: (H, W) uint8, bit 0: the march hit its iteration bound (Exact)
+    object: (H, W) int32 index of the object hit in `scene.objects`, -1 where no hit
     gpu_ms: GPU time of the render pass from timestamp queries, None where the adapter has none
     wall_ms: wall time of submit-and-wait (always measured)
     timing: "gpu" when gpu_ms holds a timestamp measurement, "wall" when only wall_ms exists;
@@ -69,6 +70,7 @@ class Frame:
     steps = property(lambda self: self._get("steps"), doc="(H, W) uint32 height-map samples taken")
     lod = property(lambda self: self._get("lod"), doc="(H, W) float32 mip level, NaN where no hit")
     flags = property(lambda self: self._get("flags"), doc="(H, W) uint8, bit 0: iteration bound hit")
+    object = property(lambda self: self._get("object"), doc="(H, W) int32 object index, -1 where no hit")
 
     @property
     def shape(self) -> tuple[int, int]:

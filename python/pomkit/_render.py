@@ -102,7 +102,7 @@ def _check(scene: Any, method: Any) -> None:
 
 def _frame(d: dict, method: Method) -> Frame:
     return Frame(color=d["color"], uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["steps"], lod=d["lod"],
-                 flags=d["flags"], gpu_ms=d["gpu_ms"], wall_ms=d["wall_ms"], method=repr(method))
+                 flags=d["flags"], object=d["object"], gpu_ms=d["gpu_ms"], wall_ms=d["wall_ms"], method=repr(method))
 
 
 def exact_uv(scene: Scene) -> Frame:

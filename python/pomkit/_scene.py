@@ -18,7 +18,7 @@ import numpy as np
 from . import _core
 from . import _validate as _v
 
-__all__ = ["Mesh", "Material", "Camera", "DirectionalLight", "SphereLight", "Scene"]
+__all__ = ["Mesh", "Material", "Camera", "DirectionalLight", "SphereLight", "Object", "Scene"]
 
 
 _vec3, _rgb, _float_array = _v.vec3, _v.rgb, _v.float_array
@@ -327,13 +327,23 @@ class Camera:
 class DirectionalLight:
     """A distant light. `direction` is the way the light travels (as in Mitsuba); `irradiance`
     (linear RGB or a scalar) is measured on a surface facing the light; `angular_diameter`
-    (degrees) is the apparent size of the source, which the soft shadows estimate."""
+    (degrees) is the apparent size of the source, which the soft shadows estimate.
+
+    cast_shadows: the objects shadow each other from this light through a shadow map in which
+    each object casts with its displaced surface (the method itself, run in a depth-only pass);
+    a surface receives it at its displaced hit point. Only the first directional light with
+    cast_shadows=True casts; `SphereLight`s never do. A method's own `shadows=` (self-shadowing of
+    its height field) multiplies with it."""
 
     direction: tuple[float, float, float]
     irradiance: Any = 1.0
     angular_diameter: float = 0.0
+    cast_shadows: bool = False
 
     def __post_init__(self):
+        if not isinstance(self.cast_shadows, (bool, np.bool_)):
+            raise TypeError(f"cast_shadows: expected True or False, got {self.cast_shadows!r}")
+        object.__setattr__(self, "cast_shadows", bool(self.cast_shadows))
         d = _vec3("direction", self.direction)
         if np.linalg.norm(d) < 1e-12:
             raise ValueError("direction: must be a non-zero vector")
@@ -342,7 +352,8 @@ class DirectionalLight:
         object.__setattr__(self, "angular_diameter", _v.number("angular_diameter", self.angular_diameter, 0.0, 179.999))
 
     def _describe(self) -> dict:
-        return dict(kind="directional", direction=self.direction, irradiance=self.irradiance, angular_diameter=self.angular_diameter)
+        return dict(kind="directional", direction=self.direction, irradiance=self.irradiance,
+                    angular_diameter=self.angular_diameter, cast_shadows=self.cast_shadows)
 
 
 @dataclass(frozen=True)
@@ -367,21 +378,117 @@ class SphereLight:
 MAX_LIGHTS = 4
 
 
+def _transform(t: Any) -> Optional[np.ndarray]:
+    """A validated 4x4 affine object-to-world matrix (read-only float64), None for the identity."""
+    if t is None:
+        return None
+    try:
+        m = np.array(t, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"transform: expected a 4x4 numpy array, got {type(t).__name__}") from None
+    if m.shape != (4, 4):
+        raise ValueError(f"transform: expected a 4x4 matrix, got shape {m.shape}")
+    if not np.all(np.isfinite(m)):
+        raise ValueError("transform: contains NaN or Inf; give a finite 4x4 matrix")
+    if not np.array_equal(m[3], [0.0, 0.0, 0.0, 1.0]):
+        raise ValueError(f"transform: must be affine, with last row [0, 0, 0, 1]; got {m[3].tolist()}")
+    lin = m[:3, :3]
+    scale = float(np.abs(lin).max())
+    if scale == 0.0 or abs(np.linalg.det(lin)) <= 1e-12 * scale ** 3:
+        raise ValueError("transform: the matrix is singular (it flattens the object); give an invertible one")
+    if np.array_equal(m, np.eye(4)):
+        return None
+    return _readonly(m)
+
+
 @dataclass(frozen=True, eq=False)
-class Scene:
-    """One mesh, one material, a camera, up to four lights and a constant ambient radiance."""
+class Object:
+    """One object of a scene: a base mesh, its material and an object-to-world `transform`.
+
+    transform: a 4x4 affine matrix (numpy array; it may rotate, translate and scale,
+    non-uniformly too), or None for the identity. The mesh, its normals and tangent frames and
+    the displacement live in object space: `material.depth` is in object units, along the
+    object-space normal, and the displaced surface is the transform applied to it. Normals
+    transform by the inverse transpose. `transform` reads back as a 4x4 array (the identity
+    when None was given).
+    """
 
     mesh: Mesh
     material: Material
-    camera: Camera
-    lights: Sequence[Any] = field(default_factory=tuple)
-    ambient: Any = 0.0
+    transform: Any = None
+    _m: Optional[np.ndarray] = field(default=None, init=False, repr=False)
 
     def __post_init__(self):
         if not isinstance(self.mesh, Mesh):
             raise TypeError(f"mesh: expected a pomkit.Mesh, got {type(self.mesh).__name__}")
         if not isinstance(self.material, Material):
             raise TypeError(f"material: expected a pomkit.Material, got {type(self.material).__name__}")
+        object.__setattr__(self, "_m", _transform(self.transform))
+        object.__setattr__(self, "transform", _readonly(np.eye(4)) if self._m is None else self._m)
+
+    @property
+    def is_identity(self) -> bool:
+        return self._m is None
+
+    def _describe(self) -> dict:
+        m = self.material
+        return dict(
+            mesh=self.mesh._describe(),
+            height=m._height_data(),
+            albedo=m._albedo_data(),
+            depth=m.depth,
+            tiling=m.tiling,
+            transform=None if self._m is None else [float(x) for x in self._m.reshape(-1)],
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class Scene:
+    """Objects, a camera, up to four lights and a constant ambient radiance.
+
+    Give either `mesh` and `material` (one object, untransformed) or `objects`, a list of
+    `pomkit.Object`. An object's index in `objects` is its id in the `object` AOV. `mesh` and
+    `material` read back as the single object's when the scene has one object (transformed or
+    not), None when it has several.
+    """
+
+    mesh: Optional[Mesh] = None
+    material: Optional[Material] = None
+    # required: a Camera after __post_init__ (None only as the dataclass default)
+    camera: Camera = None  # type: ignore[assignment]
+    lights: Sequence[Any] = field(default_factory=tuple)
+    ambient: Any = 0.0
+    # a tuple of Object after __post_init__, whichever way the scene was given
+    objects: Sequence[Object] = None  # type: ignore[assignment]
+
+    def __post_init__(self):
+        objects = self.objects
+        given = self.mesh is not None or self.material is not None
+        if objects is not None:
+            if isinstance(objects, Object):
+                objects = (objects,)
+            if not isinstance(objects, (list, tuple)):
+                raise TypeError(f"objects: expected a list of pomkit.Object, got {type(objects).__name__}")
+            objects = tuple(objects)
+            if not objects:
+                raise ValueError("objects: the list is empty; give at least one pomkit.Object")
+            for o in objects:
+                if not isinstance(o, Object):
+                    raise TypeError(f"objects: expected pomkit.Object items, got {type(o).__name__}")
+            if given:
+                raise ValueError("objects: give either mesh= and material= (one object) or objects=, not both "
+                                 "(to copy a scene with changes, use scene.replace(...))")
+        else:
+            if not isinstance(self.mesh, Mesh):
+                raise TypeError(f"mesh: expected a pomkit.Mesh, got {type(self.mesh).__name__}; "
+                                "or give objects=[pomkit.Object(mesh, material)]")
+            if not isinstance(self.material, Material):
+                raise TypeError(f"material: expected a pomkit.Material, got {type(self.material).__name__}")
+            objects = (Object(self.mesh, self.material),)
+        object.__setattr__(self, "objects", objects)
+        single = objects[0] if len(objects) == 1 else None
+        object.__setattr__(self, "mesh", single.mesh if single else None)
+        object.__setattr__(self, "material", single.material if single else None)
         if not isinstance(self.camera, Camera):
             raise TypeError(f"camera: expected a pomkit.Camera, got {type(self.camera).__name__}")
         lights = tuple(self.lights) if isinstance(self.lights, (list, tuple)) else (self.lights,)
@@ -393,19 +500,32 @@ class Scene:
         object.__setattr__(self, "lights", lights)
         object.__setattr__(self, "ambient", _rgb("ambient", self.ambient))
 
+    @property
+    def single(self) -> Object:
+        """The scene's only object; a ValueError for scenes of several objects."""
+        if len(self.objects) != 1:
+            raise ValueError(f"scene: this takes a scene of one object, got {len(self.objects)}")
+        return self.objects[0]
+
     def replace(self, **changes) -> "Scene":
-        """A copy with some fields changed (dataclasses.replace)."""
+        """A copy with some fields changed. On a scene of one object, `mesh=` and `material=`
+        replace that object's (keeping its transform)."""
         import dataclasses
+        if "objects" in changes:
+            changes.setdefault("mesh", None)
+            changes.setdefault("material", None)
+        elif "mesh" in changes or "material" in changes:
+            o = self.single
+            changes["objects"] = (Object(changes.pop("mesh", o.mesh), changes.pop("material", o.material),
+                                         None if o.is_identity else o.transform),)
+            changes["mesh"] = changes["material"] = None
+        else:
+            changes.update(objects=self.objects, mesh=None, material=None)
         return dataclasses.replace(self, **changes)
 
     def _describe(self) -> dict:
-        m = self.material
         return dict(
-            mesh=self.mesh._describe(),
-            height=m._height_data(),
-            albedo=m._albedo_data(),
-            depth=m.depth,
-            tiling=m.tiling,
+            objects=[o._describe() for o in self.objects],
             camera=self.camera._describe(),
             lights=[l._describe() for l in self.lights],
             ambient=self.ambient,

@@ -252,7 +252,7 @@ def swimming(method, scene_height, frames: int = 16, step_deg: float = 0.5, star
         if prev is not None:
             pf, po = prev
             m = f.mask & o.mask & pf.mask & po.mask
-            d = ((f.uv - pf.uv) - (o.uv - po.uv))[m] * np.array(sc.material.height.shape[::-1])
+            d = ((f.uv - pf.uv) - (o.uv - po.uv))[m] * np.array(sc.single.material.height.shape[::-1])
             acc.append(float(np.linalg.norm(d, axis=-1).mean()))
         prev = (f, o)
     return float(np.mean(acc))

@@ -39,14 +39,30 @@ def _stats(e: np.ndarray) -> dict:
                 p99=float(np.percentile(e, 99)), max=float(e.max()), n=int(e.size))
 
 
+def _texels(o) -> np.ndarray:
+    """Texels per unit of u and v on an object: (W t, H t)."""
+    h, w = o.material.height.shape
+    t = o.material.tiling
+    return np.array([w * t, h * t], np.float64)
+
+
 def uv_error(frame: Frame, ref: Frame, scene: Scene) -> dict:
     """uv error in texels (|du| W t, |dv| H t, Euclidean) over the pixels both frames hit:
-    mean, p50, p95, p99, max, n, plus mask_iou and the per-pixel "image" (NaN elsewhere)."""
+    mean, p50, p95, p99, max, n, plus mask_iou and the per-pixel "image" (NaN elsewhere).
+
+    In a scene of several objects, the pixels compared are those where both frames hit the same
+    object (their `object` AOVs), each measured in its own object's texels."""
     _check(frame, ref)
     both = frame.mask & ref.mask & np.isfinite(frame.uv).all(-1) & np.isfinite(ref.uv).all(-1)
-    h, w = scene.material.height.shape
-    t = scene.material.tiling
-    d = (np.asarray(frame.uv, np.float64) - np.asarray(ref.uv, np.float64)) * np.array([w * t, h * t])
+    scale = np.zeros(frame.mask.shape + (2,))
+    if len(scene.objects) == 1:
+        scale[:] = _texels(scene.objects[0])
+    else:
+        same = frame.object == ref.object
+        both &= same
+        for i, o in enumerate(scene.objects):
+            scale[frame.object == i] = _texels(o)
+    d = (np.asarray(frame.uv, np.float64) - np.asarray(ref.uv, np.float64)) * scale
     err = np.linalg.norm(d, axis=-1)
     img = np.where(both, err, np.nan)
     out = _stats(err[both])

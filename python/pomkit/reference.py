@@ -18,7 +18,7 @@ import numpy as np
 from . import _core
 from ._cache import cached, scene_hash
 from ._frame import Frame
-from ._scene import DirectionalLight, Scene, SphereLight
+from ._scene import DirectionalLight, Material, Scene, SphereLight
 
 __all__ = ["displaced_mesh", "render_mitsuba", "render_pyrender", "mitsuba_variant"]
 
@@ -32,17 +32,34 @@ def _require(module: str):
         raise ImportError(f"{module} is needed for references: {_EXTRA} ({e})") from None
 
 
-def displaced_arrays(scene: Scene, resolution: float = 2.0) -> dict:
-    """positions, normals, uvs, faces of the displaced surface; `resolution` vertices per texel."""
+def displaced_arrays(scene: Scene, resolution: float = 2.0, object: int = 0) -> dict:
+    """positions, normals, uvs, faces of object `object`'s displaced surface in world space (its
+    transform applied; normals by the inverse transpose); `resolution` vertices per texel."""
     if not isinstance(scene, Scene):
         raise TypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
     if isinstance(resolution, bool) or not isinstance(resolution, (int, float)) or not (1 / 1024 <= resolution <= 64):
         raise ValueError(f"resolution: vertices per texel must lie in [1/1024, 64], got {resolution!r}")
-    return dict(_core.tessellate(scene._describe(), 1.0 / float(resolution)))
+    if isinstance(object, bool) or not isinstance(object, (int, np.integer)) or not 0 <= object < len(scene.objects):
+        raise ValueError(f"object: expected an index in [0, {len(scene.objects)}), got {object!r}")
+    a = dict(_core.tessellate(scene._describe(), 1.0 / float(resolution), int(object)))
+    o = scene.objects[int(object)]
+    if not o.is_identity:
+        m = o.transform
+        a["positions"] = (a["positions"] @ m[:3, :3].T + m[:3, 3]).astype(np.float32)
+        n = a["normals"] @ np.linalg.inv(m[:3, :3])  # (M^-T n) as rows
+        a["normals"] = (n / np.linalg.norm(n, axis=1, keepdims=True)).astype(np.float32)
+        if np.linalg.det(m[:3, :3]) < 0:
+            a["faces"] = np.ascontiguousarray(a["faces"][:, ::-1])  # a mirror flips the winding
+    return a
 
 
-def displaced_mesh(scene: Scene, resolution: float | None = None):
-    """The displaced surface `S = P + depth*(h-1)*N` as a `trimesh.Trimesh`.
+def displaced_mesh(scene: Scene, resolution: float | None = None, object: int | None = None):
+    """The displaced surface `S = P + depth*(h-1)*N` as a `trimesh.Trimesh`, in world space.
+
+    For a scene of one object (or with `object=i`), one Trimesh; for a scene of several objects
+    and `object=None`, a list of Trimesh, one per object in the order of `scene.objects` (the
+    index is the object's id in the `object` AOV). Each object's transform is applied; its
+    displacement `depth` is in object units, along the object-space normal.
 
     Heights are sampled bilinearly exactly as the shaders sample them (level 0). `resolution` is
     vertices per texel along each axis (default 2): on the generated meshes the vertices lie on a
@@ -50,10 +67,18 @@ def displaced_mesh(scene: Scene, resolution: float | None = None):
     texel matches the exact field to about 0.001 texel. The mesh carries uvs (`visual.uv`) and
     vertex normals from the height field (central differences, as the shaders shade)."""
     trimesh = _require("trimesh")
-    a = displaced_arrays(scene, 2.0 if resolution is None else resolution)
-    m = trimesh.Trimesh(vertices=a["positions"], faces=a["faces"], vertex_normals=a["normals"],
-                        visual=trimesh.visual.TextureVisuals(uv=a["uvs"]), process=False)
-    return m
+    res = 2.0 if resolution is None else resolution
+
+    def one(i: int):
+        a = displaced_arrays(scene, res, i)
+        return trimesh.Trimesh(vertices=a["positions"], faces=a["faces"], vertex_normals=a["normals"],
+                               visual=trimesh.visual.TextureVisuals(uv=a["uvs"]), process=False)
+
+    if object is not None:
+        return one(object)
+    if len(scene.objects) == 1:
+        return one(0)
+    return [one(i) for i in range(len(scene.objects))]
 
 
 # ---------------------------------------------------------------- Mitsuba
@@ -96,11 +121,11 @@ def mitsuba_variant(variant: str | None = None) -> str:
     raise RuntimeError("no usable Mitsuba variant: " + "; ".join(errors))
 
 
-def _mi_mesh(mi, arrays: dict, bsdf):
+def _mi_mesh(mi, arrays: dict, bsdf, name: str = "displaced"):
     props = mi.Properties()
     props["bsdf"] = bsdf
     n, f = len(arrays["positions"]), len(arrays["faces"])
-    m = mi.Mesh("displaced", n, f, props=props, has_vertex_normals=True, has_vertex_texcoords=True)
+    m = mi.Mesh(name, n, f, props=props, has_vertex_normals=True, has_vertex_texcoords=True)
     p = mi.traverse(m)
     p["vertex_positions"] = np.array(arrays["positions"], np.float32).ravel()
     p["vertex_normals"] = np.ascontiguousarray(arrays["normals"], np.float32).ravel()
@@ -115,9 +140,15 @@ def _look_at(mi, cam):
 
 
 def _scene_radius(scene: Scene) -> tuple[np.ndarray, float]:
-    p = scene.mesh.positions
-    lo, hi = p.min(0), p.max(0)
-    return (lo + hi) / 2, float(np.linalg.norm(hi - lo) / 2 + scene.material.depth)
+    los, his = [], []
+    for o in scene.objects:
+        m = o.transform
+        p = o.mesh.positions @ m[:3, :3].T + m[:3, 3]
+        d = o.material.depth * float(np.linalg.norm(m[:3, :3], 2))
+        los.append(p.min(0) - d)
+        his.append(p.max(0) + d)
+    lo, hi = np.min(los, axis=0), np.max(his, axis=0)
+    return (lo + hi) / 2, float(np.linalg.norm(hi - lo) / 2)
 
 
 def _emitters(mi, scene: Scene) -> dict:
@@ -152,8 +183,7 @@ def _emitters(mi, scene: Scene) -> dict:
     return out
 
 
-def _bsdf(mi, scene: Scene):
-    m = scene.material
+def _bsdf(mi, m: Material):
     refl: dict[str, Any]
     if m.albedo is None:
         refl = {"type": "rgb", "value": [0.5, 0.5, 0.5]}
@@ -167,8 +197,10 @@ def _bsdf(mi, scene: Scene):
 def render_mitsuba(scene: Scene, spp: int = 64, seed: int = 0, variant: str | None = None,
                    resolution: float = 2.0, cache: bool = True) -> Frame:
     """Mitsuba 3's render of the displaced mesh: colour from the `direct` integrator (`spp`
-    samples, box filter) and pixel-centre `uv`, `depth` (distance along the ray) and `mask` from
-    the `aov` integrator (a `stratified` sampler, one sample, no jitter). Same camera, emitters
+    samples, box filter) and pixel-centre `uv`, `depth` (distance along the ray), `mask` and
+    `object` (the index in `scene.objects` of the shape hit, from Mitsuba's `shape_index`) from
+    the `aov` integrator (a `stratified` sampler, one sample, no jitter). Every object is a
+    mesh, so objects shadow each other as they do in the world. Same camera, emitters
     and Lambertian shading as pomkit; see docs/references.md for each convention's test.
     `Frame.wall_ms` is the time of the render (0 when it came from the cache)."""
     if isinstance(spp, bool) or not isinstance(spp, int) or spp < 1:
@@ -179,12 +211,13 @@ def render_mitsuba(scene: Scene, spp: int = 64, seed: int = 0, variant: str | No
         t0 = time.perf_counter()
         v = mitsuba_variant(variant)
         mi = _require("mitsuba")
-        arrays = displaced_arrays(scene, resolution)
-        mesh = _mi_mesh(mi, arrays, _bsdf(mi, scene))
+        shapes = {f"object{i}": _mi_mesh(mi, displaced_arrays(scene, resolution, i), _bsdf(mi, o.material),
+                                         f"object{i}")
+                  for i, o in enumerate(scene.objects)}
         cam = scene.camera
         film = {"type": "hdrfilm", "width": cam.width, "height": cam.height, "rfilter": {"type": "box"},
                 "pixel_format": "rgb", "component_format": "float32"}
-        base = {"type": "scene", "mesh": mesh, **_emitters(mi, scene)}
+        base = {"type": "scene", **shapes, **_emitters(mi, scene)}
         sensor = {"type": "perspective", "fov": cam.fov_y, "fov_axis": "y", "to_world": _look_at(mi, cam),
                   "near_clip": 1e-3, "far_clip": 1e5, "film": film}
         sc = mi.load_dict({**base, "integrator": {"type": "direct", "emitter_samples": 1, "bsdf_samples": 1,
@@ -194,18 +227,27 @@ def render_mitsuba(scene: Scene, spp: int = 64, seed: int = 0, variant: str | No
                                                           "hide_emitters": True},
                            "sensor": {**sensor, "sampler": {"type": "independent", "sample_count": spp}}})
         color = np.array(mi.render(sc, spp=spp, seed=seed), dtype=np.float32)[..., :3]
-        sc2 = mi.load_dict({**base, "integrator": {"type": "aov", "aovs": "dd:depth,uv:uv"},
+        sc2 = mi.load_dict({**base, "integrator": {"type": "aov", "aovs": "dd:depth,uv:uv,si:shape_index"},
                             "sensor": {**sensor, "sampler": {"type": "stratified", "sample_count": 1, "jitter": False}}})
         aov = np.array(mi.render(sc2, spp=1, seed=seed), dtype=np.float32)
         depth = aov[..., 0]
-        mask = depth > 0
-        uv = np.where(mask[..., None], aov[..., 1:3], np.nan).astype(np.float32)
+        uv = aov[..., 1:3]
+        # shape_index counts every shape of the scene (sphere lights too): map it to objects by id
+        ids = {int(k): int(sh.id()[len("object"):]) for k, sh in enumerate(sc2.shapes())
+               if sh.id().startswith("object")}
+        shape = np.rint(aov[..., 3]).astype(np.int64)
+        obj = np.vectorize(lambda k: ids.get(int(k), -1), otypes=[np.int32])(shape)
+        mask = (depth > 0) & (obj >= 0)
+        obj = np.where(mask, obj, -1).astype(np.int32)
+        uv = np.where(mask[..., None], uv, np.nan).astype(np.float32)
         return dict(color=color, uv=uv, depth=np.where(mask, depth, np.nan).astype(np.float32), mask=mask,
-                    ms=np.array((time.perf_counter() - t0) * 1e3), variant=np.array(v))
+                    object=obj, ms=np.array((time.perf_counter() - t0) * 1e3), variant=np.array(v))
 
     t0 = time.perf_counter()
     a = cached("mitsuba", key, compute, use_cache=cache)
-    return Frame(color=a["color"], uv=a["uv"], depth=a["depth"], mask=a["mask"], wall_ms=float(a["ms"]),
+    # references cached before `object` existed: one object, wherever the mask is
+    obj = a["object"] if "object" in a else np.where(a["mask"], 0, -1).astype(np.int32)
+    return Frame(color=a["color"], uv=a["uv"], depth=a["depth"], mask=a["mask"], object=obj, wall_ms=float(a["ms"]),
                  timing="wall", method=f"mitsuba[{a['variant']}] spp={spp} (took {float(a['ms']):.0f} ms, "
                  f"this call {1e3 * (time.perf_counter() - t0):.0f} ms)")
 
@@ -256,22 +298,23 @@ def _pyrender_render(scene: Scene, resolution: float):
     import trimesh
     from ._scene import srgb_to_linear
 
-    tm = displaced_mesh(scene, resolution)
-    m = scene.material
-    if m.albedo is not None:
-        from PIL import Image
-        srgb = np.round(np.clip(_linear_to_srgb(m.albedo), 0, 1) * 255).astype(np.uint8)
-        # pyrender samples images with v flipped (OpenGL's origin is the bottom row)
-        img = Image.fromarray(srgb[::-1])
-        uv = np.asarray(tm.visual.uv) * m.tiling
-        mat = pyrender.MetallicRoughnessMaterial(baseColorTexture=img, metallicFactor=0.0, roughnessFactor=1.0)
-        tm.visual = trimesh.visual.TextureVisuals(uv=uv)
-    else:
-        mat = pyrender.MetallicRoughnessMaterial(baseColorFactor=[0.5, 0.5, 0.5, 1.0], metallicFactor=0.0, roughnessFactor=1.0)
-    mesh = pyrender.Mesh.from_trimesh(tm, material=mat, smooth=True)
     ps = pyrender.Scene(ambient_light=np.array(list(scene.ambient)) if max(scene.ambient) > 0 else np.zeros(3),
                         bg_color=[0, 0, 0, 0])
-    ps.add(mesh)
+    for i, o in enumerate(scene.objects):
+        tm = displaced_mesh(scene, resolution, object=i)
+        m = o.material
+        if m.albedo is not None:
+            from PIL import Image
+            srgb = np.round(np.clip(_linear_to_srgb(m.albedo), 0, 1) * 255).astype(np.uint8)
+            # pyrender samples images with v flipped (OpenGL's origin is the bottom row)
+            img = Image.fromarray(srgb[::-1])
+            uv = np.asarray(tm.visual.uv) * m.tiling
+            mat = pyrender.MetallicRoughnessMaterial(baseColorTexture=img, metallicFactor=0.0, roughnessFactor=1.0)
+            tm.visual = trimesh.visual.TextureVisuals(uv=uv)
+        else:
+            mat = pyrender.MetallicRoughnessMaterial(baseColorFactor=[0.5, 0.5, 0.5, 1.0], metallicFactor=0.0,
+                                                     roughnessFactor=1.0)
+        ps.add(pyrender.Mesh.from_trimesh(tm, material=mat, smooth=True))
     cam = scene.camera
     pc = pyrender.PerspectiveCamera(yfov=math.radians(cam.fov_y), aspectRatio=cam.width / cam.height, znear=0.01)
     f, r, u = cam.basis()

@@ -18,6 +18,7 @@
 #import pomkit::march::{Segment, linear_search, refine_linear, pom_sample_count}
 #import pomkit::maxmip::{maxmip_traverse, positive_start}
 #import pomkit::shading::shade
+#import pomkit::object::{to_world, normal_to_world, stretch, clip_depth}
 
 struct PrismData {
     top: array<vec4<f32>, 3>,
@@ -30,7 +31,7 @@ struct PrismData {
 
 @vertex
 fn vs_prism(v: VertexIn, @location(5) h: f32, @builtin(vertex_index) index: u32) -> VertexOut {
-    var o = pass_through(v, G.view_proj * vec4<f32>(v.position, 1.0));
+    var o = pass_through(v, G.view_proj * (G.model * vec4<f32>(v.position, 1.0)));
     o.h = h;
     o.prism = index / 24u;
     return o;
@@ -39,6 +40,7 @@ fn vs_prism(v: VertexIn, @location(5) h: f32, @builtin(vertex_index) index: u32)
 struct PrismFsOut {
     @location(0) color: vec4<u32>,
     @location(1) geo: vec4<u32>,
+    @location(2) id: u32,
     @builtin(frag_depth) depth: f32,
 }
 
@@ -109,7 +111,8 @@ fn fs_prism(in: VertexOut) -> PrismFsOut {
     let f = make_frame(in.normal, in.tangent, in.uv_scale);
     let tiling = G.tiling;
     let lod = compute_lod(in.uv * tiling);
-    let to_p = in.world - G.eye;
+    // object space, as in surface.wgsl
+    let to_p = in.world - G.eye_object;
     let base_dist = length(to_p);
     let view = to_p / max(base_dist, 1e-20);
     let ndotv = -dot(view, f.n);
@@ -159,13 +162,18 @@ fn fs_prism(in: VertexOut) -> PrismFsOut {
     }
     let s_hit = mix(s_e, s_x, hit);
     let h_hit = mix(h_e, h_x, hit);
-    let p = in.world + view * (ex.x * hit);
-    let sh = shade(f, s_hit, h_hit, p, height_normal(f, s_hit, hl), hl, true, px);
-    let c = G.view_proj * vec4<f32>(p, 1.0);
-    let aov = write_aovs(sh.color, u32(steps + sh.steps), 0u, s_hit / tiling, length(p - G.eye), lod);
+    let p_obj = in.world + view * (ex.x * hit);
+    let p = to_world(p_obj);
+    let sh = shade(f, s_hit, h_hit, p, normal_to_world(height_normal(f, s_hit, hl)), hl, true, px);
+    var dist = length(p - G.eye);
+    if (G.transformed > 0.5) {
+        dist = length(p_obj - G.eye_object) * stretch(view);
+    }
+    let aov = write_aovs(sh.color, u32(steps + sh.steps), 0u, s_hit / tiling, dist, lod);
     var o: PrismFsOut;
     o.color = aov.color;
     o.geo = aov.geo;
-    o.depth = clamp(c.z / c.w, 0.0, 1.0);
+    o.id = aov.id;
+    o.depth = clip_depth(p);
     return o;
 }

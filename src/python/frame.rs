@@ -56,6 +56,7 @@ pub fn frame_to_py<'py>(py: Python<'py>, f: Frame) -> PyResult<Bound<'py, PyDict
     d.set_item("steps", array(py, (h, w), f.steps)?)?;
     d.set_item("lod", array(py, (h, w), f.lod)?)?;
     d.set_item("flags", array(py, (h, w), f.flags)?)?;
+    d.set_item("object", array(py, (h, w), f.object)?)?;
     d.set_item("gpu_ms", f.gpu_ms)?;
     d.set_item("wall_ms", f.wall_ms)?;
     Ok(d)

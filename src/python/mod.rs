@@ -192,18 +192,26 @@ fn exact_uv<'py>(py: Python<'py>, scene: &Bound<'py, PyDict>) -> PyResult<Bound<
     Ok(d)
 }
 
-/// The displaced surface of `scene` as arrays (positions, shading normals, uvs, faces), with
-/// `texels_per_vertex` lattice spacing.
+/// The displaced surface of object `object` of `scene` as arrays (positions, shading normals,
+/// uvs, faces) in object space, with `texels_per_vertex` lattice spacing.
 #[pyfunction]
+#[pyo3(signature = (scene, texels_per_vertex, object=0))]
 fn tessellate<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyDict>,
     texels_per_vertex: f64,
+    object: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene_from_py(scene)?;
     scene.validate()?;
+    let obj = scene.objects.get(object).ok_or_else(|| {
+        Error::arg(
+            "object",
+            format!("the scene has {} objects", scene.objects.len()),
+        )
+    })?;
     let t = py.detach(move || {
-        crate::geometry::tessellate::tessellate(&scene.mesh, &scene.material, texels_per_vertex)
+        crate::geometry::tessellate::tessellate(&obj.mesh, &obj.material, texels_per_vertex)
     })?;
     let n = t.positions.len();
     let d = PyDict::new(py);

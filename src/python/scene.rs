@@ -5,7 +5,9 @@
 use super::nd_array;
 use crate::error::Error;
 use crate::mesh::Mesh;
-use crate::scene::{shared, Albedo, Camera, HeightMap, Light, Material, Scene, Shared};
+use crate::scene::{
+    shared, Albedo, Camera, HeightMap, Light, Material, Object, Scene, Shared, Transform,
+};
 use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -209,9 +211,9 @@ impl PyAlbedoData {
     }
 }
 
-/// Build a core Scene from the dict that `pomkit.Scene._describe()` returns: the mesh, height
-/// map and albedo arrive as keyed handles (shared, not copied).
-pub fn scene_from_py(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
+/// One object of a scene description: its keyed mesh, height map and albedo, its material's
+/// numbers and its transform (16 numbers, row-major).
+fn object_from_py(d: &Bound<'_, PyDict>) -> PyResult<Object> {
     let mesh = item(d, "mesh")?.cast::<PyMeshData>()?.get().0.clone();
     let height = item(d, "height")?.cast::<PyHeightData>()?.get().0.clone();
     let albedo = item(d, "albedo")?;
@@ -226,6 +228,27 @@ pub fn scene_from_py(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
         tiling: item(d, "tiling")?.extract()?,
         albedo,
     };
+    let t = item(d, "transform")?;
+    let transform = if t.is_none() {
+        Transform::default()
+    } else {
+        let m: [f64; 16] = t.extract()?;
+        Transform::new(glam::DMat4::from_cols_array(&m).transpose(), "transform")?
+    };
+    Ok(Object {
+        mesh,
+        material,
+        transform,
+    })
+}
+
+/// Build a core Scene from the dict that `pomkit.Scene._describe()` returns: the mesh, height
+/// map and albedo arrive as keyed handles (shared, not copied).
+pub fn scene_from_py(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
+    let mut objects = Vec::new();
+    for o in item(d, "objects")?.cast::<PyList>()?.iter() {
+        objects.push(object_from_py(o.cast::<PyDict>()?)?);
+    }
     let cam = item(d, "camera")?;
     let cam = cam.cast::<PyDict>()?;
     let camera = Camera {
@@ -247,6 +270,7 @@ pub fn scene_from_py(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
                 direction: v3(&item(&l, "direction")?)?,
                 irradiance: rgb(item(&l, "irradiance")?)?,
                 angular_diameter: item(&l, "angular_diameter")?.extract()?,
+                cast_shadows: item(&l, "cast_shadows")?.extract()?,
             },
             "sphere" => Light::Sphere {
                 position: v3(&item(&l, "position")?)?,
@@ -262,8 +286,7 @@ pub fn scene_from_py(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
     }
     let ambient: [f32; 3] = item(d, "ambient")?.extract()?;
     Ok(Scene {
-        mesh,
-        material,
+        objects,
         camera,
         lights,
         ambient,

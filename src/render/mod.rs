@@ -260,21 +260,23 @@ impl Renderer {
                 format!("frame {}x{} needs a {bytes}-byte readback buffer; the device's max_buffer_size is {}", cam.width, cam.height, lim.max_buffer_size),
             ));
         }
-        let hm = &scene.material.height;
-        dims("height", "height map", hm.width, hm.height)?;
-        if let Some(a) = &scene.material.albedo {
-            dims("albedo", "albedo", a.width, a.height)?;
-        }
-        let vbytes =
-            scene.mesh.positions.len() as u64 * std::mem::size_of::<crate::mesh::Vertex>() as u64;
-        if vbytes > lim.max_buffer_size {
-            return Err(Error::limit(
-                "mesh",
-                format!(
-                    "vertex buffer of {vbytes} bytes exceeds max_buffer_size = {}",
-                    lim.max_buffer_size
-                ),
-            ));
+        for o in &scene.objects {
+            let hm = &o.material.height;
+            dims("height", "height map", hm.width, hm.height)?;
+            if let Some(a) = &o.material.albedo {
+                dims("albedo", "albedo", a.width, a.height)?;
+            }
+            let vbytes =
+                o.mesh.positions.len() as u64 * std::mem::size_of::<crate::mesh::Vertex>() as u64;
+            if vbytes > lim.max_buffer_size {
+                return Err(Error::limit(
+                    "mesh",
+                    format!(
+                        "vertex buffer of {vbytes} bytes exceeds max_buffer_size = {}",
+                        lim.max_buffer_size
+                    ),
+                ));
+            }
         }
         Ok(())
     }
@@ -315,46 +317,15 @@ impl Renderer {
                 &spec,
                 filtering,
                 shadow.is_some(),
-                (aovs.color_target(), aovs.geo_target()),
+                (aovs.color_target(), aovs.geo_target(), aovs.id_target()),
                 arg,
             )?;
-            let (height, albedo, mesh, maps, cones) = {
-                let mut res = self.resources.lock().map_err(poisoned)?;
-                let height = res.height(&self.ctx, &self.mips, &scene.material.height)?;
-                let cones = match spec.cone_map {
-                    Some(kind) => Some(res.cone_map(
-                        &self.ctx,
-                        &self.cone_builder,
-                        &height,
-                        scene.material.height.key,
-                        kind,
-                    )?),
-                    None => None,
-                };
-                let albedo = res.albedo(&self.ctx, scene.material.albedo.as_deref())?;
-                let mesh = res.mesh(&self.ctx, scene, spec.geometry)?;
-                let maps = if spec.frame_maps {
-                    debug_assert_eq!(spec.geometry, Geometry::Base);
-                    Some(res.frame_maps(&self.ctx, &self.texspace, &mesh, scene.mesh.key)?)
-                } else {
-                    None
-                };
-                (height, albedo, mesh, maps, cones)
-            };
-            let globals = uniforms::globals(scene, &spec, shadow.as_ref());
-            let next = self.submit(
-                scene,
-                &spec,
-                &variant,
-                shadow.as_ref(),
-                &globals,
-                &height,
-                &albedo,
-                &mesh,
-                maps.as_deref(),
-                cones.as_ref().map(|c| &c.buf),
-                aovs,
-            )?;
+            let shadow_view = shadow
+                .as_ref()
+                .map(|s| shadow_map::target(&self.ctx, s))
+                .transpose()?;
+            let draws = self.draws(scene, &spec, shadow.as_ref(), shadow_view.as_ref())?;
+            let next = self.submit(scene, &variant, shadow_view.as_ref(), &draws, aovs)?;
             if let Some(p) = pending.replace(next) {
                 frames.push(self.finish(p)?);
             }
@@ -431,50 +402,97 @@ impl Renderer {
             })
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn submit(
+    /// Every object's draw: its resources (made or found in the caches), its uniform block and
+    /// its bind groups.
+    fn draws(
         &self,
         scene: &Scene,
         spec: &Spec,
-        variant: &pipelines::Variant,
         shadow: Option<&shadow_map::ShadowSetup>,
-        globals: &uniforms::Globals,
-        height: &GpuHeight,
-        albedo: &wgpu::TextureView,
-        mesh: &GpuMesh,
-        maps: Option<&FrameMaps>,
-        cones: Option<&wgpu::Buffer>,
+        shadow_view: Option<&wgpu::TextureView>,
+    ) -> Result<Vec<Draw>> {
+        let ctx = &self.ctx;
+        let params = ctx.scoped(|| {
+            Ok(ctx.upload(
+                "method params",
+                &crate::shaders::params_bytes(&spec.params),
+                wgpu::BufferUsages::UNIFORM,
+            ))
+        })?;
+        let mut draws = Vec::with_capacity(scene.objects.len());
+        for (id, obj) in scene.objects.iter().enumerate() {
+            let (height, albedo, mesh, maps, cones) = {
+                let mut res = self.resources.lock().map_err(poisoned)?;
+                let height = res.height(ctx, &self.mips, &obj.material.height)?;
+                let cones = match spec.cone_map {
+                    Some(kind) => Some(res.cone_map(
+                        ctx,
+                        &self.cone_builder,
+                        &height,
+                        obj.material.height.key,
+                        kind,
+                    )?),
+                    None => None,
+                };
+                let albedo = res.albedo(ctx, obj.material.albedo.as_deref())?;
+                let mesh = res.mesh(ctx, obj, spec.geometry)?;
+                let maps = if spec.frame_maps {
+                    debug_assert_eq!(spec.geometry, Geometry::Base);
+                    Some(res.frame_maps(ctx, &self.texspace, &mesh, obj.mesh.key)?)
+                } else {
+                    None
+                };
+                (height, albedo, mesh, maps, cones)
+            };
+            let globals = uniforms::globals(scene, id, spec, shadow);
+            let d = ctx.scoped(|| {
+                let inputs = Inputs {
+                    globals: &ctx.upload(
+                        "globals",
+                        bytemuck::bytes_of(&globals),
+                        wgpu::BufferUsages::UNIFORM,
+                    ),
+                    params: &params,
+                    height: &height,
+                    albedo: &albedo,
+                    maps: maps.as_deref().unwrap_or(&self.fixed.no_maps),
+                    mesh: &mesh,
+                    cones: cones
+                        .as_ref()
+                        .map(|c| &c.buf)
+                        .unwrap_or(&self.fixed.no_cones),
+                };
+                Ok(Draw {
+                    bind: self.bind_group(&inputs, shadow_view.unwrap_or(&self.fixed.no_shadow)),
+                    // the shadow-map pass cannot sample the map it writes
+                    shadow_bind: shadow_view
+                        .map(|_| self.bind_group(&inputs, &self.fixed.no_shadow)),
+                    mesh: mesh.clone(),
+                })
+            })?;
+            draws.push(d);
+        }
+        Ok(draws)
+    }
+
+    fn submit(
+        &self,
+        scene: &Scene,
+        variant: &pipelines::Variant,
+        shadow_view: Option<&wgpu::TextureView>,
+        draws: &[Draw],
         aovs: Aovs,
     ) -> Result<Pending> {
         let ctx = &self.ctx;
         let (w, h) = (scene.camera.width, scene.camera.height);
         ctx.scoped(|| {
-            let inputs = Inputs {
-                globals: &ctx.upload(
-                    "globals",
-                    bytemuck::bytes_of(globals),
-                    wgpu::BufferUsages::UNIFORM,
-                ),
-                params: &ctx.upload(
-                    "method params",
-                    &crate::shaders::params_bytes(&spec.params),
-                    wgpu::BufferUsages::UNIFORM,
-                ),
-                height,
-                albedo,
-                maps: maps.unwrap_or(&self.fixed.no_maps),
-                mesh,
-                cones: cones.unwrap_or(&self.fixed.no_cones),
-            };
             let mut enc = ctx
                 .device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("render"),
                 });
-            let mut bind = self.bind_group(&inputs, &self.fixed.no_shadow);
-            if let (Some(s), Some(p)) = (shadow, &variant.shadow) {
-                let view = shadow_map::encode(&ctx.device, &mut enc, s, p, &bind, mesh);
-                bind = self.bind_group(&inputs, &view);
+            if let (Some(v), Some(p)) = (shadow_view, &variant.shadow) {
+                shadow_map::encode(&mut enc, v, p, draws);
             }
             let tg = self.targets(w, h)?;
             {
@@ -500,8 +518,10 @@ impl Renderer {
                     multiview_mask: None,
                 });
                 pass.set_pipeline(&variant.main);
-                pass.set_bind_group(0, &bind, &[]);
-                mesh.draw(&mut pass);
+                for d in draws {
+                    pass.set_bind_group(0, &d.bind, &[]);
+                    d.mesh.draw(&mut pass);
+                }
             }
             tg.encode_readback(&mut enc, aovs);
             let t0 = std::time::Instant::now();
@@ -514,6 +534,14 @@ impl Renderer {
             })
         })
     }
+}
+
+/// One object's draw in a frame: its mesh and its bind groups (uniform block, maps).
+pub struct Draw {
+    pub mesh: Arc<GpuMesh>,
+    pub bind: wgpu::BindGroup,
+    /// the shadow-map pass's bind group (without the shadow map), when the frame has one
+    pub shadow_bind: Option<wgpu::BindGroup>,
 }
 
 /// A submitted frame: its targets, its submission and when it was submitted.

@@ -37,7 +37,7 @@ pub struct Pipelines {
 }
 
 /// The key of a shader variant: everything that shapes the composed module.
-fn variant_key(spec: &Spec, filtering: Filtering, targets: (bool, bool)) -> u64 {
+fn variant_key(spec: &Spec, filtering: Filtering, targets: (bool, bool, bool)) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
     targets.hash(&mut h);
     match &spec.pass {
@@ -123,10 +123,10 @@ impl Pipelines {
         spec: &Spec,
         filtering: Filtering,
         shadow_map: bool,
-        (color, geo): (bool, bool),
+        (color, geo, id): (bool, bool, bool),
         arg: &str,
     ) -> Result<Arc<Variant>> {
-        let key = variant_key(spec, filtering, (color, geo));
+        let key = variant_key(spec, filtering, (color, geo, id));
         if let Some(v) = self
             .cache
             .lock()
@@ -182,6 +182,11 @@ impl Pipelines {
                     targets: &[
                         color.then(|| target.clone()).flatten(),
                         geo.then_some(target).flatten(),
+                        id.then_some(wgpu::ColorTargetState {
+                            format: super::targets::ID_FORMAT,
+                            blend: None,
+                            write_mask: wgpu::ColorWrites::ALL,
+                        }),
                     ],
                 }),
                 multiview_mask: None,

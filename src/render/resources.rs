@@ -9,7 +9,7 @@ use crate::gpu::Context;
 use crate::heightmap::{mip_count, pyramid, GpuHeight, MipBuilder};
 use crate::mesh::Vertex;
 use crate::methods::Geometry;
-use crate::scene::{hash_bytes, Albedo, HeightMap, Keyed, Scene};
+use crate::scene::{hash_bytes, Albedo, HeightMap, Keyed, Object};
 use crate::texspace::{FrameMaps, TexSpace};
 use std::sync::Arc;
 
@@ -173,10 +173,10 @@ impl Resources {
     pub fn mesh(
         &mut self,
         ctx: &Context,
-        scene: &Scene,
+        object: &Object,
         geometry: Geometry,
     ) -> Result<Arc<GpuMesh>> {
-        let (mesh, m) = (&scene.mesh, &scene.material);
+        let (mesh, m) = (&object.mesh, &object.material);
         let base_key = mesh.key;
         match geometry {
             Geometry::Base => self.meshes.get_or(base_key, || {

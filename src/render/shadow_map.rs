@@ -19,15 +19,28 @@ pub struct ShadowSetup {
     pub size: u32,
 }
 
-/// The shadow map a pass needs, if any: Tessellated with shadows on and a directional light.
+/// The shadow map a pass needs, if any: for the first directional light with `cast_shadows`
+/// (every method: objects shadow each other), or else, for Tessellated with shadows on, for the
+/// first directional light (its own shadows).
 pub fn setup(scene: &Scene, spec: &Spec, max_dim: u32) -> Option<ShadowSetup> {
-    if !matches!(spec.geometry, Geometry::Tessellated { .. }) || spec.pixel.shadows == Shadows::None
-    {
-        return None;
-    }
-    let (i, dir) = scene.lights.iter().enumerate().find_map(|(i, l)| match l {
-        Light::Directional { direction, .. } => Some((i, DVec3::from(*direction).normalize())),
-        _ => None,
+    let directional = |cast_only: bool| {
+        scene.lights.iter().enumerate().find_map(|(i, l)| match l {
+            Light::Directional {
+                direction,
+                cast_shadows,
+                ..
+            } if *cast_shadows || !cast_only => Some((i, DVec3::from(*direction).normalize())),
+            _ => None,
+        })
+    };
+    let tessellated_shadows = matches!(spec.geometry, Geometry::Tessellated { .. })
+        && spec.pixel.shadows != Shadows::None;
+    let (i, dir) = directional(true).or_else(|| {
+        if tessellated_shadows {
+            directional(false)
+        } else {
+            None
+        }
     })?;
     let (c, r) = super::uniforms::bounding_sphere(scene);
     let size = SHADOW_MAP_SIZE.min(max_dim);
@@ -59,35 +72,32 @@ pub fn setup(scene: &Scene, spec: &Spec, max_dim: u32) -> Option<ShadowSetup> {
     })
 }
 
-/// Encode the shadow-map pass (depth only) into `enc`; returns the map's view.
+/// The depth texture a frame's shadow map is rendered into.
+pub fn target(ctx: &crate::gpu::Context, s: &ShadowSetup) -> crate::Result<wgpu::TextureView> {
+    ctx.scoped(|| {
+        Ok(ctx
+            .texture_2d(
+                "shadow map",
+                (s.size, s.size),
+                DEPTH_FORMAT,
+                wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT,
+            )
+            .create_view(&Default::default()))
+    })
+}
+
+/// Encode the shadow-map pass (depth only) of every object into `enc`, rendering into `view`.
 pub fn encode(
-    dev: &wgpu::Device,
     enc: &mut wgpu::CommandEncoder,
-    s: &ShadowSetup,
+    view: &wgpu::TextureView,
     pipeline: &wgpu::RenderPipeline,
-    bind: &wgpu::BindGroup,
-    mesh: &super::resources::GpuMesh,
-) -> wgpu::TextureView {
-    let t = dev.create_texture(&wgpu::TextureDescriptor {
-        label: Some("shadow map"),
-        size: wgpu::Extent3d {
-            width: s.size,
-            height: s.size,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: DEPTH_FORMAT,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT,
-        view_formats: &[],
-    });
-    let v = t.create_view(&Default::default());
+    draws: &[super::Draw],
+) {
     let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("shadow map"),
         color_attachments: &[],
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: &v,
+            view,
             depth_ops: Some(wgpu::Operations {
                 load: wgpu::LoadOp::Clear(1.0),
                 store: wgpu::StoreOp::Store,
@@ -99,8 +109,8 @@ pub fn encode(
         multiview_mask: None,
     });
     pass.set_pipeline(pipeline);
-    pass.set_bind_group(0, bind, &[]);
-    mesh.draw(&mut pass);
-    drop(pass);
-    v
+    for d in draws {
+        pass.set_bind_group(0, d.shadow_bind.as_ref().unwrap_or(&d.bind), &[]);
+        d.mesh.draw(&mut pass);
+    }
 }

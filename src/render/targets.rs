@@ -13,8 +13,10 @@ use crate::gpu::Context;
 pub struct Aovs(u8);
 
 impl Aovs {
-    pub const NAMES: [&'static str; 7] = ["color", "uv", "depth", "mask", "steps", "lod", "flags"];
-    pub const ALL: Aovs = Aovs(0x7f);
+    pub const NAMES: [&'static str; 8] = [
+        "color", "uv", "depth", "mask", "steps", "lod", "flags", "object",
+    ];
+    pub const ALL: Aovs = Aovs(0xff);
 
     fn bit(name: &str) -> Option<u8> {
         Self::NAMES.iter().position(|n| *n == name).map(|i| 1 << i)
@@ -54,7 +56,11 @@ impl Aovs {
     }
     /// Whether the geo target (uv, distance, lod; the mask) is written and read.
     pub fn geo_target(self) -> bool {
-        self.any(&["uv", "depth", "mask", "lod", "steps", "flags"])
+        self.any(&["uv", "depth", "mask", "lod", "steps", "flags", "object"])
+    }
+    /// Whether the object-id target is written and read.
+    pub fn id_target(self) -> bool {
+        self.has("object")
     }
 }
 
@@ -78,6 +84,8 @@ pub struct Frame {
     pub lod: Vec<f32>,
     /// bit 0: the march hit its iteration bound; bit 1: NCS early termination
     pub flags: Vec<u8>,
+    /// the index of the object hit in the scene's objects, -1 where no hit
+    pub object: Vec<i32>,
     /// GPU time of the render pass from timestamp queries, if the adapter has them
     pub gpu_ms: Option<f64>,
     /// wall time of submit-and-wait, always measured
@@ -93,17 +101,28 @@ pub struct Targets {
     pub color_v: wgpu::TextureView,
     pub geo_v: wgpu::TextureView,
     pub depth_v: wgpu::TextureView,
+    pub id_t: wgpu::Texture,
+    pub id_v: wgpu::TextureView,
     pub color_buf: wgpu::Buffer,
     pub geo_buf: wgpu::Buffer,
+    pub id_buf: wgpu::Buffer,
     pub queries: Option<wgpu::QuerySet>,
     pub ts_resolve: Option<wgpu::Buffer>,
     pub ts_read: Option<wgpu::Buffer>,
 }
 
-/// Bytes per row of a readback buffer (256-aligned).
+/// Bytes per row of a readback buffer of the colour and geo targets (256-aligned).
 pub fn row_bytes(w: u32) -> u64 {
-    (w as u64 * 16).div_ceil(256) * 256
+    texel_row_bytes(w, 16)
 }
+
+/// Bytes per row of a readback buffer of `texel` bytes per pixel (256-aligned).
+fn texel_row_bytes(w: u32, texel: u64) -> u64 {
+    (w as u64 * texel).div_ceil(256) * 256
+}
+
+/// The object-id target's format: one u32 per pixel.
+pub const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 
 impl Targets {
     pub fn new(ctx: &Context, w: u32, h: u32) -> Self {
@@ -112,6 +131,7 @@ impl Targets {
         let rt = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
         let color_t = tex("color", COLOR_FORMAT, rt);
         let geo_t = tex("geo", COLOR_FORMAT, rt);
+        let id_t = tex("object", ID_FORMAT, rt);
         let depth_t = tex(
             "depth",
             DEPTH_FORMAT,
@@ -135,6 +155,9 @@ impl Targets {
             depth_v: depth_t.create_view(&Default::default()),
             color_buf: buf("color readback", row_bytes(w) * h as u64, rb),
             geo_buf: buf("geo readback", row_bytes(w) * h as u64, rb),
+            id_v: id_t.create_view(&Default::default()),
+            id_buf: buf("object readback", texel_row_bytes(w, 4) * h as u64, rb),
+            id_t,
             queries: ts.then(|| {
                 dev.create_query_set(&wgpu::QuerySetDescriptor {
                     label: Some("pass time"),
@@ -156,7 +179,7 @@ impl Targets {
     }
 
     /// The colour attachments, cleared: no hit is marked by distance -1.0 (as float32 bits).
-    pub fn attachments(&self, aovs: Aovs) -> [Option<wgpu::RenderPassColorAttachment<'_>>; 2] {
+    pub fn attachments(&self, aovs: Aovs) -> [Option<wgpu::RenderPassColorAttachment<'_>>; 3] {
         let att = |view, clear| {
             Some(wgpu::RenderPassColorAttachment {
                 view,
@@ -185,14 +208,28 @@ impl Targets {
                     )
                 })
                 .flatten(),
+            aovs.id_target()
+                .then(|| {
+                    att(
+                        &self.id_v,
+                        wgpu::Color {
+                            r: u32::MAX as f64,
+                            g: 0.0,
+                            b: 0.0,
+                            a: 0.0,
+                        },
+                    )
+                })
+                .flatten(),
         ]
     }
 
     /// Copy the targets and the pass's timestamps into the readback buffers.
     pub fn encode_readback(&self, enc: &mut wgpu::CommandEncoder, aovs: Aovs) {
-        for (t, b, used) in [
-            (&self.color_t, &self.color_buf, aovs.color_target()),
-            (&self.geo_t, &self.geo_buf, aovs.geo_target()),
+        for (t, b, used, texel) in [
+            (&self.color_t, &self.color_buf, aovs.color_target(), 16),
+            (&self.geo_t, &self.geo_buf, aovs.geo_target(), 16),
+            (&self.id_t, &self.id_buf, aovs.id_target(), 4),
         ] {
             if !used {
                 continue;
@@ -203,7 +240,7 @@ impl Targets {
                     buffer: b,
                     layout: wgpu::TexelCopyBufferLayout {
                         offset: 0,
-                        bytes_per_row: Some(row_bytes(self.w) as u32),
+                        bytes_per_row: Some(texel_row_bytes(self.w, texel) as u32),
                         rows_per_image: Some(self.h),
                     },
                 },
@@ -237,6 +274,9 @@ impl Targets {
         if aovs.color_target() {
             bufs.push(&self.color_buf);
         }
+        if aovs.id_target() {
+            bufs.push(&self.id_buf);
+        }
         if let Some(b) = &self.ts_read {
             bufs.push(b);
         }
@@ -250,6 +290,10 @@ impl Targets {
             }
             if aovs.color_target() {
                 frame.unpack_color(rb, raw[k]);
+                k += 1;
+            }
+            if aovs.id_target() {
+                frame.unpack_object(texel_row_bytes(self.w, 4) as usize, raw[k]);
                 k += 1;
             }
             if self.ts_read.is_some() {
@@ -284,6 +328,7 @@ impl Frame {
             steps: sized(aovs.has("steps"), n, 0),
             lod: sized(aovs.has("lod"), n, f32::NAN),
             flags: sized(aovs.has("flags"), n, 0),
+            object: sized(aovs.has("object"), n, -1),
             gpu_ms: None,
             wall_ms: 0.0,
         }
@@ -313,6 +358,20 @@ impl Frame {
                     if lod {
                         self.lod[i] = px[3];
                     }
+                }
+            }
+        }
+    }
+
+    /// The object ids from the id target, where hit (the mask).
+    fn unpack_object(&mut self, row_bytes: usize, raw: &[u8]) {
+        let w = self.width as usize;
+        for y in 0..self.height as usize {
+            let ids: &[u32] = bytemuck::cast_slice(&raw[y * row_bytes..y * row_bytes + w * 4]);
+            for (x, id) in ids.iter().enumerate() {
+                let i = y * w + x;
+                if self.mask[i] {
+                    self.object[i] = *id as i32;
                 }
             }
         }

@@ -54,16 +54,32 @@ uniform_struct! {
         pub shadow_size: f32,
         pub pad_b: f32,
         pub max_offsets: [[u32; 4]; 4],
+        pub model: [[f32; 4]; 4],
+        pub normal_mat: [[f32; 4]; 4],
+        pub model_inv: [[f32; 4]; 4],
+        pub eye_object: [f32; 3],
+        pub object_id: f32,
+        pub transformed: f32,
+        pub pad_c: f32,
+        pub pad_d: f32,
+        pub pad_e: f32,
     }
 }
 
-/// The scene's bounding sphere (base mesh grown by the displacement depth).
+/// The scene's bounding sphere (every object's base mesh grown by its displacement depth).
 pub fn bounding_sphere(scene: &Scene) -> (DVec3, f64) {
-    let (lo, hi) = scene.mesh.bounds();
-    (
-        (lo + hi) * 0.5,
-        (hi - lo).length() * 0.5 + scene.material.depth as f64 + 1e-3,
-    )
+    if let [o] = scene.objects.as_slice() {
+        // one object: its box, grown by the displacement in every direction
+        let (lo, hi, d) = o.bounds();
+        return ((lo + hi) * 0.5, (hi - lo).length() * 0.5 + d + 1e-3);
+    }
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for o in &scene.objects {
+        let (a, b, d) = o.bounds();
+        lo = lo.min(a - DVec3::splat(d));
+        hi = hi.max(b + DVec3::splat(d));
+    }
+    ((lo + hi) * 0.5, (hi - lo).length() * 0.5 + 1e-3)
 }
 
 fn light_uniform(l: &Light) -> LightU {
@@ -72,6 +88,7 @@ fn light_uniform(l: &Light) -> LightU {
             direction,
             irradiance,
             angular_diameter,
+            ..
         } => {
             let d = DVec3::from(*direction).normalize();
             LightU {
@@ -100,13 +117,15 @@ fn light_uniform(l: &Light) -> LightU {
     }
 }
 
-/// The uniform block for `scene` drawn with `spec`; `shadow` is the shadow map's set-up
-/// (light index, view-projection, texel size, map size) when the pass has one.
+/// The uniform block for object `id` of `scene` drawn with `spec`; `shadow` is the shadow map's
+/// set-up (light index, view-projection, texel size, map size) when the pass has one.
 pub fn globals(
     scene: &Scene,
+    id: usize,
     spec: &Spec,
     shadow: Option<&super::shadow_map::ShadowSetup>,
 ) -> Globals {
+    let obj = &scene.objects[id];
     let (c, r) = bounding_sphere(scene);
     let d = (DVec3::from(scene.camera.eye) - c).length();
     let far = (d + r) * 1.01 + 1e-3;
@@ -118,7 +137,11 @@ pub fn globals(
     for (i, l) in scene.lights.iter().enumerate() {
         lights[i] = light_uniform(l);
     }
-    let hm = &scene.material.height;
+    let hm = &obj.material.height;
+    let tr = &obj.transform;
+    let inv = tr.m.inverse();
+    let eye_o = inv.transform_point3(DVec3::from(scene.camera.eye));
+    let m4 = |m: glam::DMat4| m.as_mat4().to_cols_array_2d();
     let max_off = max_offset_table(hm.width, hm.height);
     let o = &spec.pixel;
     let flag = |b: bool| if b { 1.0 } else { 0.0 };
@@ -128,8 +151,8 @@ pub fn globals(
         eye: [cam.eye[0] as f32, cam.eye[1] as f32, cam.eye[2] as f32],
         light_count: scene.lights.len() as f32,
         map_size: [hm.width as f32, hm.height as f32],
-        tiling: scene.material.tiling,
-        depth: scene.material.depth,
+        tiling: obj.material.tiling,
+        depth: obj.material.depth,
         ambient: scene.ambient,
         mip_count: mip_count(hm.width, hm.height) as f32,
         shadow_steps: o.shadow_steps as f32,
@@ -147,6 +170,19 @@ pub fn globals(
         shadow_size: shadow.map(|s| s.size as f32).unwrap_or(1.0),
         pad_b: 0.0,
         max_offsets: max_off,
+        model: m4(tr.m),
+        normal_mat: m4(inv.transpose()),
+        model_inv: m4(inv),
+        eye_object: if tr.is_identity() {
+            [cam.eye[0] as f32, cam.eye[1] as f32, cam.eye[2] as f32]
+        } else {
+            [eye_o.x as f32, eye_o.y as f32, eye_o.z as f32]
+        },
+        object_id: id as f32,
+        transformed: flag(!tr.is_identity()),
+        pad_c: 0.0,
+        pad_d: 0.0,
+        pad_e: 0.0,
     }
 }
 

@@ -88,7 +88,7 @@ def run_demo(out: str = "pomkit-out", size: int = 384) -> Path:
     # accuracy against the CPU oracle (exact first hit against the bilinear field)
     small = scene.replace(camera=pk.Camera.look_at(scene.camera.eye, scene.camera.target, fov_y=40.0, width=160, height=160))
     oracle = pk.exact_uv(small)
-    h, w = small.material.height.shape
+    h, w = small.single.material.height.shape
     lines = []
     for label, m in (("POM (default: level-0 march)", pk.POM(shadows="none")),
                      ("POM, mip-filtered march", pk.POM(shadows="none", mip_filtering=True)),

@@ -1,0 +1,53 @@
+// object.wgsl: the object's transform. Every mesh lives in object space and the methods march
+// there (the displacement `depth` is in object units, along the object-space normal); positions
+// go to world space for the depth buffer, the lights and the shadow map, normals for the light
+// model. An untransformed object skips the arithmetic (a uniform branch), so that its results are
+// bit-identical to a scene without transforms.
+#define_import_path pomkit::object
+
+#import pomkit::globals::G
+
+fn is_transformed() -> bool {
+    return G.transformed > 0.5;
+}
+
+// An object-space point in world space.
+fn to_world(p: vec3<f32>) -> vec3<f32> {
+    if (is_transformed()) {
+        return (G.model * vec4<f32>(p, 1.0)).xyz;
+    }
+    return p;
+}
+
+// An object-space normal in world space (unit).
+fn normal_to_world(n: vec3<f32>) -> vec3<f32> {
+    if (is_transformed()) {
+        return normalize((G.normal_mat * vec4<f32>(n, 0.0)).xyz);
+    }
+    return n;
+}
+
+// A world direction in object space (unit).
+fn dir_to_object(d: vec3<f32>) -> vec3<f32> {
+    if (is_transformed()) {
+        return normalize((G.model_inv * vec4<f32>(d, 0.0)).xyz);
+    }
+    return d;
+}
+
+// World length of a unit object-space direction: object distances along it times this are
+// world distances.
+fn stretch(v: vec3<f32>) -> f32 {
+    if (is_transformed()) {
+        return length((G.model * vec4<f32>(v, 0.0)).xyz);
+    }
+    return 1.0;
+}
+
+// The depth-buffer value of a world point. A grazing ray can march past the mesh's edge (the
+// map tiles on), beyond the far plane: such hits keep the largest depth below the cleared 1.0,
+// so that they still pass the depth test.
+fn clip_depth(p: vec3<f32>) -> f32 {
+    let c = G.view_proj * vec4<f32>(p, 1.0);
+    return clamp(c.z / c.w, 0.0, 0.99999994);
+}

@@ -1,0 +1,165 @@
+"""Scenes of several objects (issue 13): the scene model, transforms, displaced depth and the
+`object` AOV. The Mitsuba comparisons are in test_objects_reference.py."""
+
+import numpy as np
+import pytest
+
+import pomkit as pk
+from pomkit import textures
+
+
+def _rot(axis, deg):
+    a = np.radians(deg)
+    c, s = np.cos(a), np.sin(a)
+    x, y, z = np.asarray(axis, float) / np.linalg.norm(axis)
+    r = np.array([[c + x * x * (1 - c), x * y * (1 - c) - z * s, x * z * (1 - c) + y * s],
+                  [y * x * (1 - c) + z * s, c + y * y * (1 - c), y * z * (1 - c) - x * s],
+                  [z * x * (1 - c) - y * s, z * y * (1 - c) + x * s, c + z * z * (1 - c)]])
+    m = np.eye(4)
+    m[:3, :3] = r
+    return m
+
+
+def _translate(x, y, z):
+    m = np.eye(4)
+    m[:3, 3] = (x, y, z)
+    return m
+
+
+def _scale(x, y, z):
+    return np.diag([x, y, z, 1.0])
+
+
+BRICKS = textures.bricks(128)
+CAM = pk.Camera.look_at(eye=(0.4, 2.2, 3.0), target=(0, 0, 0), fov_y=40, width=96, height=96)
+LIGHT = pk.DirectionalLight((-0.3, -1.0, -0.4), 2.0)
+
+
+def _single(mesh=None, transform=None, **kw):
+    mesh = mesh or pk.Mesh.torus(1.0, 0.35, 48, 24)
+    mat = pk.Material(BRICKS, depth=0.06, tiling=4.0)
+    return pk.Scene(objects=[pk.Object(mesh, mat, transform)], camera=CAM, lights=[LIGHT], ambient=0.05, **kw), mat
+
+
+@pytest.mark.parametrize("method", [pk.POM(), pk.Exact(), pk.Prism(), pk.NCS(), pk.Tessellated(2), pk.Flat(),
+                                    pk.ConeStep(), pk.Relief(shadows="hard")], ids=repr)
+def test_one_object_given_as_objects_is_bit_identical(renderer, method):
+    sc, mat = _single()
+    plain = pk.Scene(mesh=sc.objects[0].mesh, material=mat, camera=CAM, lights=[LIGHT], ambient=0.05)
+    a, b = renderer.render(sc, method), renderer.render(plain, method)
+    for name in pk.AOV_NAMES:
+        assert np.array_equal(getattr(a, name), getattr(b, name), equal_nan=True), name
+
+
+def test_scene_accessors_and_replace():
+    sc, mat = _single()
+    assert sc.mesh is sc.objects[0].mesh and sc.material is mat
+    two = sc.replace(objects=[sc.objects[0], pk.Object(pk.Mesh.plane(4.0), mat, _translate(0, -0.5, 0))])
+    assert two.mesh is None and two.material is None and len(two.objects) == 2
+    # replacing the material of a one-object scene keeps its transform
+    t = _translate(0.1, 0.0, 0.0)
+    one, _ = _single(transform=t)
+    m2 = pk.Material(BRICKS, depth=0.02)
+    r = one.replace(material=m2)
+    assert r.material is m2 and np.array_equal(r.objects[0].transform, t)
+    with pytest.raises(ValueError, match="several objects|one object"):
+        two.replace(material=m2)
+    assert sc.replace(ambient=0.1).objects[0] is sc.objects[0]
+
+
+@pytest.mark.parametrize("transform,match", [
+    (np.diag([1.0, 0.0, 1.0, 1.0]), "transform: .*singular"),
+    (np.full((4, 4), np.nan), "transform: .*NaN"),
+    (np.eye(3), "transform: expected a 4x4"),
+    (np.array([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0.5, 1]], float), "transform: must be affine"),
+])
+def test_bad_transforms_name_the_argument(transform, match):
+    with pytest.raises(ValueError, match=match):
+        pk.Object(pk.Mesh.plane(), pk.Material(BRICKS), transform)
+
+
+def test_bad_object_lists_name_the_argument():
+    mat = pk.Material(BRICKS)
+    mesh = pk.Mesh.plane()
+    with pytest.raises(ValueError, match="objects: the list is empty"):
+        pk.Scene(objects=[], camera=CAM)
+    with pytest.raises(ValueError, match="objects: give either mesh= and material="):
+        pk.Scene(mesh=mesh, material=mat, objects=[pk.Object(mesh, mat)], camera=CAM)
+    with pytest.raises(TypeError, match="objects: expected pomkit.Object"):
+        pk.Scene(objects=[mesh], camera=CAM)
+    with pytest.raises(TypeError, match="camera"):
+        pk.Scene(objects=[pk.Object(mesh, mat)])
+    with pytest.raises(TypeError, match="cast_shadows"):
+        pk.DirectionalLight((0, -1, 0), cast_shadows="yes")
+
+
+def _baked(mesh: pk.Mesh, m: np.ndarray) -> pk.Mesh:
+    """The mesh with a rigid transform applied to its arrays."""
+    r = m[:3, :3]
+    p = mesh.positions @ r.T + m[:3, 3]
+    t = np.concatenate([mesh.tangents[:, :3] @ r.T, mesh.tangents[:, 3:]], axis=1)
+    return pk.Mesh.from_arrays(p, mesh.normals @ r.T, mesh.uvs, mesh.indices, t)
+
+
+@pytest.mark.parametrize("method", [pk.POM(), pk.Exact(shadows="exact"), pk.Prism(), pk.Tessellated(2)], ids=repr)
+def test_a_rigid_transform_equals_the_baked_mesh(renderer, method):
+    """Marching in object space and shading in world space gives what the same mesh moved on the
+    CPU gives: the same hits (uv to a thousandth of a texel), distances and colours, up to f32
+    rounding of the moved arrays."""
+    torus = pk.Mesh.torus(1.0, 0.35, 48, 24)
+    # both meshes from arrays, so that both have the same (no) periodic charts
+    mesh = _baked(torus, np.eye(4))
+    m = _translate(0.2, -0.1, 0.3) @ _rot((1, 2, 0.5), 35)
+    a = renderer.render(_single(mesh, m)[0], method)
+    b = renderer.render(_single(_baked(torus, m))[0], method)
+    both = a.mask & b.mask
+    assert (a.mask != b.mask).sum() <= 0.002 * both.sum() + 3
+    du = np.abs(a.uv - b.uv)[both].max(-1) * 128 * 4
+    assert np.quantile(du, 0.99) < 0.02
+    assert np.quantile(np.abs(a.depth - b.depth)[both], 0.99) < 1e-4
+    # (Tessellated's shadow map too: it is fitted to the same world box of the moved vertices)
+    assert np.quantile(np.abs(a.color - b.color)[both].max(-1), 0.99) < 2e-3
+
+
+@pytest.mark.parametrize("method", [pk.POM(), pk.Exact(), pk.Prism(), pk.NCS()], ids=repr)
+def test_a_non_uniformly_scaled_rotated_torus_covers_what_the_tessellated_one_does(renderer, method):
+    """Coverage of a non-uniformly scaled and rotated torus against the displaced mesh itself
+    (depth in object units, displaced along the object-space normal on both sides)."""
+    m = _rot((0.3, 1, 0.2), 40) @ _scale(1.3, 0.6, 0.9)
+    sc = _single(pk.Mesh.torus(1.0, 0.35, 64, 32), m)[0]
+    sc = sc.replace(camera=pk.Camera.look_at(eye=(0.3, 2.0, 2.6), target=(0, 0, 0), fov_y=45, width=128, height=128))
+    ref = renderer.render(sc, pk.Tessellated(1), aovs=("mask",))
+    f = renderer.render(sc, method, aovs=("mask",))
+    iou = pk.metrics.mask_iou(f, ref)
+    # NCS's silhouettes are approximate (its own IoU bound on the untransformed torus is 0.98)
+    assert iou >= (0.98 if isinstance(method, pk.NCS) else 0.99), iou
+
+
+def test_object_ids_and_displaced_depth(renderer):
+    """Two overlapping planes, 0.02 apart, the nearer one displaced 0.1 down: where the
+    nearer plane's displaced surface lies below the farther plane's, the farther plane shows.
+    With displacement off, the nearer plane wins everywhere it covers."""
+    h = np.zeros((64, 64), np.float32)
+    h[:, 32:] = 1.0  # half the map at the base surface, half 0.1 below it
+    up = _translate(0, 0.02, 0)
+    cam = pk.Camera.look_at(eye=(0, 3.0, 0.01), target=(0, 0, 0), up=(0, 0, -1), fov_y=30, width=64, height=64)
+    to_base = 3.0 / -cam.rays()[..., 1]  # distance to the plane y = 0 along each pixel's ray
+    flat = pk.Material(np.ones((4, 4), np.float32), depth=0.05)  # h = 1: the base plane
+    sc = pk.Scene(objects=[pk.Object(pk.Mesh.plane(2.0), flat),
+                           pk.Object(pk.Mesh.plane(2.0), pk.Material(h, depth=0.1), up)], camera=cam)
+    for method in (pk.POM(), pk.Exact(), pk.Prism(exact=True)):
+        f = renderer.render(sc, method, aovs=("object", "uv", "depth", "mask"))
+        assert f.object.dtype == np.int32
+        assert np.all(f.object[~f.mask] == -1)
+        u = f.uv[..., 0]
+        inner = f.mask & (np.abs(f.uv[..., 1] - 0.5) < 0.45)
+        low = inner & (np.abs(np.mod(u, 1.0) - 0.25) < 0.2)   # the sunken half
+        high = inner & (np.abs(np.mod(u, 1.0) - 0.75) < 0.2)  # the base surface
+        assert low.sum() > 200 and high.sum() > 200
+        assert np.all(f.object[low] == 0), repr(method)
+        assert np.all(f.object[high] == 1), repr(method)
+        # the depth AOV agrees with the winner: the base plane at y = 0 below the sunken half
+        assert np.allclose(f.depth[low], to_base[low], rtol=1e-4)
+    base = sc.replace(objects=[sc.objects[0], pk.Object(pk.Mesh.plane(2.0), pk.Material(h, depth=0.0), up)])
+    f = renderer.render(base, pk.POM(), aovs=("object",))
+    assert np.all(f.object[f.object >= 0] == 1)
