@@ -51,3 +51,9 @@ fn clip_depth(p: vec3<f32>) -> f32 {
     let c = G.view_proj * vec4<f32>(p, 1.0);
     return clamp(c.z / c.w, 0.0, 0.99999994);
 }
+
+// The shadow map's depth of a world point (the light's orthographic projection).
+fn shadow_depth(p: vec3<f32>) -> f32 {
+    let c = G.shadow_vp * vec4<f32>(p, 1.0);
+    return clamp(c.z / c.w, 0.0, 0.99999994);
+}

@@ -18,18 +18,54 @@
 #import pomkit::height::{height_normal, height_lod, compute_lod}
 #import pomkit::march::{Ray, Hit}
 #import pomkit::shading::shade
-#import pomkit::object::{to_world, normal_to_world, stretch, clip_depth}
+#import pomkit::object::{to_world, normal_to_world, dir_to_object, stretch, clip_depth, shadow_depth}
 
 @vertex
 fn vs_main(v: VertexIn) -> VertexOut {
     return pass_through(v, G.view_proj * (G.model * vec4<f32>(v.position, 1.0)));
 }
 
-// Tessellated's shadow map: the displaced mesh's depth seen from the light.
+// The shadow-map pass: the scene seen from the shadowing light (orthographic). Meshes that are
+// their own surface (Flat, Bump, Tessellated) write their rasterised depth; the per-pixel methods
+// march each fragment along the light's direction (fs_shadow) and write the hit's depth, so that
+// every object casts with its displaced surface.
 @vertex
-fn vs_shadow(v: VertexIn) -> @builtin(position) vec4<f32> {
-    return G.shadow_vp * (G.model * vec4<f32>(v.position, 1.0));
+fn vs_shadow(v: VertexIn) -> VertexOut {
+    return pass_through(v, G.shadow_vp * (G.model * vec4<f32>(v.position, 1.0)));
 }
+
+// The ray of a fragment along `view` (object space, unit) in its tangent frame.
+fn make_ray(f: Frame, s0: vec2<f32>, lod: f32, view: vec3<f32>, uv: vec2<f32>) -> Ray {
+    var r: Ray;
+    r.v_ts = to_texture_space(f, view);
+    r.s = s0;
+    r.dsdh = r.v_ts.xy / max(-r.v_ts.z, 1e-6);
+    r.ndotv = -dot(view, f.n);
+    r.lod = height_lod(lod);
+    r.uv = uv;
+    r.view = view;
+    r.f = f;
+    return r;
+}
+
+#ifdef MARCH
+@fragment
+fn fs_shadow(in: VertexOut) -> @builtin(frag_depth) f32 {
+    let f = make_frame(in.normal, in.tangent, in.uv_scale);
+    let s0 = in.uv * G.tiling;
+    let lod = compute_lod(s0);
+    let view = dir_to_object(G.lights[u32(max(G.shadow_light, 0.0))].vec.xyz);
+    if (dot(view, f.n) >= 0.0) {
+        // a face the light reaches from behind (open meshes): its base surface casts
+        return in.clip.z;
+    }
+    let hit = method::march(make_ray(f, s0, lod, view, in.uv));
+    if (hit.exited) {
+        discard;
+    }
+    return shadow_depth(to_world(in.world + view * hit.len));
+}
+#endif
 
 // 0: full march, 1: bump only; in between, the weight of bump mapping (Tatarchuk 2006's
 // listing: the transition ends at the threshold, so a plane receding to the horizon shows no
@@ -82,16 +118,7 @@ fn fs_main(in: VertexOut) -> FsOut {
 #endif
     var c_march = vec3<f32>(0.0);
     if (w_bump < 1.0) {
-        var r: Ray;
-        r.v_ts = to_texture_space(f, view);
-        r.s = s0;
-        r.dsdh = r.v_ts.xy / max(-r.v_ts.z, 1e-6);
-        r.ndotv = -dot(view, f.n);
-        r.lod = height_lod(lod);
-        r.uv = in.uv;
-        r.view = view;
-        r.f = f;
-        let hit = method::march(r);
+        let hit = method::march(make_ray(f, s0, lod, view, in.uv));
         if (hit.exited) {
             discard;
         }

@@ -100,8 +100,16 @@ fn import_path(source: &str) -> Option<&str> {
 }
 
 /// The shader defs of a variant.
-pub fn defs(spec: &Spec, filtering: Filtering) -> HashMap<String, ShaderDefValue> {
+pub fn defs(
+    spec: &Spec,
+    filtering: Filtering,
+    shadow_map: bool,
+) -> HashMap<String, ShaderDefValue> {
     let mut d = HashMap::new();
+    if shadow_map {
+        // the frame has a shadow map (a light that casts shadows, or Tessellated's own)
+        d.insert("CAST_SHADOWS".to_string(), ShaderDefValue::Bool(true));
+    }
     d.insert(
         "SHADOWS".to_string(),
         ShaderDefValue::UInt(spec.pixel.shadows.def()),
@@ -212,12 +220,18 @@ impl ShaderLib {
 
     /// The composed naga module of a variant. `arg` names the Python argument a compile error
     /// is reported against ("wgsl" for a user's method).
-    pub fn compose(&self, spec: &Spec, filtering: Filtering, arg: &str) -> Result<naga::Module> {
+    pub fn compose(
+        &self,
+        spec: &Spec,
+        filtering: Filtering,
+        shadow_map: bool,
+        arg: &str,
+    ) -> Result<naga::Module> {
         let mut composer = self
             .composer
             .lock()
             .map_err(|_| Error::Gpu("shader composer lock poisoned".into()))?;
-        let defs = defs(spec, filtering);
+        let defs = defs(spec, filtering, shadow_map);
         let (source, file) = match &spec.pass {
             Pass::Surface { march: Some(unit) } => {
                 Self::ensure(&mut composer, unit, &spec.params, arg)?;
@@ -369,16 +383,19 @@ mod tests {
         let mut n = 0;
         for m in builtin_variants() {
             let spec = m.spec();
-            let module = lib
-                .compose(&spec, spec.pixel.filtering, "method")
-                .unwrap_or_else(|e| panic!("{m:?}: {e}"));
-            naga::valid::Validator::new(
-                naga::valid::ValidationFlags::all(),
-                naga::valid::Capabilities::default(),
-            )
-            .validate(&module)
-            .unwrap_or_else(|e| panic!("{m:?}: {e:?}"));
-            n += 1;
+            // with and without a shadow map (a light that casts shadows)
+            for shadow_map in [false, true] {
+                let module = lib
+                    .compose(&spec, spec.pixel.filtering, shadow_map, "method")
+                    .unwrap_or_else(|e| panic!("{m:?}: {e}"));
+                naga::valid::Validator::new(
+                    naga::valid::ValidationFlags::all(),
+                    naga::valid::Capabilities::default(),
+                )
+                .validate(&module)
+                .unwrap_or_else(|e| panic!("{m:?} (shadow map {shadow_map}): {e:?}"));
+                n += 1;
+            }
         }
         for (src, file) in [
             (crate::texspace::TEXSPACE_SHADER, "shaders/texspace.wgsl"),
@@ -407,7 +424,12 @@ mod tests {
             crate::methods::PerPixel::off(),
         );
         let e = lib
-            .compose(&m.spec(), crate::methods::Filtering::Hardware, "wgsl")
+            .compose(
+                &m.spec(),
+                crate::methods::Filtering::Hardware,
+                false,
+                "wgsl",
+            )
             .unwrap_err()
             .to_string();
         assert!(e.starts_with("wgsl:"), "{e}");

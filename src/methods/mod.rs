@@ -173,6 +173,9 @@ pub enum Pass {
         shader: ShaderUnit,
         vs: &'static str,
         fs: &'static str,
+        /// the shadow-map pass's entry points (depth only: the fragment writes the hit's depth)
+        shadow_vs: &'static str,
+        shadow_fs: &'static str,
     },
 }
 

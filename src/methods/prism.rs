@@ -34,6 +34,8 @@ impl Unit for Prism {
             shader,
             vs: "vs_prism",
             fs: "fs_prism",
+            shadow_vs: "vs_prism_shadow",
+            shadow_fs: "fs_prism_shadow",
         };
         s.defs.clear();
         s.geometry = Geometry::Prisms {

@@ -13,12 +13,12 @@
 #import pomkit::globals::G
 #import pomkit::vertex::{VertexIn, VertexOut, pass_through}
 #import pomkit::aov::write_aovs
-#import pomkit::frame::make_frame
+#import pomkit::frame::{Frame, make_frame}
 #import pomkit::height::{height_normal, height_lod, compute_lod}
 #import pomkit::march::{Segment, linear_search, refine_linear, pom_sample_count}
 #import pomkit::maxmip::{maxmip_traverse, positive_start}
 #import pomkit::shading::shade
-#import pomkit::object::{to_world, normal_to_world, stretch, clip_depth}
+#import pomkit::object::{to_world, normal_to_world, dir_to_object, stretch, clip_depth, shadow_depth}
 
 struct PrismData {
     top: array<vec4<f32>, 3>,
@@ -106,21 +106,27 @@ fn prism_exit(pd: PrismData, o: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
     return best;
 }
 
-@fragment
-fn fs_prism(in: VertexOut) -> PrismFsOut {
-    let f = make_frame(in.normal, in.tangent, in.uv_scale);
+// The march through the prism a fragment enters, along `view` (object space, unit): whether it
+// hits, the hit's distance from the entry, its texture point and height, the level sampled, and
+// the steps taken.
+struct PrismHit {
+    ok: bool,
+    t: f32,
+    s: vec2<f32>,
+    h: f32,
+    hl: f32,
+    steps: f32,
+}
+
+fn prism_hit(in: VertexOut, f: Frame, view: vec3<f32>, lod: f32) -> PrismHit {
+    var o: PrismHit;
+    o.ok = false;
     let tiling = G.tiling;
-    let lod = compute_lod(in.uv * tiling);
-    // object space, as in surface.wgsl
-    let to_p = in.world - G.eye_object;
-    let base_dist = length(to_p);
-    let view = to_p / max(base_dist, 1e-20);
     let ndotv = -dot(view, f.n);
-    let px = in.clip.xy;
     let pd = prisms[in.prism];
     let ex = prism_exit(pd, in.world, view);
     if (ex.x <= 1e-7) {
-        discard;
+        return o;
     }
     let s_e = in.uv * tiling;
     let h_e = clamp(in.h, 0.0, 1.0);
@@ -128,7 +134,7 @@ fn fs_prism(in: VertexOut) -> PrismFsOut {
     let h_x = clamp(ex.w, 0.0, 1.0);
     // early rejection: the ray's lowest point in the prism is above every height under it
     if (min(h_e, h_x) > pd.info.x) {
-        discard;
+        return o;
     }
     let exact = params.exact > 0.5;
     var hl = height_lod(lod);
@@ -157,23 +163,67 @@ fn fs_prism(in: VertexOut) -> PrismFsOut {
             hit = refine_linear(b);
         }
     }
+    o.steps = steps;
     if (hit < 0.0) {
+        return o;
+    }
+    o.ok = true;
+    o.t = ex.x * hit;
+    o.s = mix(s_e, s_x, hit);
+    o.h = mix(h_e, h_x, hit);
+    o.hl = hl;
+    return o;
+}
+
+@fragment
+fn fs_prism(in: VertexOut) -> PrismFsOut {
+    let f = make_frame(in.normal, in.tangent, in.uv_scale);
+    let tiling = G.tiling;
+    let lod = compute_lod(in.uv * tiling);
+    // object space, as in surface.wgsl
+    let to_p = in.world - G.eye_object;
+    let base_dist = length(to_p);
+    let view = to_p / max(base_dist, 1e-20);
+    let px = in.clip.xy;
+    let ph = prism_hit(in, f, view, lod);
+    if (!ph.ok) {
         discard;
     }
-    let s_hit = mix(s_e, s_x, hit);
-    let h_hit = mix(h_e, h_x, hit);
-    let p_obj = in.world + view * (ex.x * hit);
+    let s_hit = ph.s;
+    let p_obj = in.world + view * ph.t;
     let p = to_world(p_obj);
-    let sh = shade(f, s_hit, h_hit, p, normal_to_world(height_normal(f, s_hit, hl)), hl, true, px);
+    let sh = shade(f, s_hit, ph.h, p, normal_to_world(height_normal(f, s_hit, ph.hl)), ph.hl, true, px);
     var dist = length(p - G.eye);
     if (G.transformed > 0.5) {
         dist = length(p_obj - G.eye_object) * stretch(view);
     }
-    let aov = write_aovs(sh.color, u32(steps + sh.steps), 0u, s_hit / tiling, dist, lod);
+    let aov = write_aovs(sh.color, u32(ph.steps + sh.steps), 0u, s_hit / tiling, dist, lod);
     var o: PrismFsOut;
     o.color = aov.color;
     o.geo = aov.geo;
     o.id = aov.id;
     o.depth = clip_depth(p);
     return o;
+}
+
+// The shadow-map pass: the prisms seen from the light, each fragment marched along the light's
+// direction; the hit's depth in the light's projection.
+@vertex
+fn vs_prism_shadow(v: VertexIn, @location(5) h: f32, @builtin(vertex_index) index: u32) -> VertexOut {
+    var o = pass_through(v, G.shadow_vp * (G.model * vec4<f32>(v.position, 1.0)));
+    o.h = h;
+    o.prism = index / 24u;
+    return o;
+}
+
+@fragment
+fn fs_prism_shadow(in: VertexOut) -> @builtin(frag_depth) f32 {
+    let f = make_frame(in.normal, in.tangent, in.uv_scale);
+    let lod = compute_lod(in.uv * G.tiling);
+    let view = dir_to_object(G.lights[u32(max(G.shadow_light, 0.0))].vec.xyz);
+    let ph = prism_hit(in, f, view, lod);
+    if (!ph.ok) {
+        discard;
+    }
+    return shadow_depth(to_world(in.world + view * ph.t));
 }

@@ -37,9 +37,15 @@ pub struct Pipelines {
 }
 
 /// The key of a shader variant: everything that shapes the composed module.
-fn variant_key(spec: &Spec, filtering: Filtering, targets: (bool, bool, bool)) -> u64 {
+fn variant_key(
+    spec: &Spec,
+    filtering: Filtering,
+    shadow_map: bool,
+    targets: (bool, bool, bool),
+) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
     targets.hash(&mut h);
+    shadow_map.hash(&mut h);
     match &spec.pass {
         Pass::Surface { march } => {
             ("surface", march.as_ref().map(|m| m.path.as_str())).hash(&mut h)
@@ -126,18 +132,16 @@ impl Pipelines {
         (color, geo, id): (bool, bool, bool),
         arg: &str,
     ) -> Result<Arc<Variant>> {
-        let key = variant_key(spec, filtering, (color, geo, id));
+        let key = variant_key(spec, filtering, shadow_map, (color, geo, id));
         if let Some(v) = self
             .cache
             .lock()
             .map_err(|_| Error::Gpu("pipeline cache lock poisoned".into()))?
             .get(&key)
         {
-            if v.shadow.is_some() || !shadow_map {
-                return Ok(v.clone());
-            }
+            return Ok(v.clone());
         }
-        let module = self.lib.compose(spec, filtering, arg)?;
+        let module = self.lib.compose(spec, filtering, shadow_map, arg)?;
         let v = ctx.scoped(|| {
             let dev = &ctx.device;
             let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -147,6 +151,17 @@ impl Pipelines {
             let (vs, fs) = match &spec.pass {
                 Pass::Surface { .. } => ("vs_main", "fs_main"),
                 Pass::Own { vs, fs, .. } => (*vs, *fs),
+            };
+            // the shadow-map pass: a marched method writes its hit's depth from its fragment
+            // stage; a mesh that is its own surface writes its rasterised depth
+            let (shadow_vs, shadow_fs) = match &spec.pass {
+                Pass::Surface { march: Some(_) } => ("vs_shadow", Some("fs_shadow")),
+                Pass::Surface { march: None } => ("vs_shadow", None),
+                Pass::Own {
+                    shadow_vs,
+                    shadow_fs,
+                    ..
+                } => (*shadow_vs, Some(*shadow_fs)),
             };
             let vertex_layout = match spec.geometry {
                 Geometry::Prisms { .. } => PrismVertex::layout(),
@@ -198,7 +213,7 @@ impl Pipelines {
                     layout: Some(&self.layout),
                     vertex: wgpu::VertexState {
                         module: &module,
-                        entry_point: Some("vs_shadow"),
+                        entry_point: Some(shadow_vs),
                         compilation_options: Default::default(),
                         buffers: &[Some(vertex_layout)],
                     },
@@ -209,7 +224,12 @@ impl Pipelines {
                     },
                     depth_stencil: depth_state(),
                     multisample: Default::default(),
-                    fragment: None,
+                    fragment: shadow_fs.map(|fs| wgpu::FragmentState {
+                        module: &module,
+                        entry_point: Some(fs),
+                        compilation_options: Default::default(),
+                        targets: &[],
+                    }),
                     multiview_mask: None,
                     cache: None,
                 })

@@ -216,7 +216,7 @@ mod tests {
         let lib = ShaderLib::new().unwrap();
         let spec = Method::pom(PerPixel::off()).spec();
         let module = lib
-            .compose(&spec, crate::methods::Filtering::Hardware, "method")
+            .compose(&spec, crate::methods::Filtering::Hardware, false, "method")
             .unwrap();
         for (name, fields, size) in [
             ("Globals", Globals::FIELDS, std::mem::size_of::<Globals>()),
