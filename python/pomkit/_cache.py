@@ -43,7 +43,7 @@ def scene_hash(scene, **settings) -> str:
     for i, o in enumerate(scene.objects):
         m = o.material
         if i > 0 or not o.is_identity:
-            h.update(f"object{i}".encode() + np.ascontiguousarray(o.transform).tobytes())
+            h.update(f"object{i}:v2".encode() + np.ascontiguousarray(o.transform).tobytes())
             h.update(json.dumps(dict(depth=m.depth, tiling=m.tiling)).encode())
         mesh = o.mesh._arrays()
         for k in sorted(mesh):

@@ -50,3 +50,4 @@ def engine_pom() -> Custom:
 #: algorithm is only available in the engine's own sources, which are not public material we can
 #: verify here.
 ALL_PRESETS = {"bevy_pom": bevy_pom, "bevy_relief": bevy_relief, "godot_deep_parallax": godot_deep_parallax, "engine_pom": engine_pom}
+

@@ -198,7 +198,7 @@ def render_mitsuba(scene: Scene, spp: int = 64, seed: int = 0, variant: str | No
                    resolution: float = 2.0, cache: bool = True) -> Frame:
     """Mitsuba 3's render of the displaced mesh: colour from the `direct` integrator (`spp`
     samples, box filter) and pixel-centre `uv`, `depth` (distance along the ray), `mask` and
-    `object` (the index in `scene.objects` of the shape hit, from Mitsuba's `shape_index`) from
+    `object` (the index in `scene.objects` of the nearest object, from each object's depth) from
     the `aov` integrator (a `stratified` sampler, one sample, no jitter). Every object is a
     mesh, so objects shadow each other as they do in the world. Same camera, emitters
     and Lambertian shading as pomkit; see docs/references.md for each convention's test.
@@ -227,19 +227,23 @@ def render_mitsuba(scene: Scene, spp: int = 64, seed: int = 0, variant: str | No
                                                           "hide_emitters": True},
                            "sensor": {**sensor, "sampler": {"type": "independent", "sample_count": spp}}})
         color = np.array(mi.render(sc, spp=spp, seed=seed), dtype=np.float32)[..., :3]
-        sc2 = mi.load_dict({**base, "integrator": {"type": "aov", "aovs": "dd:depth,uv:uv,si:shape_index"},
-                            "sensor": {**sensor, "sampler": {"type": "stratified", "sample_count": 1, "jitter": False}}})
+        aov_sensor = {**sensor, "sampler": {"type": "stratified", "sample_count": 1, "jitter": False}}
+        sc2 = mi.load_dict({**base, "integrator": {"type": "aov", "aovs": "dd:depth,uv:uv"}, "sensor": aov_sensor})
         aov = np.array(mi.render(sc2, spp=1, seed=seed), dtype=np.float32)
         depth = aov[..., 0]
-        uv = aov[..., 1:3]
-        # shape_index counts every shape of the scene (sphere lights too): map it to objects by id
-        ids = {int(k): int(sh.id()[len("object"):]) for k, sh in enumerate(sc2.shapes())
-               if sh.id().startswith("object")}
-        shape = np.rint(aov[..., 3]).astype(np.int64)
-        obj = np.vectorize(lambda k: ids.get(int(k), -1), otypes=[np.int32])(shape)
-        mask = (depth > 0) & (obj >= 0)
-        obj = np.where(mask, obj, -1).astype(np.int32)
-        uv = np.where(mask[..., None], uv, np.nan).astype(np.float32)
+        mask = depth > 0
+        uv = np.where(mask[..., None], aov[..., 1:3], np.nan).astype(np.float32)
+        # the object each pixel sees: the nearest of the objects rendered one at a time
+        # (Mitsuba's `shape_index` AOV holds registry ids, not indices into the scene)
+        obj = np.where(mask, 0, -1).astype(np.int32)
+        if len(shapes) > 1:
+            ds = []
+            for name in shapes:
+                one = mi.load_dict({"type": "scene", name: shapes[name],
+                                    "integrator": {"type": "aov", "aovs": "dd:depth"}, "sensor": aov_sensor})
+                d = np.array(mi.render(one, spp=1, seed=seed), dtype=np.float32)[..., 0]
+                ds.append(np.where(d > 0, d, np.inf))
+            obj = np.where(mask, np.argmin(np.stack(ds), axis=0), -1).astype(np.int32)
         return dict(color=color, uv=uv, depth=np.where(mask, depth, np.nan).astype(np.float32), mask=mask,
                     object=obj, ms=np.array((time.perf_counter() - t0) * 1e3), variant=np.array(v))
 

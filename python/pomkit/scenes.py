@@ -1,0 +1,53 @@
+"""Ready-made scenes and transforms: the scenes the docs, the demo and the tests share.
+
+`translate`, `rotate` and `scale` build 4x4 object-to-world matrices for `pomkit.Object`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import textures
+from ._scene import Camera, DirectionalLight, Material, Mesh, Object, Scene
+
+__all__ = ["translate", "rotate", "scale", "sunk_sphere"]
+
+
+def translate(x: float, y: float, z: float) -> np.ndarray:
+    """A 4x4 translation (an object-to-world `transform`)."""
+    m = np.eye(4)
+    m[:3, 3] = (x, y, z)
+    return m
+
+
+def scale(x: float, y: float, z: float) -> np.ndarray:
+    """A 4x4 (non-uniform) scale."""
+    return np.diag([float(x), float(y), float(z), 1.0])
+
+
+def rotate(axis, degrees: float) -> np.ndarray:
+    """A 4x4 rotation about `axis` by `degrees` (right-handed)."""
+    a = np.asarray(axis, np.float64)
+    x, y, z = a / np.linalg.norm(a)
+    t = np.radians(degrees)
+    c, s = np.cos(t), np.sin(t)
+    m = np.eye(4)
+    m[:3, :3] = [[c + x * x * (1 - c), x * y * (1 - c) - z * s, x * z * (1 - c) + y * s],
+                 [y * x * (1 - c) + z * s, c + y * y * (1 - c), y * z * (1 - c) - x * s],
+                 [z * x * (1 - c) - y * s, z * y * (1 - c) + x * s, c + z * z * (1 - c)]]
+    return m
+
+
+def sunk_sphere(size: int = 256, *, sink: float = 0.3, floor_map: int = 128, sphere_map: int = 64,
+                displaced: bool = True, cast_shadows: bool = True, with_sphere: bool = True) -> Scene:
+    """Issue 13's scene: a displaced sphere (radius 0.5, cobblestones) sunk `sink` into a displaced
+    brick floor, lit from the side so that the sphere casts its shadow onto the bricks.
+    `displaced=False` sets both depths to 0 (the base meshes); `with_sphere=False` leaves the
+    floor alone (the same light and camera)."""
+    floor = Object(Mesh.plane(4.0), Material(textures.bricks(floor_map), depth=0.08 if displaced else 0.0, tiling=2.0))
+    ball = Object(Mesh.sphere(0.5, 64, 32),
+                  Material(textures.cobblestones(sphere_map, cells=6), depth=0.1 if displaced else 0.0, tiling=1.0),
+                  translate(0.0, 0.5 - sink, 0.0))
+    cam = Camera.look_at(eye=(0.2, 1.6, 2.6), target=(0.0, 0.15, 0.0), fov_y=40, width=size, height=size)
+    return Scene(objects=[floor, ball] if with_sphere else [floor], camera=cam,
+                 lights=[DirectionalLight((0.8, -1.0, -0.5), 3.0, cast_shadows=cast_shadows)], ambient=0.05)
