@@ -358,6 +358,8 @@ pub enum Light {
         irradiance: [f32; 3],
         angular_diameter: f64,
         cast_shadows: bool,
+        /// the shadow map's size in texels (square; clamped to the device's limit)
+        shadow_map_size: u32,
     },
     /// A sphere light of radiant intensity `intensity` (W/sr): irradiance I / r^2.
     Sphere {

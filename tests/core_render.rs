@@ -32,6 +32,7 @@ fn scene(height: HeightMap, theta_deg: f64, size: u32) -> Scene {
             irradiance: [2.0; 3],
             angular_diameter: 1.0,
             cast_shadows: false,
+            shadow_map_size: 2048,
         }],
         [0.05; 3],
     )

@@ -26,20 +26,23 @@ MAP = 128
 ANGLES = (0.0, 60.0, 85.0)
 
 
+# Tessellated's shadow-map size when the frames were saved (the default became 1024 with issue 13)
+SHADOW_MAP = 2048
+
 def _plane(height, theta):
     t = np.radians(theta)
     return pk.Scene(
         mesh=pk.Mesh.plane(2.0), material=pk.Material(height, depth=0.08),
         camera=pk.Camera.look_at(eye=(0.0, 1.6 * np.cos(t), 1.6 * np.sin(t)), up=(0, 0, -1), fov_y=40.0,
                                  width=SIZE, height=SIZE),
-        lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0, 2.0)], ambient=0.1)
+        lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0, 2.0, shadow_map_size=SHADOW_MAP)], ambient=0.1)
 
 
 def _curved(mesh):
     return pk.Scene(
         mesh=mesh, material=pk.Material(pk.textures.bricks(MAP), depth=0.06),
         camera=pk.Camera.look_at((1.6, 1.5, 2.2), width=SIZE, height=SIZE),
-        lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0, 2.0)], ambient=0.1)
+        lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0, 2.0, shadow_map_size=SHADOW_MAP)], ambient=0.1)
 
 
 def planar_methods():

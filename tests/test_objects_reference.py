@@ -25,7 +25,8 @@ def _curve(ref: pk.Frame, width: int = 3) -> np.ndarray:
         hi = [slice(None)] * 2
         lo[axis], hi[axis] = slice(None, -1), slice(1, None)
         la, lb, da, db = a[tuple(lo)], a[tuple(hi)], d[tuple(lo)], d[tuple(hi)]
-        e = (la != lb) & (la >= 0) & (lb >= 0) & (np.abs(da - db) < 0.03 * np.minimum(da, db))
+        with np.errstate(invalid="ignore"):  # inf - inf where neither hits
+            e = (la != lb) & (la >= 0) & (lb >= 0) & (np.abs(da - db) < 0.03 * np.minimum(da, db))
         edge[tuple(lo)] |= e
         edge[tuple(hi)] |= e
     return ndimage.binary_dilation(edge, iterations=width) & (a >= 0)

@@ -34,8 +34,9 @@ def scene_hash(scene, **settings) -> str:
     lights = []
     for l in scene.lights:
         ld = l._describe()
-        if not ld.get("cast_shadows", True):
-            del ld["cast_shadows"]
+        # pomkit's own shadow settings do not change a reference render
+        ld.pop("cast_shadows", None)
+        ld.pop("shadow_map_size", None)
         lights.append(ld)
     first = scene.objects[0]
     d = dict(depth=first.material.depth, tiling=first.material.tiling, camera=scene.camera._describe(),

@@ -333,14 +333,18 @@ class DirectionalLight:
     each object casts with its displaced surface (the method itself, run in a depth-only pass);
     a surface receives it at its displaced hit point. Only the first directional light with
     cast_shadows=True casts; `SphereLight`s never do. A method's own `shadows=` (self-shadowing of
-    its height field) multiplies with it."""
+    its height field) multiplies with it. shadow_map_size: the map's size in texels (square,
+    orthographic, fitted to the scene's bounding sphere; clamped to the device's limit), also
+    used by `Tessellated`'s own shadows; docs/objects.md measures what it does to shadow edges."""
 
     direction: tuple[float, float, float]
     irradiance: Any = 1.0
     angular_diameter: float = 0.0
     cast_shadows: bool = False
+    shadow_map_size: int = 1024
 
     def __post_init__(self):
+        object.__setattr__(self, "shadow_map_size", _v.integer("shadow_map_size", self.shadow_map_size, 16, 16384))
         if not isinstance(self.cast_shadows, (bool, np.bool_)):
             raise TypeError(f"cast_shadows: expected True or False, got {self.cast_shadows!r}")
         object.__setattr__(self, "cast_shadows", bool(self.cast_shadows))
@@ -353,7 +357,8 @@ class DirectionalLight:
 
     def _describe(self) -> dict:
         return dict(kind="directional", direction=self.direction, irradiance=self.irradiance,
-                    angular_diameter=self.angular_diameter, cast_shadows=self.cast_shadows)
+                    angular_diameter=self.angular_diameter, cast_shadows=self.cast_shadows,
+                    shadow_map_size=self.shadow_map_size)
 
 
 @dataclass(frozen=True)

@@ -271,6 +271,7 @@ pub fn scene_from_py(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
                 irradiance: rgb(item(&l, "irradiance")?)?,
                 angular_diameter: item(&l, "angular_diameter")?.extract()?,
                 cast_shadows: item(&l, "cast_shadows")?.extract()?,
+                shadow_map_size: item(&l, "shadow_map_size")?.extract()?,
             },
             "sphere" => Light::Sphere {
                 position: v3(&item(&l, "position")?)?,

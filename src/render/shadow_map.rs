@@ -6,9 +6,6 @@ use crate::methods::{Geometry, Shadows, Spec};
 use crate::scene::{Light, Scene};
 use glam::DVec3;
 
-/// Shadow-map size for `Tessellated(shadows="hard")` (clamped to the device's limit).
-pub const SHADOW_MAP_SIZE: u32 = 2048;
-
 #[derive(Clone, Copy, Debug)]
 pub struct ShadowSetup {
     /// index of the shadowed light
@@ -28,14 +25,17 @@ pub fn setup(scene: &Scene, spec: &Spec, max_dim: u32) -> Option<ShadowSetup> {
             Light::Directional {
                 direction,
                 cast_shadows,
+                shadow_map_size,
                 ..
-            } if *cast_shadows || !cast_only => Some((i, DVec3::from(*direction).normalize())),
+            } if *cast_shadows || !cast_only => {
+                Some((i, DVec3::from(*direction).normalize(), *shadow_map_size))
+            }
             _ => None,
         })
     };
     let tessellated_shadows = matches!(spec.geometry, Geometry::Tessellated { .. })
         && spec.pixel.shadows != Shadows::None;
-    let (i, dir) = directional(true).or_else(|| {
+    let (i, dir, size) = directional(true).or_else(|| {
         if tessellated_shadows {
             directional(false)
         } else {
@@ -43,7 +43,7 @@ pub fn setup(scene: &Scene, spec: &Spec, max_dim: u32) -> Option<ShadowSetup> {
         }
     })?;
     let (c, r) = super::uniforms::bounding_sphere(scene);
-    let size = SHADOW_MAP_SIZE.min(max_dim);
+    let size = size.clamp(1, max_dim);
     let up = if dir.y.abs() < 0.99 {
         DVec3::Y
     } else {
