@@ -44,7 +44,8 @@ struct Globals {
     shadow_light: f32,
     shadow_texel: f32,
     shadow_size: f32,
-    pad_b: f32,
+    // depth bias of the cast-shadow lookup: two shadow-map texels, in depth units
+    shadow_bias: f32,
     // element offset of each max-pyramid level in max_buf
     max_offsets: array<vec4<u32>, 4>,
     // the object drawn (one block per object; see object.wgsl): object-to-world matrix, the

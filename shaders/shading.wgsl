@@ -24,7 +24,7 @@ fn light_visibility(f: Frame, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, 
     r.steps = 0.0;
 #ifdef TESSELLATED
     if (self_shadows) {
-        r.visibility = shadow_map_visibility(i, p, n);
+        r.visibility = shadow_map_visibility(i, p, n, 1e-5);
     }
 #else
 #if SHADOWS != 0
@@ -43,7 +43,8 @@ fn light_visibility(f: Frame, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, 
     }
 #endif
 #ifdef CAST_SHADOWS
-    r.visibility = r.visibility * shadow_map_visibility(i, p, n);
+    // a marched surface meets its own displaced depth in the map: a larger bias than the mesh's
+    r.visibility = r.visibility * shadow_map_visibility(i, p, n, G.shadow_bias);
 #endif
 #endif
     return r;

@@ -87,7 +87,7 @@ fn shadow_march(f: Frame, s: vec2<f32>, h: f32, ls: LightSample, lod: f32) -> Sh
 // shadow-map texels to avoid acne. Its own error: shadow boundaries are placed to within about
 // one and a half shadow-map texels (G.shadow_texel world units) and penumbrae of area lights are not
 // modelled (the PCF kernel is a fixed ~3 texels wide).
-fn shadow_map_visibility(light: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
+fn shadow_map_visibility(light: u32, p: vec3<f32>, n: vec3<f32>, bias: f32) -> f32 {
     if (i32(G.shadow_light) != i32(light)) {
         return 1.0;
     }
@@ -101,7 +101,7 @@ fn shadow_map_visibility(light: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
     var sum = 0.0;
     for (var dy = -1; dy <= 1; dy = dy + 1) {
         for (var dx = -1; dx <= 1; dx = dx + 1) {
-            sum = sum + textureSampleCompareLevel(shadow_tex, shadow_samp, uv + vec2<f32>(f32(dx), f32(dy)) * texel, ndc.z - 1e-5);
+            sum = sum + textureSampleCompareLevel(shadow_tex, shadow_samp, uv + vec2<f32>(f32(dx), f32(dy)) * texel, ndc.z - bias);
         }
     }
     return sum / 9.0;

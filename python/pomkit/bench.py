@@ -116,6 +116,8 @@ def method_name(m) -> str:
 
 
 def _scene_for(name_or_height, angle, size, depth, tiling):
+    if isinstance(name_or_height, tuple) and isinstance(name_or_height[1], pk.Scene):
+        return name_or_height  # (name, a scene of one's own, e.g. several objects): used as given
     if isinstance(name_or_height, str):
         if name_or_height.startswith("sine"):
             freq = float(name_or_height[4:] or 4)
@@ -144,6 +146,8 @@ def _sweep_scene(job: tuple) -> list[dict]:
         from . import reference as R
         ref = cref = R.render_mitsuba(scene, spp=cfg["spp"])
     aovs: tuple[pk.AovName, ...] = ("color", "uv", "mask", "steps") if flip else ("uv", "mask", "steps")
+    if len(scene.objects) > 1:
+        aovs += ("object",)  # uv error is measured per object
     times = time_methods(r, scene, methods, aovs=("color",), min_repeats=repeats)
     mpix = scene.camera.width * scene.camera.height / 1e6
     rows = []

@@ -40,9 +40,11 @@ def _diff_image(frame: Frame, ref: Frame, name: str) -> Path:
 
 def assert_close(frame: Frame, ref: Frame, scene: Optional[Scene] = None, *, uv_p95: Optional[float] = None,
                  uv_p99: Optional[float] = None, flip: Optional[float] = None, iou: Optional[float] = None,
-                 name: str = "assert_close") -> dict:
+                 objects: Optional[float] = None, name: str = "assert_close") -> dict:
     """Check a frame against a reference. Each given tolerance is asserted (uv in texels, needs
-    `scene`); the returned dict holds every measured number. On failure the message lists them
+    `scene`; in a scene of several objects, per object where both frames hit the same one);
+    `objects` is the least fraction of the pixels both cover where the two `object` AOVs agree
+    (interpenetration). The returned dict holds every measured number. On failure the message lists them
     all and names the side-by-side diff image."""
     from . import metrics
 
@@ -61,6 +63,11 @@ def assert_close(frame: Frame, ref: Frame, scene: Optional[Scene] = None, *, uv_
         got["flip"] = metrics.flip(frame, ref)
         if not got["flip"] <= flip:
             fails.append(f"FLIP {got['flip']:.4f} > {flip}")
+    if objects is not None or (frame.has("object") and ref.has("object")):
+        both = frame.mask & ref.mask
+        got["objects"] = float((frame.object == ref.object)[both].mean()) if both.any() else float("nan")
+        if objects is not None and not got["objects"] >= objects:
+            fails.append(f"object agreement {got['objects']:.4f} < {objects}")
     if iou is not None and not got["mask_iou"] >= iou:
         fails.append(f"mask IoU {got['mask_iou']:.4f} < {iou}")
     if fails:

@@ -14,6 +14,8 @@ pub struct ShadowSetup {
     /// world size of a shadow-map texel
     pub texel: f32,
     pub size: u32,
+    /// the cast-shadow lookup's depth bias: two texels of world length, in depth units
+    pub bias: f32,
 }
 
 /// The shadow map a pass needs, if any: for the first directional light with `cast_shadows`
@@ -69,6 +71,8 @@ pub fn setup(scene: &Scene, spec: &Spec, max_dim: u32) -> Option<ShadowSetup> {
         view_proj: m.as_mat4().to_cols_array_2d(),
         texel: (2.0 * r / size as f64) as f32,
         size,
+        // depth spans 4r; a texel spans 2r / size
+        bias: (2.0 * (2.0 * r / size as f64) / (4.0 * r)) as f32,
     })
 }
 

@@ -130,6 +130,33 @@ def cone_build_cost(size: int = 512, repeats: int = 5) -> dict[str, Any]:
             f"{build * 1e3:.1f} ms wall = {build / float(np.median(pom)):.2f} POM frames ({np.median(pom) * 1e3:.1f} ms)"}
 
 
+def objects_cost(size: int = 512, rounds: int = 5) -> dict:
+    """Issue 13's scene (a displaced sphere sunk into a displaced brick floor) at size², with the
+    light's cast shadows off and on: the main pass's GPU ms, and the shadow-map pass's cost as
+    the wall-time difference (the shadow pass has no timestamps of its own; it also includes the
+    map's allocation). Medians of interleaved rounds after a warm-up, `render_many` of 2 frames."""
+    r = pk.Renderer()
+    methods: list[pk.Method] = [pk.POM(), pk.Exact(), pk.Prism(exact=True), pk.Tessellated(1.0, shadows="none")]
+    scenes = {cast: pk.scenes.sunk_sphere(size, cast_shadows=cast) for cast in (False, True)}
+    runs: dict = {}
+    for rnd in range(rounds + 1):
+        for m in methods:
+            for cast, sc in scenes.items():
+                fs = r.render_many([sc] * 2, m, aovs=("color",))
+                if rnd:  # round 0 warms up
+                    runs.setdefault((m.name, cast), []).extend(fs)
+    out = {}
+    for m in methods:
+        off, on = runs[(m.name, False)], runs[(m.name, True)]
+        g0 = float(np.median([f.time_ms for f in off]))
+        g1 = float(np.median([f.time_ms for f in on]))
+        w0 = float(np.median([f.wall_ms for f in off]))
+        w1 = float(np.median([f.wall_ms for f in on]))
+        out[f"objects_{m.name}_{size} main pass ms (no cast -> cast), shadow pass wall ms, shadow/main"] = (
+            f"{g0:.1f} -> {g1:.1f}, {w1 - w0 - (g1 - g0):.1f}, x{(w1 - w0 - (g1 - g0)) / g0:.2f}")
+    return out
+
+
 def throughput(size: int = 512, frames: int = 64) -> dict[str, Any]:
     """The call-overhead figures (issue 14), at `size`², bricks 60°: Flat with colour only
     against all AOVs (GPU and wall), wall over GPU for POM with ("color", "uv") through a single
@@ -284,6 +311,7 @@ def run_bench(out: str = "pomkit-out/bench", quick: bool = False) -> dict:
         goals["speedup_vs_tessellated_at_p95<=0.5"] = round(min(x["gpu_ms"] for x in tess) / min(x["gpu_ms"] for x in fast), 3)
     goals["python_overhead_pct_exact_default"] = round(100.0 * (exact_d["call_ms"] - exact_d["gpu_ms"]) / exact_d["gpu_ms"], 1)
     goals.update(throughput(size=512, frames=16 if quick else 64))
+    goals.update(objects_cost(size=512, rounds=2 if quick else 6))
     for k, v in goals.items():
         print(f"  goal {k}: {v}")
 
