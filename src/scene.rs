@@ -451,7 +451,8 @@ impl Transform {
             .length()
             .max(lin.y_axis.length())
             .max(lin.z_axis.length());
-        if !(lin.determinant().abs() > 1e-12 * scale.powi(3)) || scale == 0.0 {
+        // (m is finite, so the determinant is a number)
+        if scale == 0.0 || lin.determinant().abs() <= 1e-12 * scale.powi(3) {
             return Err(Error::arg(
                 arg,
                 "is singular (it flattens the object); give an invertible matrix",
