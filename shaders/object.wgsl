@@ -57,3 +57,9 @@ fn shadow_depth(p: vec3<f32>) -> f32 {
     let c = G.shadow_vp * vec4<f32>(p, 1.0);
     return clamp(c.z / c.w, 0.0, 0.99999994);
 }
+
+// The shadow-map pass's view direction: the shadowing light's direction of travel, in object
+// space (unit).
+fn shadow_light_object() -> vec3<f32> {
+    return dir_to_object(G.lights[u32(max(G.shadow_light, 0.0))].vec.xyz);
+}

@@ -18,7 +18,7 @@
 #import pomkit::height::{height_normal, height_lod, compute_lod}
 #import pomkit::march::{Ray, Hit}
 #import pomkit::shading::shade
-#import pomkit::object::{to_world, normal_to_world, dir_to_object, stretch, clip_depth, shadow_depth}
+#import pomkit::object::{to_world, normal_to_world, stretch, clip_depth, shadow_depth, shadow_light_object}
 
 @vertex
 fn vs_main(v: VertexIn) -> VertexOut {
@@ -54,7 +54,7 @@ fn fs_shadow(in: VertexOut) -> @builtin(frag_depth) f32 {
     let f = make_frame(in.normal, in.tangent, in.uv_scale);
     let s0 = in.uv * G.tiling;
     let lod = compute_lod(s0);
-    let view = dir_to_object(G.lights[u32(max(G.shadow_light, 0.0))].vec.xyz);
+    let view = shadow_light_object();
     if (dot(view, f.n) >= 0.0) {
         // a face the light reaches from behind (open meshes): its base surface casts
         return in.clip.z;

@@ -6,28 +6,7 @@ import pytest
 
 import pomkit as pk
 from pomkit import textures
-
-
-def _rot(axis, deg):
-    a = np.radians(deg)
-    c, s = np.cos(a), np.sin(a)
-    x, y, z = np.asarray(axis, float) / np.linalg.norm(axis)
-    r = np.array([[c + x * x * (1 - c), x * y * (1 - c) - z * s, x * z * (1 - c) + y * s],
-                  [y * x * (1 - c) + z * s, c + y * y * (1 - c), y * z * (1 - c) - x * s],
-                  [z * x * (1 - c) - y * s, z * y * (1 - c) + x * s, c + z * z * (1 - c)]])
-    m = np.eye(4)
-    m[:3, :3] = r
-    return m
-
-
-def _translate(x, y, z):
-    m = np.eye(4)
-    m[:3, 3] = (x, y, z)
-    return m
-
-
-def _scale(x, y, z):
-    return np.diag([x, y, z, 1.0])
+from pomkit.scenes import rotate, scale, translate
 
 
 BRICKS = textures.bricks(128)
@@ -54,10 +33,10 @@ def test_one_object_given_as_objects_is_bit_identical(renderer, method):
 def test_scene_accessors_and_replace():
     sc, mat = _single()
     assert sc.mesh is sc.objects[0].mesh and sc.material is mat
-    two = sc.replace(objects=[sc.objects[0], pk.Object(pk.Mesh.plane(4.0), mat, _translate(0, -0.5, 0))])
+    two = sc.replace(objects=[sc.objects[0], pk.Object(pk.Mesh.plane(4.0), mat, translate(0, -0.5, 0))])
     assert two.mesh is None and two.material is None and len(two.objects) == 2
     # replacing the material of a one-object scene keeps its transform
-    t = _translate(0.1, 0.0, 0.0)
+    t = translate(0.1, 0.0, 0.0)
     one, _ = _single(transform=t)
     m2 = pk.Material(BRICKS, depth=0.02)
     r = one.replace(material=m2)
@@ -109,7 +88,7 @@ def test_a_rigid_transform_equals_the_baked_mesh(renderer, method):
     torus = pk.Mesh.torus(1.0, 0.35, 48, 24)
     # both meshes from arrays, so that both have the same (no) periodic charts
     mesh = _baked(torus, np.eye(4))
-    m = _translate(0.2, -0.1, 0.3) @ _rot((1, 2, 0.5), 35)
+    m = translate(0.2, -0.1, 0.3) @ rotate((1, 2, 0.5), 35)
     a = renderer.render(_single(mesh, m)[0], method)
     b = renderer.render(_single(_baked(torus, m))[0], method)
     both = a.mask & b.mask
@@ -125,7 +104,7 @@ def test_a_rigid_transform_equals_the_baked_mesh(renderer, method):
 def test_a_non_uniformly_scaled_rotated_torus_covers_what_the_tessellated_one_does(renderer, method):
     """Coverage of a non-uniformly scaled and rotated torus against the displaced mesh itself
     (depth in object units, displaced along the object-space normal on both sides)."""
-    m = _rot((0.3, 1, 0.2), 40) @ _scale(1.3, 0.6, 0.9)
+    m = rotate((0.3, 1, 0.2), 40) @ scale(1.3, 0.6, 0.9)
     sc = _single(pk.Mesh.torus(1.0, 0.35, 64, 32), m)[0]
     sc = sc.replace(camera=pk.Camera.look_at(eye=(0.3, 2.0, 2.6), target=(0, 0, 0), fov_y=45, width=128, height=128))
     ref = renderer.render(sc, pk.Tessellated(1), aovs=("mask",))
@@ -141,7 +120,7 @@ def test_object_ids_and_displaced_depth(renderer):
     With displacement off, the nearer plane wins everywhere it covers."""
     h = np.zeros((64, 64), np.float32)
     h[:, 32:] = 1.0  # half the map at the base surface, half 0.1 below it
-    up = _translate(0, 0.02, 0)
+    up = translate(0, 0.02, 0)
     cam = pk.Camera.look_at(eye=(0, 3.0, 0.01), target=(0, 0, 0), up=(0, 0, -1), fov_y=30, width=64, height=64)
     to_base = 3.0 / -cam.rays()[..., 1]  # distance to the plane y = 0 along each pixel's ray
     flat = pk.Material(np.ones((4, 4), np.float32), depth=0.05)  # h = 1: the base plane

@@ -421,19 +421,18 @@ class Object:
     mesh: Mesh
     material: Material
     transform: Any = None
-    _m: Optional[np.ndarray] = field(default=None, init=False, repr=False)
 
     def __post_init__(self):
         if not isinstance(self.mesh, Mesh):
             raise TypeError(f"mesh: expected a pomkit.Mesh, got {type(self.mesh).__name__}")
         if not isinstance(self.material, Material):
             raise TypeError(f"material: expected a pomkit.Material, got {type(self.material).__name__}")
-        object.__setattr__(self, "_m", _transform(self.transform))
-        object.__setattr__(self, "transform", _readonly(np.eye(4)) if self._m is None else self._m)
+        m = _transform(self.transform)
+        object.__setattr__(self, "transform", _readonly(np.eye(4)) if m is None else m)
 
     @property
     def is_identity(self) -> bool:
-        return self._m is None
+        return bool(np.array_equal(self.transform, np.eye(4)))
 
     def _describe(self) -> dict:
         m = self.material
@@ -443,7 +442,7 @@ class Object:
             albedo=m._albedo_data(),
             depth=m.depth,
             tiling=m.tiling,
-            transform=None if self._m is None else [float(x) for x in self._m.reshape(-1)],
+            transform=None if self.is_identity else [float(x) for x in self.transform.reshape(-1)],
         )
 
 

@@ -41,6 +41,25 @@ pub struct Vertex {
 }
 
 impl Vertex {
+    /// The vertex buffer of per-vertex arrays (all of one length).
+    pub fn interleave(
+        positions: &[[f32; 3]],
+        normals: &[[f32; 3]],
+        uvs: &[[f32; 2]],
+        tangents: &[[f32; 4]],
+        uv_scale: &[[f32; 2]],
+    ) -> Vec<Vertex> {
+        (0..positions.len())
+            .map(|i| Vertex {
+                position: positions[i],
+                normal: normals[i],
+                uv: uvs[i],
+                tangent: tangents[i],
+                uv_scale: uv_scale[i],
+            })
+            .collect()
+    }
+
     pub const ATTRIBUTES: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2];
 
     /// The vertex buffer layout every pipeline (surface, shadow map, NCS bake) uses.
@@ -247,15 +266,13 @@ impl Mesh {
     }
 
     pub fn vertices(&self) -> Vec<Vertex> {
-        (0..self.positions.len())
-            .map(|i| Vertex {
-                position: self.positions[i],
-                normal: self.normals[i],
-                uv: self.uvs[i],
-                tangent: self.tangents[i],
-                uv_scale: self.uv_scale[i],
-            })
-            .collect()
+        Vertex::interleave(
+            &self.positions,
+            &self.normals,
+            &self.uvs,
+            &self.tangents,
+            &self.uv_scale,
+        )
     }
 
     /// Axis-aligned bounds (min, max).

@@ -18,7 +18,7 @@
 #import pomkit::march::{Segment, linear_search, refine_linear, pom_sample_count}
 #import pomkit::maxmip::{maxmip_traverse, positive_start}
 #import pomkit::shading::shade
-#import pomkit::object::{to_world, normal_to_world, dir_to_object, stretch, clip_depth, shadow_depth}
+#import pomkit::object::{to_world, normal_to_world, stretch, clip_depth, shadow_depth, shadow_light_object}
 
 struct PrismData {
     top: array<vec4<f32>, 3>,
@@ -29,12 +29,18 @@ struct PrismData {
 
 @group(0) @binding(10) var<storage, read> prisms: array<PrismData>;
 
-@vertex
-fn vs_prism(v: VertexIn, @location(5) h: f32, @builtin(vertex_index) index: u32) -> VertexOut {
-    var o = pass_through(v, G.view_proj * (G.model * vec4<f32>(v.position, 1.0)));
+// A prism corner seen through `clip_from_world` (the camera's or the light's): its entry height
+// and its prism (24 vertices per prism).
+fn prism_vertex(v: VertexIn, h: f32, index: u32, clip_from_world: mat4x4<f32>) -> VertexOut {
+    var o = pass_through(v, clip_from_world * (G.model * vec4<f32>(v.position, 1.0)));
     o.h = h;
     o.prism = index / 24u;
     return o;
+}
+
+@vertex
+fn vs_prism(v: VertexIn, @location(5) h: f32, @builtin(vertex_index) index: u32) -> VertexOut {
+    return prism_vertex(v, h, index, G.view_proj);
 }
 
 struct PrismFsOut {
@@ -210,17 +216,14 @@ fn fs_prism(in: VertexOut) -> PrismFsOut {
 // direction; the hit's depth in the light's projection.
 @vertex
 fn vs_prism_shadow(v: VertexIn, @location(5) h: f32, @builtin(vertex_index) index: u32) -> VertexOut {
-    var o = pass_through(v, G.shadow_vp * (G.model * vec4<f32>(v.position, 1.0)));
-    o.h = h;
-    o.prism = index / 24u;
-    return o;
+    return prism_vertex(v, h, index, G.shadow_vp);
 }
 
 @fragment
 fn fs_prism_shadow(in: VertexOut) -> @builtin(frag_depth) f32 {
     let f = make_frame(in.normal, in.tangent, in.uv_scale);
     let lod = compute_lod(in.uv * G.tiling);
-    let view = dir_to_object(G.lights[u32(max(G.shadow_light, 0.0))].vec.xyz);
+    let view = shadow_light_object();
     let ph = prism_hit(in, f, view, lod);
     if (!ph.ok) {
         discard;

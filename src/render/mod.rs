@@ -144,6 +144,9 @@ pub struct Renderer {
     submit: Mutex<()>,
     /// the last frame size's targets (used under `submit`)
     targets: Mutex<Vec<Arc<Targets>>>,
+    /// the last shadow map's size and depth texture, kept for the next frame (the queue orders a
+    /// frame's shadow pass after the previous frame's reads of the map)
+    shadow_map: Mutex<Option<(u32, Arc<wgpu::TextureView>)>>,
 }
 
 fn poisoned<T>(_: T) -> Error {
@@ -162,6 +165,7 @@ impl Renderer {
             resources: Mutex::new(Resources::new()),
             submit: Mutex::new(()),
             targets: Mutex::new(Vec::new()),
+            shadow_map: Mutex::new(None),
             ctx,
         })
     }
@@ -322,10 +326,11 @@ impl Renderer {
             )?;
             let shadow_view = shadow
                 .as_ref()
-                .map(|s| shadow_map::target(&self.ctx, s))
+                .map(|s| self.shadow_target(s.size))
                 .transpose()?;
-            let draws = self.draws(scene, &spec, shadow.as_ref(), shadow_view.as_ref())?;
-            let next = self.submit(scene, &variant, shadow_view.as_ref(), &draws, aovs)?;
+            let shadow_view = shadow_view.as_deref();
+            let draws = self.draws(scene, &spec, shadow.as_ref(), shadow_view)?;
+            let next = self.submit(scene, &variant, shadow_view, &draws, aovs)?;
             if let Some(p) = pending.replace(next) {
                 frames.push(self.finish(p)?);
             }
@@ -364,6 +369,19 @@ impl Renderer {
         let t = Arc::new(Targets::new(&self.ctx, w, h));
         pool.push(t.clone());
         Ok(t)
+    }
+
+    /// The shadow map's depth texture of `size` texels, made when the size changes.
+    fn shadow_target(&self, size: u32) -> Result<Arc<wgpu::TextureView>> {
+        let mut kept = self.shadow_map.lock().map_err(poisoned)?;
+        if let Some((n, v)) = kept.as_ref() {
+            if *n == size {
+                return Ok(v.clone());
+            }
+        }
+        let v = Arc::new(shadow_map::target(&self.ctx, size)?);
+        *kept = Some((size, v.clone()));
+        Ok(v)
     }
 
     fn bind_group(&self, i: &Inputs<'_>, shadow: &wgpu::TextureView) -> wgpu::BindGroup {

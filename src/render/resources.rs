@@ -192,15 +192,14 @@ impl Resources {
                 ]);
                 self.meshes.get_or(key, || {
                     let t = tessellate(mesh, m, texels_per_vertex)?;
-                    let v: Vec<Vertex> = (0..t.positions.len())
-                        .map(|i| Vertex {
-                            position: t.positions[i],
-                            normal: t.base_normals[i],
-                            uv: t.uvs[i],
-                            tangent: t.tangents[i],
-                            uv_scale: t.uv_scale[i],
-                        })
-                        .collect();
+                    // the base frame per vertex: Tessellated shades with the height field's normal
+                    let v = Vertex::interleave(
+                        &t.positions,
+                        &t.base_normals,
+                        &t.uvs,
+                        &t.tangents,
+                        &t.uv_scale,
+                    );
                     upload_indexed(ctx, &v, &t.indices)
                 })
             }

@@ -76,13 +76,13 @@ pub fn setup(scene: &Scene, spec: &Spec, max_dim: u32) -> Option<ShadowSetup> {
     })
 }
 
-/// The depth texture a frame's shadow map is rendered into.
-pub fn target(ctx: &crate::gpu::Context, s: &ShadowSetup) -> crate::Result<wgpu::TextureView> {
+/// A depth texture of `size`² texels for shadow maps (the renderer keeps the last one).
+pub fn target(ctx: &crate::gpu::Context, size: u32) -> crate::Result<wgpu::TextureView> {
     ctx.scoped(|| {
         Ok(ctx
             .texture_2d(
                 "shadow map",
-                (s.size, s.size),
+                (size, size),
                 DEPTH_FORMAT,
                 wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT,
             )
