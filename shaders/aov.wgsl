@@ -11,9 +11,9 @@ struct FsOut {
     @location(1) geo: vec4<u32>,
     // the object's index (AOV `object`)
     @location(2) id: u32,
-#ifdef MARCH
+#ifdef DISPLACED_DEPTH
     // the displaced hit's depth (pixel depth offset): objects meet where their displaced
-    // surfaces meet
+    // surfaces meet (frames of several objects)
     @builtin(frag_depth) depth: f32,
 #endif
 }

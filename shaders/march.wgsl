@@ -97,11 +97,17 @@ struct Bracket {
 // Linear search along the segment in n equal steps with an early out at the first sample at or
 // below the surface. The start point is sampled too, so a surface at the start is hit there.
 fn linear_search(g: Segment, n: f32, lod: f32) -> Bracket {
+    return linear_search_from(g, n, lod, g.h - height_at(g.s, lod), 1.0);
+}
+
+// The linear search with the start's sample given (`d0`: ray height minus surface height there,
+// counted as `steps0` steps): a walk through segments (Prism) samples their shared ends once.
+fn linear_search_from(g: Segment, n: f32, lod: f32, d0: f32, steps0: f32) -> Bracket {
     let dt = 1.0 / n;
     var b: Bracket;
-    b.steps = 1.0;
+    b.steps = steps0;
     b.t_cur = 0.0;
-    b.d_cur = g.h - height_at(g.s, lod);
+    b.d_cur = d0;
     b.t_prev = b.t_cur;
     b.d_prev = b.d_cur;
     let ni = i32(n);

@@ -138,7 +138,7 @@ fn fs_main(in: VertexOut) -> FsOut {
     color = mix(c_march, c_bump, w_bump);
 #endif
     var o = write_aovs(color, u32(steps), flags, s_hit / tiling, dist, lod);
-#ifdef MARCH
+#ifdef DISPLACED_DEPTH
     o.depth = frag_depth;
 #endif
     return o;

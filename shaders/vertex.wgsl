@@ -1,6 +1,6 @@
 // vertex.wgsl: the one vertex interface of every mesh pass (surface, prisms, shadow map, NCS
 // bake). The Rust side is `mesh::Vertex` (locations 0-4) and `geometry::prisms::PrismVertex`
-// (adds location 5, the corner's height coordinate).
+// (adds location 5, the prism's index).
 #define_import_path pomkit::vertex
 
 struct VertexIn {
@@ -19,10 +19,8 @@ struct VertexOut {
     @location(2) uv: vec2<f32>,
     @location(3) tangent: vec4<f32>,
     @location(4) uv_scale: vec2<f32>,
-    // prisms: the height coordinate of the entry point (1 on a base-mesh surface)
-    @location(5) h: f32,
     // prisms: the index of the prism
-    @location(6) @interpolate(flat) prism: u32,
+    @location(5) @interpolate(flat) prism: u32,
 }
 
 // The vertex at clip position `clip`, passing the attributes through.
@@ -34,7 +32,6 @@ fn pass_through(v: VertexIn, clip: vec4<f32>) -> VertexOut {
     o.uv = v.uv;
     o.tangent = v.tangent;
     o.uv_scale = v.uv_scale;
-    o.h = 1.0;
     o.prism = 0u;
     return o;
 }

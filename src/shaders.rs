@@ -99,16 +99,30 @@ fn import_path(source: &str) -> Option<&str> {
         .find_map(|l| l.trim().strip_prefix("#define_import_path").map(str::trim))
 }
 
+/// What a frame adds to a method's shader variant.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct FrameDefs {
+    /// the frame has a shadow map (a light that casts shadows, or Tessellated's own): CAST_SHADOWS
+    pub shadow_map: bool,
+    /// the marched methods write their displaced hit's depth (DISPLACED_DEPTH): frames of
+    /// several objects, which meet where their displaced surfaces meet. With one object the
+    /// rasterised depth orders its fragments (a fragment depth would cost the early depth test).
+    pub displaced_depth: bool,
+}
+
 /// The shader defs of a variant.
 pub fn defs(
     spec: &Spec,
     filtering: Filtering,
-    shadow_map: bool,
+    frame: FrameDefs,
 ) -> HashMap<String, ShaderDefValue> {
     let mut d = HashMap::new();
-    if shadow_map {
-        // the frame has a shadow map (a light that casts shadows, or Tessellated's own)
+    if frame.shadow_map {
         d.insert("CAST_SHADOWS".to_string(), ShaderDefValue::Bool(true));
+    }
+    let marched = spec.defs.contains(&"MARCH") || matches!(spec.pass, Pass::Own { .. });
+    if frame.displaced_depth && marched {
+        d.insert("DISPLACED_DEPTH".to_string(), ShaderDefValue::Bool(true));
     }
     d.insert(
         "SHADOWS".to_string(),
@@ -224,14 +238,14 @@ impl ShaderLib {
         &self,
         spec: &Spec,
         filtering: Filtering,
-        shadow_map: bool,
+        frame: FrameDefs,
         arg: &str,
     ) -> Result<naga::Module> {
         let mut composer = self
             .composer
             .lock()
             .map_err(|_| Error::Gpu("shader composer lock poisoned".into()))?;
-        let defs = defs(spec, filtering, shadow_map);
+        let defs = defs(spec, filtering, frame);
         let (source, file) = match &spec.pass {
             Pass::Surface { march: Some(unit) } => {
                 Self::ensure(&mut composer, unit, &spec.params, arg)?;
@@ -383,10 +397,14 @@ mod tests {
         let mut n = 0;
         for m in builtin_variants() {
             let spec = m.spec();
-            // with and without a shadow map (a light that casts shadows)
-            for shadow_map in [false, true] {
+            // with and without a shadow map (a light that casts shadows) and displaced depth
+            for (shadow_map, displaced_depth) in [(false, false), (true, false), (true, true)] {
+                let frame = FrameDefs {
+                    shadow_map,
+                    displaced_depth,
+                };
                 let module = lib
-                    .compose(&spec, spec.pixel.filtering, shadow_map, "method")
+                    .compose(&spec, spec.pixel.filtering, frame, "method")
                     .unwrap_or_else(|e| panic!("{m:?}: {e}"));
                 naga::valid::Validator::new(
                     naga::valid::ValidationFlags::all(),
@@ -427,7 +445,7 @@ mod tests {
             .compose(
                 &m.spec(),
                 crate::methods::Filtering::Hardware,
-                false,
+                Default::default(),
                 "wgsl",
             )
             .unwrap_err()

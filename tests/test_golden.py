@@ -2,6 +2,13 @@
 stability scenes (tests/golden.py), against frames saved from the build before the module
 refactor (issue 10).
 
+Re-pinned by design: the Prism frames (issue 12: one walk per shell entry through prisms that
+share their sides, instead of one march per prism face, and level 0 by default). Against the
+previous frames the exact variant moved by at most 0.0009 texel on the planes (0.8 on the torus,
+where the frame is now interpolated at the hit) and the approximate ones by up to 26 texels at
+85 deg, where a sample placed elsewhere meets another spike; accuracy is checked against Mitsuba
+and Tessellated in test_silhouettes.py.
+
 Every AOV must be bit-identical, except where a shared routine changed the arithmetic: those
 frames are listed in TOLERANT with the reason and the measured bound, and are checked against it
 (uv in texels and colour on the pixels both frames cover, steps within one sample, flags
@@ -19,11 +26,6 @@ CASES = golden.cases()
 _SEGMENT = ("the one segment search of march.wgsl samples at s0 + dsdh * t (t = i / n as i * (1/n)) where "
             "POM and Steep took s0 + dsdh * (1 - (1 - t)), and refines in t: one float32 ulp of uv (7.6e-6 "
             "texel on a 128-texel map)")
-_PRISM = ("the prism march now runs the shared segment search: sample points s_e + (s_x - s_e) * (i * (1/n)) "
-          "instead of mix(s_e, s_x, i / n), and the refinement in the same form as POM's. On spikes at 85 deg "
-          "58 pixels on the seams between the plane's two prisms lost their hit, where the rounding of the last "
-          "sample decided whether the hit fell in this prism (issue 12 replaces the per-face march by one walk)")
-
 _MAXMIP = ("issue 11: the max-mip walk starts bottom-up at the ray's first cell (tested first) instead of "
            "descending from the top level, so it takes fewer iterations (steps, by design: bricks at 60 deg 9.7 -> "
            "3.7) and solves the same patch's quadratic from another start t: within 2.3e-5 texel (3 f32 ulps of "
@@ -38,16 +40,12 @@ TOLERANT: dict[str, tuple[str, float, float, int]] = {
     "-pom_fixed": (_SEGMENT, 1e-5, 1e-5, 0),
     "-pom_level0": (_SEGMENT, 1e-5, 1e-5, 0),
     "-pom_exactf": (_SEGMENT, 1e-5, 1e-5, 0),
-    "-prism": (_PRISM, 1e-4, 2e-5, 0),
-    "-prism_out": (_PRISM, 1e-4, 2e-5, 0),
-    "spikes-85-prism": (_PRISM, 1e-4, 2e-5, 58),
     "-exact": (_MAXMIP, 3e-5, 5e-6, 0),
     "-exact_shadow": (_MAXMIP, 3e-5, 5e-6, 0),
-    "-prism_exact": (_MAXMIP, 3e-5, 5e-5, 0),
 }
 
 #: frames whose step counts changed by design (the reason is in TOLERANT)
-STEPS_CHANGED = ("-exact", "-exact_shadow", "-prism_exact")
+STEPS_CHANGED = ("-exact", "-exact_shadow")
 
 
 def _tolerance(key: str):

@@ -275,22 +275,28 @@ class NCS(_PerPixel):
 @dataclass(frozen=True)
 class Prism(_PerPixel):
     """Prism POM (Dachsbacher & Tatarchuk 2007). Each base triangle is extruded along its vertex
-    normals into a prism (top, bottom, three slabs of two triangles, wound outward). The
-    rasteriser draws the prisms' front faces; per pixel the view ray's exit from its prism is
-    computed and the ray is marched between entry and exit with a constant texture gradient
-    (POM's search: `min_steps`..`max_steps` by N.V, and its refinement). The hit's depth is the
-    fragment depth, so that overlapping prisms resolve in the depth buffer; prisms whose highest
-    height lies below the ray are rejected at once. `outward=True` builds the shell above the
-    base mesh (the paper's set-up: h = 0 on the base mesh, h = 1 `depth` above it); the default
-    is pomkit's inward convention. `exact=True` marches each segment with the max-mip traversal
-    (level 0, exact patch intersection) instead of POM's search. Shadows: "hard", "soft"
-    (default) or "horizon", and `ao_directions`."""
+    normals into a prism; neighbouring prisms share their sides. The rasteriser draws only the
+    shell's boundary (the tops, and the sides and bottoms where the mesh is open or creased), so
+    a fragment is where a view ray enters the shell, and from there the ray walks through the
+    prisms: in each it is marched between entry and exit with a constant texture gradient
+    (POM's search at POM's layer density: `min_steps`..`max_steps` layers per shell height by
+    N.V, and its refinement), and leaving through a side it enters the neighbour. Prisms whose
+    highest height lies below the ray are crossed without a march. With several objects the
+    hit's depth is the fragment depth. `outward=True` builds the shell above the base mesh (the
+    paper's set-up: h = 0 on the base mesh, h = 1 `depth` above it); the default is pomkit's
+    inward convention. `exact=True` marches each segment with the max-mip traversal (exact patch
+    intersection) instead of POM's search. Level 0 by default (`mip_filtering=False`, as POM).
+    Shadows: "hard", "soft" (default) or "horizon", and `ao_directions`."""
 
     min_steps: int = 8
     max_steps: int = 50
     outward: bool = False
     exact: bool = False
     shadows: ShadowKind = field(default="soft", kw_only=True)
+    # level 0, as POM: the footprint of the grazing top face a silhouette ray enters through is
+    # no footprint for its walk down through the shell (mask IoU against Mitsuba, 256^2:
+    # torus 0.9924 mip-filtered -> 0.9988 level 0, sphere 0.9931 -> 0.9981)
+    mip_filtering: bool = field(default=False, kw_only=True)
     _kind = "Prism"
 
     @property

@@ -6,14 +6,13 @@ use crate::mesh::{Mesh, Vertex};
 use crate::scene::HeightMap;
 use glam::{DVec2, DVec3};
 
-/// A prism corner: the shared vertex (`pomkit::vertex::VertexIn`, locations 0-4) and its height
-/// coordinate (location 5).
+/// A vertex of a prism's boundary face: the shared vertex (`pomkit::vertex::VertexIn`, locations
+/// 0-4) and the index of its prism (location 5).
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct PrismVertex {
     pub vertex: Vertex,
-    /// height coordinate of this corner: 1 on the top, 0 on the bottom
-    pub h: f32,
+    pub prism: u32,
 }
 
 impl PrismVertex {
@@ -26,7 +25,7 @@ impl PrismVertex {
             v[3],
             v[4],
             wgpu::VertexAttribute {
-                format: wgpu::VertexFormat::Float32,
+                format: wgpu::VertexFormat::Uint32,
                 offset: std::mem::size_of::<Vertex>() as u64,
                 shader_location: 5,
             },
@@ -41,48 +40,126 @@ impl PrismVertex {
     }
 }
 
-/// Per prism, for the fragment shader's exit computation: the six corners (top 0..3, bottom
-/// 0..3, w unused), the three uvs, and x = the highest height under the triangle's uv box.
+/// Per prism, for the fragment shader's walk: the six corners (top 0..3, bottom 0..3), the base
+/// triangle's uvs (zw: uv_scale), normals and tangents (the frame at a hit is interpolated from
+/// them), x of `info` = the highest height under the triangle's uv box, and `adj`: the prism
+/// across side k (corners k, k+1) or `NONE` where the side is the shell's boundary; `adj[3]`
+/// has bit k set when side k is split along top(k+1)-bottom(k) rather than top(k)-bottom(k+1).
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct PrismData {
     pub top: [[f32; 4]; 3],
     pub bottom: [[f32; 4]; 3],
     pub uv: [[f32; 4]; 3],
-    pub meta: [f32; 4],
+    pub normal: [[f32; 4]; 3],
+    pub tangent: [[f32; 4]; 3],
+    pub info: [f32; 4],
+    pub adj: [u32; 4],
 }
 
-pub const VERTICES_PER_PRISM: u32 = 24;
+/// No prism across a side.
+pub const NONE: u32 = u32::MAX;
+
+/// The prisms of a mesh: the vertices of their boundary faces (the shell's surface: every top,
+/// the sides no other prism shares, and the bottoms where the shell is open) and the per-prism
+/// data.
+pub struct Prisms {
+    pub vertices: Vec<PrismVertex>,
+    pub data: Vec<PrismData>,
+}
+
+/// A vertical edge of the shell (top and bottom corner), quantised so that the corners of
+/// neighbouring prisms compare equal across a uv seam (where a mesh repeats a vertex with
+/// positions that differ in the last bits).
+type EdgeKey = [i64; 6];
 
 /// The prisms of `mesh`: inward (top = base surface at h = 1, bottom `depth` below, pomkit's
 /// convention) or outward (bottom = base surface, top `depth` above along the normals: the
-/// paper's set-up, where features rise above the base mesh).
-pub fn build(
-    mesh: &Mesh,
-    depth: f32,
-    outward: bool,
-    height: &HeightMap,
-    tiling: f32,
-) -> (Vec<PrismVertex>, Vec<PrismData>) {
-    let mut verts = Vec::with_capacity(mesh.indices.len() / 3 * VERTICES_PER_PRISM as usize);
-    let mut data = Vec::with_capacity(mesh.indices.len() / 3);
+/// paper's set-up, where features rise above the base mesh). Neighbouring prisms share their
+/// side: they split it along the same diagonal, so that a ray leaving one enters the other.
+pub fn build(mesh: &Mesh, depth: f32, outward: bool, height: &HeightMap, tiling: f32) -> Prisms {
+    let ntri = mesh.indices.len() / 3;
     let d = depth as f64;
+    let p = |i: u32| DVec3::from_array(mesh.positions[i as usize].map(|x| x as f64));
+    let n =
+        |i: u32| DVec3::from_array(mesh.normals[i as usize].map(|x| x as f64)).normalize_or_zero();
+    // the quantum: a millionth of the shell's extent
+    let (lo, hi) = mesh.positions.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(a, b), q| {
+            let q = DVec3::from_array(q.map(|x| x as f64));
+            (a.min(q), b.max(q))
+        },
+    );
+    let quantum = ((hi - lo).length() + d).max(1e-30) * 1e-6;
+    let q = |v: DVec3| [v.x, v.y, v.z].map(|x| (x / quantum).round() as i64);
+    let mut corners: Vec<([DVec3; 3], [DVec3; 3], [EdgeKey; 3])> = Vec::with_capacity(ntri);
     for tri in mesh.indices.chunks_exact(3) {
-        let p = |i: u32| DVec3::from_array(mesh.positions[i as usize].map(|x| x as f64));
-        let n = |i: u32| {
-            DVec3::from_array(mesh.normals[i as usize].map(|x| x as f64)).normalize_or_zero()
-        };
-        let (top, bot): (Vec<DVec3>, Vec<DVec3>) = if outward {
-            (
-                tri.iter().map(|&i| p(i) + n(i) * d).collect(),
-                tri.iter().map(|&i| p(i)).collect(),
-            )
+        let base = [p(tri[0]), p(tri[1]), p(tri[2])];
+        let off = [n(tri[0]), n(tri[1]), n(tri[2])].map(|v| v * d);
+        let (top, bot) = if outward {
+            ([0, 1, 2].map(|k| base[k] + off[k]), base)
         } else {
-            (
-                tri.iter().map(|&i| p(i)).collect(),
-                tri.iter().map(|&i| p(i) - n(i) * d).collect(),
-            )
+            (base, [0, 1, 2].map(|k| base[k] - off[k]))
         };
+        let keys = [0, 1, 2].map(|k| {
+            let (a, b) = (q(top[k]), q(bot[k]));
+            [a[0], a[1], a[2], b[0], b[1], b[2]]
+        });
+        corners.push((top, bot, keys));
+    }
+    // each vertical edge's number, in order of first use: the diagonal rule below depends on the
+    // mesh's topology only, so that a moved mesh splits its sides as the unmoved one
+    let mut edge_ids: std::collections::HashMap<EdgeKey, u32> = std::collections::HashMap::new();
+    let ids: Vec<[u32; 3]> = corners
+        .iter()
+        .map(|(_, _, keys)| {
+            keys.map(|k| {
+                let next = edge_ids.len() as u32;
+                *edge_ids.entry(k).or_insert(next)
+            })
+        })
+        .collect();
+    // adjacency: a side is shared when exactly two prisms have its two vertical edges
+    let mut sides: std::collections::HashMap<(EdgeKey, EdgeKey), Vec<(u32, usize)>> =
+        std::collections::HashMap::with_capacity(ntri * 3);
+    // a base triangle with two corners in one place (a pole's fan) has no volume: it is neither
+    // drawn nor anyone's neighbour
+    let degenerate: Vec<bool> = corners
+        .iter()
+        .map(|(_, _, k)| k[0] == k[1] || k[1] == k[2] || k[2] == k[0])
+        .collect();
+    for (t, (_, _, keys)) in corners.iter().enumerate() {
+        if degenerate[t] {
+            continue;
+        }
+        for k in 0..3 {
+            let (a, b) = (keys[k], keys[(k + 1) % 3]);
+            sides
+                .entry((a.min(b), a.max(b)))
+                .or_default()
+                .push((t as u32, k));
+        }
+    }
+    let mut adj = vec![[NONE; 4]; ntri];
+    for v in sides.values() {
+        if let [(t0, k0), (t1, k1)] = v.as_slice() {
+            if t0 != t1 {
+                adj[*t0 as usize][*k0] = *t1;
+                adj[*t1 as usize][*k1] = *t0;
+            }
+        }
+    }
+    // a closed shell is entered only through its top from outside: its bottoms (the inner
+    // surface) are drawn only where the shell is open (an edge, a crease), where a ray can reach them
+    let open = adj
+        .iter()
+        .zip(&degenerate)
+        .any(|(a, &deg)| !deg && a[..3].contains(&NONE));
+    let mut vertices = Vec::with_capacity(ntri * 24);
+    let mut data = Vec::with_capacity(ntri);
+    for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
+        let (top, bot, _) = &corners[t];
         let centre = (top.iter().chain(bot.iter()).copied().sum::<DVec3>()) / 6.0;
         let corner = |k: usize, on_top: bool| {
             let i = tri[k] as usize;
@@ -95,7 +172,7 @@ pub fn build(
                     tangent: mesh.tangents[i],
                     uv_scale: mesh.uv_scale[i],
                 },
-                h: if on_top { 1.0 } else { 0.0 },
+                prism: t as u32,
             }
         };
         let mut push_tri = |a: PrismVertex, b: PrismVertex, c: PrismVertex| {
@@ -105,59 +182,182 @@ pub fn build(
             let g = (pb - pa).cross(pc - pa);
             // outward: the face's normal points away from the prism's centre
             if g.dot((pa + pb + pc) / 3.0 - centre) >= 0.0 {
-                verts.extend_from_slice(&[a, b, c]);
+                vertices.extend_from_slice(&[a, b, c]);
             } else {
-                verts.extend_from_slice(&[a, c, b]);
+                vertices.extend_from_slice(&[a, c, b]);
             }
         };
-        push_tri(corner(0, true), corner(1, true), corner(2, true));
-        push_tri(corner(0, false), corner(1, false), corner(2, false));
+        if !degenerate[t] {
+            push_tri(corner(0, true), corner(1, true), corner(2, true));
+        }
+        if open && !degenerate[t] {
+            push_tri(corner(0, false), corner(1, false), corner(2, false));
+        }
+        let mut diagonals = 0u32;
         for k in 0..3 {
             let j = (k + 1) % 3;
-            // each slab as two triangles, split along one diagonal
-            push_tri(corner(k, true), corner(j, true), corner(j, false));
-            push_tri(corner(k, true), corner(j, false), corner(k, false));
+            // both prisms of a shared side split it along the diagonal from the top of the edge
+            // numbered first
+            let flip = ids[t][j] < ids[t][k];
+            if flip {
+                diagonals |= 1 << k;
+            }
+            if adj[t][k] != NONE || degenerate[t] {
+                continue;
+            }
+            if flip {
+                push_tri(corner(k, true), corner(j, true), corner(k, false));
+                push_tri(corner(j, true), corner(j, false), corner(k, false));
+            } else {
+                push_tri(corner(k, true), corner(j, true), corner(j, false));
+                push_tri(corner(k, true), corner(j, false), corner(k, false));
+            }
         }
-        // the highest height in the triangle's uv box (early rejection of empty prisms)
-        let uvs: Vec<DVec2> = tri
+        adj[t][3] = diagonals;
+        let v4 = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
+        data.push(PrismData {
+            top: top.map(v4),
+            bottom: bot.map(v4),
+            uv: [0, 1, 2].map(|k| {
+                let i = tri[k] as usize;
+                let (u, s) = (mesh.uvs[i], mesh.uv_scale[i]);
+                [u[0], u[1], s[0], s[1]]
+            }),
+            normal: [0, 1, 2].map(|k| {
+                let nn = mesh.normals[tri[k] as usize];
+                [nn[0], nn[1], nn[2], 0.0]
+            }),
+            tangent: [0, 1, 2].map(|k| mesh.tangents[tri[k] as usize]),
+            info: [
+                max_height_under(mesh, tri, height, tiling) as f32,
+                0.0,
+                0.0,
+                0.0,
+            ],
+            adj: adj[t],
+        });
+    }
+    Prisms { vertices, data }
+}
+
+/// The highest height in a triangle's uv box (early rejection of prisms the ray passes above).
+fn max_height_under(mesh: &Mesh, tri: &[u32], height: &HeightMap, tiling: f32) -> f64 {
+    let uvs: Vec<DVec2> = tri
+        .iter()
+        .map(|&i| DVec2::from_array(mesh.uvs[i as usize].map(|x| x as f64)) * tiling as f64)
+        .collect();
+    let lo = uvs
+        .iter()
+        .fold(DVec2::splat(f64::INFINITY), |a, b| a.min(*b));
+    let hi = uvs
+        .iter()
+        .fold(DVec2::splat(f64::NEG_INFINITY), |a, b| a.max(*b));
+    let (w, h) = (height.width as f64, height.height as f64);
+    let (x0, x1) = (
+        (lo.x * w - 1.5).floor() as i64,
+        (hi.x * w + 0.5).ceil() as i64,
+    );
+    let (y0, y1) = (
+        (lo.y * h - 1.5).floor() as i64,
+        (hi.y * h + 0.5).ceil() as i64,
+    );
+    if (x1 - x0) * (y1 - y0) > (height.width as i64 * height.height as i64) {
+        return 1.0;
+    }
+    let mut mx = 0.0f64;
+    for y in y0..=y1 {
+        for x in x0..=x1 {
+            mx = mx.max(height.texel(x, y));
+        }
+    }
+    mx
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// a pole's zero-area triangles (corners within rounding of each other)
+    fn degenerate(d: &PrismData) -> bool {
+        let same = |a: [f32; 4], b: [f32; 4]| (0..3).all(|i| (a[i] - b[i]).abs() < 1e-6);
+        same(d.top[0], d.top[1]) || same(d.top[1], d.top[2]) || same(d.top[2], d.top[0])
+    }
+
+    fn boundary_sides(p: &Prisms) -> usize {
+        p.data
             .iter()
-            .map(|&i| DVec2::from_array(mesh.uvs[i as usize].map(|x| x as f64)) * tiling as f64)
-            .collect();
-        let lo = uvs
-            .iter()
-            .fold(DVec2::splat(f64::INFINITY), |a, b| a.min(*b));
-        let hi = uvs
-            .iter()
-            .fold(DVec2::splat(f64::NEG_INFINITY), |a, b| a.max(*b));
-        let (w, h) = (height.width as f64, height.height as f64);
-        let (x0, x1) = (
-            (lo.x * w - 1.5).floor() as i64,
-            (hi.x * w + 0.5).ceil() as i64,
-        );
-        let (y0, y1) = (
-            (lo.y * h - 1.5).floor() as i64,
-            (hi.y * h + 0.5).ceil() as i64,
-        );
-        let mut mx = 0.0f64;
-        if (x1 - x0) * (y1 - y0) > (height.width as i64 * height.height as i64) {
-            mx = 1.0;
-        } else {
-            for y in y0..=y1 {
-                for x in x0..=x1 {
-                    mx = mx.max(height.texel(x, y));
+            .filter(|d| !degenerate(d))
+            .map(|d| d.adj[..3].iter().filter(|&&a| a == NONE).count())
+            .sum()
+    }
+
+    /// Closed meshes make closed shells: every side is shared (across the uv seams and at the
+    /// poles too), so a ray walks through them and only the tops are drawn. Open and creased
+    /// meshes keep their edges' sides and draw their bottoms.
+    #[test]
+    fn closed_meshes_share_every_side() {
+        let hm = HeightMap::new(4, 4, vec![0.5; 16]).unwrap();
+        for (name, mesh) in [
+            ("sphere", Mesh::sphere(1.0, 48, 24).unwrap()),
+            ("torus", Mesh::torus(1.0, 0.35, 48, 24).unwrap()),
+        ] {
+            for outward in [false, true] {
+                let p = build(&mesh, 0.1, outward, &hm, 1.0);
+                let tris = p.data.iter().filter(|d| !degenerate(d)).count();
+                assert_eq!(boundary_sides(&p), 0, "{name}");
+                assert_eq!(
+                    p.vertices.len(),
+                    tris * 3,
+                    "{name}: only the tops are drawn"
+                );
+                // adjacency is symmetric
+                for (t, d) in p.data.iter().enumerate().filter(|(_, d)| !degenerate(d)) {
+                    for &n in &d.adj[..3] {
+                        assert!(p.data[n as usize].adj[..3].contains(&(t as u32)), "{name}");
+                    }
                 }
             }
         }
-        let v4 = |v: DVec3| [v.x as f32, v.y as f32, v.z as f32, 0.0];
-        data.push(PrismData {
-            top: [v4(top[0]), v4(top[1]), v4(top[2])],
-            bottom: [v4(bot[0]), v4(bot[1]), v4(bot[2])],
-            uv: [0, 1, 2].map(|k| {
-                let u = mesh.uvs[tri[k] as usize];
-                [u[0], u[1], 0.0, 0.0]
-            }),
-            meta: [mx as f32, 0.0, 0.0, 0.0],
-        });
+        let plane = build(&Mesh::plane(2.0, 4).unwrap(), 0.1, false, &hm, 1.0);
+        assert_eq!(boundary_sides(&plane), 16, "a 4x4 plane's rim");
+        let cube = build(&Mesh::cube(2.0, 1).unwrap(), 0.1, false, &hm, 1.0);
+        assert_eq!(boundary_sides(&cube), 24, "every face's rim is a crease");
     }
-    (verts, data)
+
+    /// Neighbours split their shared side along the same diagonal.
+    #[test]
+    fn shared_sides_split_alike() {
+        let hm = HeightMap::new(4, 4, vec![0.5; 16]).unwrap();
+        let p = build(
+            &Mesh::torus(1.0, 0.35, 12, 8).unwrap(),
+            0.1,
+            false,
+            &hm,
+            1.0,
+        );
+        let edge = |d: &PrismData, k: usize| {
+            let j = (k + 1) % 3;
+            let flip = d.adj[3] & (1 << k) != 0;
+            // the diagonal's two ends: (top of one corner, bottom of the other)
+            if flip {
+                (d.top[j], d.bottom[k])
+            } else {
+                (d.top[k], d.bottom[j])
+            }
+        };
+        let close = |a: [f32; 4], b: [f32; 4]| (0..3).all(|i| (a[i] - b[i]).abs() < 1e-5);
+        for d in &p.data {
+            for k in 0..3 {
+                let n = &p.data[d.adj[k] as usize];
+                let kn = (0..3)
+                    .find(|&m| {
+                        n.adj[m] == p.data.iter().position(|x| std::ptr::eq(x, d)).unwrap() as u32
+                    })
+                    .unwrap();
+                let (a, b) = edge(d, k);
+                let (c, e) = edge(n, kn);
+                assert!(close(a, c) && close(b, e), "diagonals differ");
+            }
+        }
+    }
 }

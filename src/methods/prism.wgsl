@@ -1,21 +1,31 @@
-// Prism POM (Dachsbacher & Tatarchuk 2007). The rasteriser draws the front faces of
-// each prism extruded from a base triangle; a fragment is where the view ray enters the prism,
-// with its (uv, h) interpolated from the corners. The exit is the farthest intersection of the
-// ray with the prism's eight boundary triangles; between entry and exit the ray is marched with
-// a constant texture gradient (march.wgsl's segment search and POM's refinement). No hit in
-// this prism: discard (a neighbouring prism may have it). The hit's depth is written as the
-// fragment depth, so that overlapping prisms resolve by the depth buffer. A prism whose highest
-// height (under its triangle) lies below the ray's lowest point in it is rejected at once.
+// Prism POM (Dachsbacher & Tatarchuk 2007), one walk per shell entry. Each base triangle is
+// extruded into a prism; the rasteriser draws only the shell's boundary faces (every top and
+// bottom, and the sides that no neighbouring prism shares), so a fragment is where a view ray
+// enters the shell. From there the ray walks through the prisms: in each, its entry and exit are
+// the nearest and farthest of the prism's eight boundary triangles, the segment between them is
+// marched with a constant texture gradient (march.wgsl's segment search and POM's refinement, or
+// the max-mip traversal with `exact`), and a ray leaving through a side enters the prism across
+// it (adjacency from geometry::prisms). Leaving through the top (or an unshared side) leaves the
+// shell: no hit, discard; a later entry of the same ray is a fragment of its own. Prisms whose
+// highest height lies below the ray's lowest point in them are crossed without a march.
+//
+// Parameterisation: a point of a prism is (b1, b2, h): barycentrics of the base triangle and
+// the height coordinate (1 on the top). uv, the tangent frame and the height interpolate
+// linearly in it, so the march between entry and exit is linear in texture space, as in the
+// paper. The frame at the hit is interpolated from the triangle's corners.
 //
 // The method's own pass (a top-level shader, not a `march` module): its geometry is the prisms
-// (geometry::prisms). Outward shells (the paper's set-up) put h = 0 on the base mesh and h = 1 `depth` above it.
+// (geometry::prisms). Outward shells (the paper's set-up) put h = 0 on the base mesh and h = 1
+// `depth` above it. With several objects the hit's depth is the fragment depth
+// (DISPLACED_DEPTH); with one, the entries' rasterised depth orders the fragments (a ray's later
+// entry lies behind its earlier one's whole walk), which keeps the early depth test.
 
 #import pomkit::globals::G
 #import pomkit::vertex::{VertexIn, VertexOut, pass_through}
-#import pomkit::aov::write_aovs
+#import pomkit::aov::{write_aovs, FLAG_BOUND}
 #import pomkit::frame::{Frame, make_frame}
-#import pomkit::height::{height_normal, height_lod, compute_lod}
-#import pomkit::march::{Segment, linear_search, refine_linear, pom_sample_count}
+#import pomkit::height::{height_at, height_normal, height_lod, compute_lod}
+#import pomkit::march::{Segment, linear_search_from, refine_linear, pom_sample_count}
 #import pomkit::maxmip::{maxmip_traverse, positive_start}
 #import pomkit::shading::shade
 #import pomkit::object::{to_world, normal_to_world, stretch, clip_depth, shadow_depth, shadow_light_object}
@@ -23,41 +33,51 @@
 struct PrismData {
     top: array<vec4<f32>, 3>,
     bottom: array<vec4<f32>, 3>,
+    // xy: uv, zw: uv_scale
     uv: array<vec4<f32>, 3>,
+    normal: array<vec4<f32>, 3>,
+    tangent: array<vec4<f32>, 3>,
+    // x: the highest height under the prism
     info: vec4<f32>,
+    // xyz: the prism across side k (NONE: the shell's boundary); w: bit k = side k's diagonal
+    adj: vec4<u32>,
 }
+
+const NONE: u32 = 0xffffffffu;
+// the most prisms one ray walks through (a grazing ray crosses a handful)
+const MAX_PRISMS: u32 = 64u;
 
 @group(0) @binding(10) var<storage, read> prisms: array<PrismData>;
 
-// A prism corner seen through `clip_from_world` (the camera's or the light's): its entry height
-// and its prism (24 vertices per prism).
-fn prism_vertex(v: VertexIn, h: f32, index: u32, clip_from_world: mat4x4<f32>) -> VertexOut {
+// A boundary-face corner seen through `clip_from_world` (the camera's or the light's).
+fn prism_vertex(v: VertexIn, prism: u32, clip_from_world: mat4x4<f32>) -> VertexOut {
     var o = pass_through(v, clip_from_world * (G.model * vec4<f32>(v.position, 1.0)));
-    o.h = h;
-    o.prism = index / 24u;
+    o.prism = prism;
     return o;
 }
 
 @vertex
-fn vs_prism(v: VertexIn, @location(5) h: f32, @builtin(vertex_index) index: u32) -> VertexOut {
-    return prism_vertex(v, h, index, G.view_proj);
+fn vs_prism(v: VertexIn, @location(5) prism: u32) -> VertexOut {
+    return prism_vertex(v, prism, G.view_proj);
 }
 
 struct PrismFsOut {
     @location(0) color: vec4<u32>,
     @location(1) geo: vec4<u32>,
     @location(2) id: u32,
+#ifdef DISPLACED_DEPTH
     @builtin(frag_depth) depth: f32,
+#endif
 }
 
-// Ray (o + t d) against triangle (a, b, c): (t, barycentrics u, v) or t < 0.
-fn ray_tri(o: vec3<f32>, d: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> vec3<f32> {
+// Ray (o + t d) against triangle (a, b, c): (t, barycentrics u, v, 1), or w = 0 for a miss.
+fn ray_tri(o: vec3<f32>, d: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> vec4<f32> {
     let e1 = b - a;
     let e2 = c - a;
     let p = cross(d, e2);
     let det = dot(e1, p);
     if (abs(det) < 1e-12) {
-        return vec3<f32>(-1.0, 0.0, 0.0);
+        return vec4<f32>(0.0);
     }
     let inv = 1.0 / det;
     let s = o - a;
@@ -66,165 +86,257 @@ fn ray_tri(o: vec3<f32>, d: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>)
     let v = dot(d, q) * inv;
     let eps = 1e-5;
     if (u < -eps || v < -eps || u + v > 1.0 + eps) {
-        return vec3<f32>(-1.0, 0.0, 0.0);
+        return vec4<f32>(0.0);
     }
-    return vec3<f32>(dot(e2, q) * inv, u, v);
+    return vec4<f32>(dot(e2, q) * inv, u, v, 1.0);
 }
 
-struct Corner {
-    p: vec3<f32>,
-    st: vec3<f32>, // (u, v, h)
+// The ray's way through one prism: entry and exit (t and (b1, b2, h)) and the side it leaves
+// through (3: the top or the bottom).
+struct Span {
+    t_in: f32,
+    st_in: vec3<f32>,
+    t_out: f32,
+    st_out: vec3<f32>,
+    side: u32,
+    ok: bool,
 }
 
-fn corner(pd: PrismData, k: u32, on_top: bool) -> Corner {
-    var c: Corner;
-    c.p = select(pd.bottom[k].xyz, pd.top[k].xyz, on_top);
-    c.st = vec3<f32>(pd.uv[k].xy, select(0.0, 1.0, on_top));
-    return c;
-}
-
-// The exit of the ray from the prism: (t, u, v, h) with t the farthest boundary hit.
-fn prism_exit(pd: PrismData, o: vec3<f32>, d: vec3<f32>) -> vec4<f32> {
-    var best = vec4<f32>(-1.0, 0.0, 0.0, 0.0);
-    for (var f = 0u; f < 8u; f = f + 1u) {
-        var a: Corner;
-        var b: Corner;
-        var c: Corner;
-        if (f == 0u) {
-            a = corner(pd, 0u, true); b = corner(pd, 1u, true); c = corner(pd, 2u, true);
-        } else if (f == 1u) {
-            a = corner(pd, 0u, false); b = corner(pd, 1u, false); c = corner(pd, 2u, false);
-        } else {
-            let k = (f - 2u) / 2u;
-            let j = (k + 1u) % 3u;
-            if ((f - 2u) % 2u == 0u) {
-                a = corner(pd, k, true); b = corner(pd, j, true); c = corner(pd, j, false);
-            } else {
-                a = corner(pd, k, true); b = corner(pd, j, false); c = corner(pd, k, false);
-            }
+// One boundary triangle (corners a, b, c at prism coordinates sa, sb, sc) into the span.
+fn consider(sp: ptr<function, Span>, o: vec3<f32>, d: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>,
+            sa: vec3<f32>, sb: vec3<f32>, sc: vec3<f32>, side: u32) {
+    let r = ray_tri(o, d, a, b, c);
+    if (r.w > 0.0) {
+        let st = sa * (1.0 - r.y - r.z) + sb * r.y + sc * r.z;
+        (*sp).ok = true;
+        if (r.x < (*sp).t_in) {
+            (*sp).t_in = r.x;
+            (*sp).st_in = st;
         }
-        let r = ray_tri(o, d, a.p, b.p, c.p);
-        if (r.x > best.x) {
-            let st = a.st * (1.0 - r.y - r.z) + b.st * r.y + c.st * r.z;
-            best = vec4<f32>(r.x, st);
+        if (r.x > (*sp).t_out) {
+            (*sp).t_out = r.x;
+            (*sp).st_out = st;
+            (*sp).side = side;
         }
     }
-    return best;
 }
 
-// The march through the prism a fragment enters, along `view` (object space, unit): whether it
-// hits, the hit's distance from the entry, its texture point and height, the level sampled, and
-// the steps taken.
+// Side k of a prism (corners k, j = k + 1): its two triangles, split along top(k)-bottom(j), or
+// along top(j)-bottom(k) when `flip` (the same split as the neighbour's).
+fn consider_side(sp: ptr<function, Span>, o: vec3<f32>, d: vec3<f32>, tk: vec3<f32>, tj: vec3<f32>, bk: vec3<f32>, bj: vec3<f32>,
+                 sk: vec2<f32>, sj: vec2<f32>, flip: bool, side: u32) {
+    let stk = vec3<f32>(sk, 1.0);
+    let stj = vec3<f32>(sj, 1.0);
+    let sbk = vec3<f32>(sk, 0.0);
+    let sbj = vec3<f32>(sj, 0.0);
+    consider(sp, o, d, tk, tj, select(bj, bk, flip), stk, stj, select(sbj, sbk, flip), side);
+    consider(sp, o, d, select(tk, tj, flip), bj, bk, select(stk, stj, flip), sbj, sbk, side);
+}
+
+fn prism_span(p: u32, o: vec3<f32>, d: vec3<f32>) -> Span {
+    var sp: Span;
+    sp.t_in = 3.4e38;
+    sp.t_out = -3.4e38;
+    sp.side = 3u;
+    sp.ok = false;
+    let t0 = prisms[p].top[0].xyz;
+    let t1 = prisms[p].top[1].xyz;
+    let t2 = prisms[p].top[2].xyz;
+    let b0 = prisms[p].bottom[0].xyz;
+    let b1 = prisms[p].bottom[1].xyz;
+    let b2 = prisms[p].bottom[2].xyz;
+    let diag = prisms[p].adj.w;
+    // barycentrics (b1, b2) of the corners
+    let s0 = vec2<f32>(0.0, 0.0);
+    let s1 = vec2<f32>(1.0, 0.0);
+    let s2 = vec2<f32>(0.0, 1.0);
+    consider(&sp, o, d, t0, t1, t2, vec3<f32>(s0, 1.0), vec3<f32>(s1, 1.0), vec3<f32>(s2, 1.0), 3u);
+    consider(&sp, o, d, b0, b1, b2, vec3<f32>(s0, 0.0), vec3<f32>(s1, 0.0), vec3<f32>(s2, 0.0), 3u);
+    consider_side(&sp, o, d, t0, t1, b0, b1, s0, s1, (diag & 1u) != 0u, 0u);
+    consider_side(&sp, o, d, t1, t2, b1, b2, s1, s2, (diag & 2u) != 0u, 1u);
+    consider_side(&sp, o, d, t2, t0, b2, b0, s2, s0, (diag & 4u) != 0u, 2u);
+    return sp;
+}
+
+// Base-triangle quantities at barycentrics (b1, b2).
+fn bary(b: vec2<f32>) -> vec3<f32> {
+    return vec3<f32>(1.0 - b.x - b.y, b.x, b.y);
+}
+
+fn prism_uv(p: u32, b: vec2<f32>) -> vec2<f32> {
+    let w = bary(b);
+    return prisms[p].uv[0].xy * w.x + prisms[p].uv[1].xy * w.y + prisms[p].uv[2].xy * w.z;
+}
+
+fn prism_normal(p: u32, b: vec2<f32>) -> vec3<f32> {
+    let w = bary(b);
+    return prisms[p].normal[0].xyz * w.x + prisms[p].normal[1].xyz * w.y + prisms[p].normal[2].xyz * w.z;
+}
+
+fn prism_frame(p: u32, b: vec2<f32>) -> Frame {
+    let w = bary(b);
+    let t = prisms[p].tangent[0] * w.x + prisms[p].tangent[1] * w.y + prisms[p].tangent[2] * w.z;
+    let sc = prisms[p].uv[0].zw * w.x + prisms[p].uv[1].zw * w.y + prisms[p].uv[2].zw * w.z;
+    return make_frame(prism_normal(p, b), vec4<f32>(t.xyz, select(1.0, -1.0, prisms[p].tangent[0].w < 0.0)), sc);
+}
+
+// The walk of a ray from `o` (a point of prism `first`'s boundary) along `view` (object space,
+// unit): whether it hits, the hit's distance from `o`, its texture point, height and frame, the
+// level sampled, the steps taken (samples, plus one per prism crossed) and the flags.
 struct PrismHit {
     ok: bool,
     t: f32,
     s: vec2<f32>,
     h: f32,
+    f: Frame,
     hl: f32,
     steps: f32,
+    flags: u32,
 }
 
-fn prism_hit(in: VertexOut, f: Frame, view: vec3<f32>, lod: f32) -> PrismHit {
-    var o: PrismHit;
-    o.ok = false;
+fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
+    var out: PrismHit;
+    out.ok = false;
+    out.flags = 0u;
     let tiling = G.tiling;
-    let ndotv = -dot(view, f.n);
-    let pd = prisms[in.prism];
-    let ex = prism_exit(pd, in.world, view);
-    if (ex.x <= 1e-7) {
-        return o;
-    }
-    let s_e = in.uv * tiling;
-    let h_e = clamp(in.h, 0.0, 1.0);
-    let s_x = ex.yz * tiling;
-    let h_x = clamp(ex.w, 0.0, 1.0);
-    // early rejection: the ray's lowest point in the prism is above every height under it
-    if (min(h_e, h_x) > pd.info.x) {
-        return o;
-    }
     let exact = params.exact > 0.5;
     var hl = height_lod(lod);
     if (exact) {
         hl = 0.0;
     }
-    var steps = 1.0;
-    var hit = -1.0;
-    let dh_seg = h_x - h_e;
-    if (exact && abs(dh_seg) > 1e-4) {
-        // exact=True: the max-mip traversal along the segment, parameterised by height
-        let slope = (s_x - s_e) / abs(dh_seg) * G.map_size;
-        let p0 = positive_start(s_e, slope);
-        let tr = maxmip_traverse(p0.x, p0.y, h_e, slope.x, slope.y, sign(dh_seg), abs(dh_seg), G.max_iterations);
-        steps = tr.iters;
-        if (tr.hit) {
-            hit = tr.t / abs(dh_seg);
+    out.hl = hl;
+    var steps = 0.0;
+    var p = first;
+    var t0 = 0.0;
+    // the sample at the walk's point t0 (ray height minus surface height), when taken
+    var d0 = 0.0;
+    var have_d0 = false;
+    var k = 0u;
+    for (; k < MAX_PRISMS; k = k + 1u) {
+        let sp = prism_span(p, o, view);
+        steps = steps + 1.0;
+        if (!sp.ok || sp.t_out <= t0) {
+            break;
         }
-    } else {
-        // the shared linear search from entry to exit, at POM's layer density: a segment
-        // spanning dh of the shell's height gets n * dh layers (>= 2)
-        let n = max(ceil(pom_sample_count(ndotv, params.min_steps, params.max_steps, true) * abs(dh_seg)), 2.0);
-        let b = linear_search(Segment(s_e, s_x - s_e, h_e, dh_seg), n, hl);
-        steps = b.steps;
-        if (b.d_cur <= 0.0) {
-            hit = refine_linear(b);
+        // the walk's entry is the previous exit (the first prism's: the fragment itself)
+        var t_in = sp.t_in;
+        var st_in = sp.st_in;
+        if (t_in < t0) {
+            // entered before t0 (the first prism, or rounding at a shared side): start at t0 on
+            // the segment entry -> exit
+            let a = (t0 - t_in) / max(sp.t_out - t_in, 1e-30);
+            st_in = mix(st_in, sp.st_out, a);
+            t_in = t0;
         }
+        let h_e = clamp(st_in.z, 0.0, 1.0);
+        let h_x = clamp(sp.st_out.z, 0.0, 1.0);
+        // a march only where the ray's lowest point in the prism is below its highest height
+        var marched = false;
+        if (min(h_e, h_x) <= prisms[p].info.x) {
+            marched = true;
+            let s_e = prism_uv(p, st_in.xy) * tiling;
+            let s_x = prism_uv(p, sp.st_out.xy) * tiling;
+            let dh_seg = h_x - h_e;
+            var hit = -1.0;
+            if (exact && abs(dh_seg) > 1e-4) {
+                // exact=True: the max-mip traversal along the segment, parameterised by height
+                let slope = (s_x - s_e) / abs(dh_seg) * G.map_size;
+                let p0 = positive_start(s_e, slope);
+                let tr = maxmip_traverse(p0.x, p0.y, h_e, slope.x, slope.y, sign(dh_seg), abs(dh_seg), G.max_iterations);
+                steps = steps + tr.iters;
+                if (tr.hit) {
+                    hit = tr.t / abs(dh_seg);
+                }
+            } else {
+                // the shared linear search from entry to exit, at POM's layer density: a segment
+                // spanning dh of the shell's height gets n * dh layers (>= 1); the entry's sample
+                // is the previous prism's last one
+                let ndotv = -dot(view, normalize(prism_normal(p, st_in.xy)));
+                let n = max(ceil(pom_sample_count(ndotv, params.min_steps, params.max_steps, true) * abs(dh_seg)), 2.0);
+                if (!have_d0) {
+                    d0 = h_e - height_at(s_e, hl);
+                    steps = steps + 1.0;
+                }
+                let b = linear_search_from(Segment(s_e, s_x - s_e, h_e, dh_seg), n, hl, d0, 0.0);
+                steps = steps + b.steps;
+                d0 = b.d_cur;
+                if (b.d_cur <= 0.0) {
+                    hit = refine_linear(b);
+                }
+            }
+            if (hit >= 0.0) {
+                let st = mix(st_in, sp.st_out, hit);
+                out.ok = true;
+                out.t = mix(t_in, sp.t_out, hit);
+                out.s = mix(s_e, s_x, hit);
+                out.h = mix(h_e, h_x, hit);
+                out.f = prism_frame(p, st.xy);
+                out.steps = steps;
+                return out;
+            }
+        }
+        // the exit's sample carries to the next prism (not after the max-mip traversal, or a
+        // prism crossed without a march)
+        have_d0 = marched && !exact;
+        if (sp.side > 2u) {
+            break;
+        }
+        let next = prisms[p].adj[sp.side];
+        if (next == NONE) {
+            break;
+        }
+        p = next;
+        t0 = sp.t_out;
     }
-    o.steps = steps;
-    if (hit < 0.0) {
-        return o;
+    if (k == MAX_PRISMS) {
+        out.flags = FLAG_BOUND;
     }
-    o.ok = true;
-    o.t = ex.x * hit;
-    o.s = mix(s_e, s_x, hit);
-    o.h = mix(h_e, h_x, hit);
-    o.hl = hl;
-    return o;
+    out.steps = steps;
+    return out;
 }
 
 @fragment
 fn fs_prism(in: VertexOut) -> PrismFsOut {
-    let f = make_frame(in.normal, in.tangent, in.uv_scale);
     let tiling = G.tiling;
     let lod = compute_lod(in.uv * tiling);
     // object space, as in surface.wgsl
     let to_p = in.world - G.eye_object;
-    let base_dist = length(to_p);
-    let view = to_p / max(base_dist, 1e-20);
+    let view = to_p / max(length(to_p), 1e-20);
     let px = in.clip.xy;
-    let ph = prism_hit(in, f, view, lod);
+    let ph = prism_walk(in.prism, in.world, view, lod);
     if (!ph.ok) {
         discard;
     }
-    let s_hit = ph.s;
     let p_obj = in.world + view * ph.t;
     let p = to_world(p_obj);
-    let sh = shade(f, s_hit, ph.h, p, normal_to_world(height_normal(f, s_hit, ph.hl)), ph.hl, true, px);
+    let sh = shade(ph.f, ph.s, ph.h, p, normal_to_world(height_normal(ph.f, ph.s, ph.hl)), ph.hl, true, px);
     var dist = length(p - G.eye);
     if (G.transformed > 0.5) {
         dist = length(p_obj - G.eye_object) * stretch(view);
     }
-    let aov = write_aovs(sh.color, u32(ph.steps + sh.steps), 0u, s_hit / tiling, dist, lod);
+    let aov = write_aovs(sh.color, u32(ph.steps + sh.steps), ph.flags, ph.s / tiling, dist, lod);
     var o: PrismFsOut;
     o.color = aov.color;
     o.geo = aov.geo;
     o.id = aov.id;
+#ifdef DISPLACED_DEPTH
     o.depth = clip_depth(p);
+#endif
     return o;
 }
 
-// The shadow-map pass: the prisms seen from the light, each fragment marched along the light's
-// direction; the hit's depth in the light's projection.
+// The shadow-map pass: the shell's boundary seen from the light, each fragment walked along the
+// light's direction; the hit's depth in the light's projection.
 @vertex
-fn vs_prism_shadow(v: VertexIn, @location(5) h: f32, @builtin(vertex_index) index: u32) -> VertexOut {
-    return prism_vertex(v, h, index, G.shadow_vp);
+fn vs_prism_shadow(v: VertexIn, @location(5) prism: u32) -> VertexOut {
+    return prism_vertex(v, prism, G.shadow_vp);
 }
 
 @fragment
 fn fs_prism_shadow(in: VertexOut) -> @builtin(frag_depth) f32 {
-    let f = make_frame(in.normal, in.tangent, in.uv_scale);
     let lod = compute_lod(in.uv * G.tiling);
     let view = shadow_light_object();
-    let ph = prism_hit(in, f, view, lod);
+    let ph = prism_walk(in.prism, in.world, view, lod);
     if (!ph.ok) {
         discard;
     }

@@ -22,6 +22,7 @@ use crate::gpu::Context;
 use crate::heightmap::{GpuHeight, MipBuilder};
 use crate::methods::{Filtering, Geometry, Method, Spec};
 use crate::scene::{HeightMap, Keyed, Scene};
+use crate::shaders::FrameDefs;
 use crate::texspace::{FrameMaps, TexSpace};
 use pipelines::Pipelines;
 use resources::{GpuMesh, Resources};
@@ -320,7 +321,10 @@ impl Renderer {
                 &self.ctx,
                 &spec,
                 filtering,
-                shadow.is_some(),
+                FrameDefs {
+                    shadow_map: shadow.is_some(),
+                    displaced_depth: scene.objects.len() > 1,
+                },
                 (aovs.color_target(), aovs.geo_target(), aovs.id_target()),
                 arg,
             )?;

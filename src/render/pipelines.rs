@@ -7,7 +7,7 @@ use crate::geometry::prisms::PrismVertex;
 use crate::gpu::{layout, Context};
 use crate::mesh::Vertex;
 use crate::methods::{Filtering, Geometry, Pass, Spec};
-use crate::shaders::ShaderLib;
+use crate::shaders::{FrameDefs, ShaderLib};
 use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
 use std::sync::{Arc, Mutex};
@@ -40,12 +40,12 @@ pub struct Pipelines {
 fn variant_key(
     spec: &Spec,
     filtering: Filtering,
-    shadow_map: bool,
+    frame: FrameDefs,
     targets: (bool, bool, bool),
 ) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
     targets.hash(&mut h);
-    shadow_map.hash(&mut h);
+    frame.hash(&mut h);
     match &spec.pass {
         Pass::Surface { march } => {
             ("surface", march.as_ref().map(|m| m.path.as_str())).hash(&mut h)
@@ -128,11 +128,11 @@ impl Pipelines {
         ctx: &Context,
         spec: &Spec,
         filtering: Filtering,
-        shadow_map: bool,
+        frame: FrameDefs,
         (color, geo, id): (bool, bool, bool),
         arg: &str,
     ) -> Result<Arc<Variant>> {
-        let key = variant_key(spec, filtering, shadow_map, (color, geo, id));
+        let key = variant_key(spec, filtering, frame, (color, geo, id));
         if let Some(v) = self
             .cache
             .lock()
@@ -141,7 +141,7 @@ impl Pipelines {
         {
             return Ok(v.clone());
         }
-        let module = self.lib.compose(spec, filtering, shadow_map, arg)?;
+        let module = self.lib.compose(spec, filtering, frame, arg)?;
         let v = ctx.scoped(|| {
             let dev = &ctx.device;
             let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -207,7 +207,7 @@ impl Pipelines {
                 multiview_mask: None,
                 cache: None,
             });
-            let shadow = shadow_map.then(|| {
+            let shadow = frame.shadow_map.then(|| {
                 dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                     label: Some("pomkit shadow map"),
                     layout: Some(&self.layout),
@@ -219,7 +219,10 @@ impl Pipelines {
                     },
                     primitive: wgpu::PrimitiveState {
                         topology: wgpu::PrimitiveTopology::TriangleList,
-                        cull_mode: None,
+                        // a mesh casts from both sides (an open mesh lit from behind); the
+                        // prisms' walks start where the light enters the shell
+                        cull_mode: matches!(spec.geometry, Geometry::Prisms { .. })
+                            .then_some(wgpu::Face::Back),
                         ..Default::default()
                     },
                     depth_stencil: depth_state(),

@@ -212,7 +212,7 @@ impl Resources {
                     &[outward as u8],
                 ]);
                 self.meshes.get_or(key, || {
-                    let (verts, data) = prisms::build(mesh, m.depth, outward, &m.height, m.tiling);
+                    let prisms::Prisms { vertices: verts, data } = prisms::build(mesh, m.depth, outward, &m.height, m.tiling);
                     let vbytes = std::mem::size_of_val(verts.as_slice()) as u64;
                     if vbytes > ctx.limits.max_buffer_size || std::mem::size_of_val(data.as_slice()) as u64 > ctx.limits.max_storage_buffer_binding_size as u64 {
                         return Err(Error::limit("mesh", format!("the prisms need {vbytes} bytes of vertices; over the device's buffer limits")));

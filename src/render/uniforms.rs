@@ -216,7 +216,12 @@ mod tests {
         let lib = ShaderLib::new().unwrap();
         let spec = Method::pom(PerPixel::off()).spec();
         let module = lib
-            .compose(&spec, crate::methods::Filtering::Hardware, false, "method")
+            .compose(
+                &spec,
+                crate::methods::Filtering::Hardware,
+                Default::default(),
+                "method",
+            )
             .unwrap();
         for (name, fields, size) in [
             ("Globals", Globals::FIELDS, std::mem::size_of::<Globals>()),
