@@ -76,4 +76,4 @@ struct Globals {
 // bindings 8, 9: NCS's frame maps (src/methods/ncs.wgsl); 10: the prisms (prism.wgsl);
 // 11: the method's own parameters (`params`, generated from its Rust parameter list)
 // ConeStep's cone map: (base, w) per cell, row-major (shaders/conemap.wgsl)
-@group(0) @binding(12) var<storage, read> cone_buf: array<vec2<f32>>;
+@group(0) @binding(11) var<storage, read> cone_buf: array<vec2<f32>>;

@@ -2,9 +2,11 @@
 // Algorithm 1): every triangle drawn at its uvs, writing the interpolated vertex normal and
 // tangent and the world-per-uv scale factors S_tangent, S_binormal. Targets are Rgba32Uint
 // holding float bits (renderable everywhere): map N = (n.xyz, S_tangent), map T = (t.xyz,
-// sign(w) * S_binormal). Texels outside the charts stay zero and are then filled by `dilate`.
+// sign(w) * S_binormal). Texels outside the charts stay zero and are then filled by `dilate`;
+// `pack` then writes the one map NCS reads (frame_map.wgsl): four fetches per bilinear frame.
 
 #import pomkit::vertex::VertexIn
+#import pomkit::frame_map::pack_frame
 
 struct BakeOut {
     @builtin(position) clip: vec4<f32>,
@@ -76,4 +78,28 @@ fn dilate(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     textureStore(dst_n, p, bitcast<vec4<u32>>(n));
     textureStore(dst_t, p, bitcast<vec4<u32>>(t));
+}
+
+// The packed map: n and t octahedral (snorm16 pairs), S_tangent and the signed S_binormal as f32.
+@group(0) @binding(0) var pack_n: texture_2d<u32>;
+@group(0) @binding(1) var pack_t: texture_2d<u32>;
+@group(0) @binding(2) var pack_dst: texture_storage_2d<rgba32uint, write>;
+
+@compute @workgroup_size(8, 8)
+fn pack(@builtin(global_invocation_id) id: vec3<u32>) {
+    let d = vec2<i32>(textureDimensions(pack_n));
+    let p = vec2<i32>(id.xy);
+    if (p.x >= d.x || p.y >= d.y) {
+        return;
+    }
+    let n = bitcast<vec4<f32>>(textureLoad(pack_n, p, 0));
+    let t = bitcast<vec4<f32>>(textureLoad(pack_t, p, 0));
+    // orthonormal as stored, so that the march can step with it as it is
+    let nn = normalize(n.xyz);
+    var tt = t.xyz - nn * dot(t.xyz, nn);
+    if (dot(tt, tt) < 1e-12) {
+        let a = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 0.0, 1.0), abs(nn.x) > 0.9);
+        tt = cross(nn, a);
+    }
+    textureStore(pack_dst, p, pack_frame(nn, normalize(tt), n.w, t.w));
 }

@@ -4,7 +4,7 @@
 //!
 //! Shader defs: SHADOWS and FILTERING (values, always set), plus the method's flags (MARCH,
 //! LOD_BLEND, FLAT, BUMP, TESSELLATED). The method's parameters become the uniform block
-//! `params` (binding 11), generated here from its Rust parameter list, so the two sides agree by
+//! `params` (binding 10), generated here from its Rust parameter list, so the two sides agree by
 //! construction.
 
 use crate::error::{Error, Result};
@@ -17,6 +17,10 @@ use std::sync::Mutex;
 
 /// The library modules, in dependency order (a module's imports come before it).
 pub const LIBRARY: &[(&str, &str)] = &[
+    (
+        "shaders/frame_map.wgsl",
+        include_str!("../shaders/frame_map.wgsl"),
+    ),
     (
         "shaders/globals.wgsl",
         include_str!("../shaders/globals.wgsl"),
@@ -62,7 +66,7 @@ pub const LIBRARY: &[(&str, &str)] = &[
 pub const SURFACE: &str = include_str!("../shaders/surface.wgsl");
 pub const SURFACE_FILE: &str = "shaders/surface.wgsl";
 /// The binding of the method's `params` uniform block.
-pub const PARAMS_BINDING: u32 = 11;
+pub const PARAMS_BINDING: u32 = 10;
 
 /// The WGSL declaration of a method's `params` block. Appended after the method's own source, so
 /// that the line numbers of compile errors are those of the file the user wrote.
@@ -363,6 +367,7 @@ pub fn builtin_variants() -> Vec<crate::methods::Method> {
                 Ncs {
                     step_scale: 2.5,
                     max_steps: 64,
+                    adaptive: true,
                 },
                 o.clone(),
             ));

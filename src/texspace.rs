@@ -12,15 +12,17 @@ pub const MAP_SIZE: u32 = 512;
 /// Dilation passes: each extends the charts by one texel.
 pub const DILATE_PASSES: u32 = 8;
 
+/// The packed frame map NCS reads (shaders/frame_map.wgsl): 16 bytes per texel.
 pub struct FrameMaps {
-    pub n: wgpu::TextureView,
-    pub t: wgpu::TextureView,
+    pub map: wgpu::TextureView,
 }
 
 pub struct TexSpace {
     bake: wgpu::RenderPipeline,
     dilate: wgpu::ComputePipeline,
     dilate_layout: wgpu::BindGroupLayout,
+    pack: wgpu::ComputePipeline,
+    pack_layout: wgpu::BindGroupLayout,
 }
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
@@ -89,10 +91,29 @@ impl TexSpace {
                 compilation_options: Default::default(),
                 cache: None,
             });
+            let pack_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("pack"),
+                entries: &[tex(0), tex(1), sto(2)],
+            });
+            let ppl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("pack"),
+                bind_group_layouts: &[Some(&pack_layout)],
+                immediate_size: 0,
+            });
+            let pack = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("pack"),
+                layout: Some(&ppl),
+                module: &module,
+                entry_point: Some("pack"),
+                compilation_options: Default::default(),
+                cache: None,
+            });
             Ok(Self {
                 bake,
                 dilate,
                 dilate_layout,
+                pack,
+                pack_layout,
             })
         })
     }
@@ -193,13 +214,38 @@ impl TexSpace {
                 pass.set_bind_group(0, &bg, &[]);
                 pass.dispatch_workgroups(MAP_SIZE.div_ceil(8), MAP_SIZE.div_ceil(8), 1);
             }
+            // DILATE_PASSES is even: the result is back in `a`; pack it into one map
+            let packed = make("ncs frame map");
+            let pv = packed.create_view(&Default::default());
+            let bg = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("pack"),
+                layout: &self.pack_layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::TextureView(&va[0]),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: wgpu::BindingResource::TextureView(&va[1]),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: wgpu::BindingResource::TextureView(&pv),
+                    },
+                ],
+            });
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("pack"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&self.pack);
+                pass.set_bind_group(0, &bg, &[]);
+                pass.dispatch_workgroups(MAP_SIZE.div_ceil(8), MAP_SIZE.div_ceil(8), 1);
+            }
             ctx.queue.submit([enc.finish()]);
-            // DILATE_PASSES is even: the result is back in `a`
-            let [n, t] = a;
-            Ok(FrameMaps {
-                n: n.create_view(&Default::default()),
-                t: t.create_view(&Default::default()),
-            })
+            Ok(FrameMaps { map: pv })
         })
     }
 }

@@ -7,7 +7,9 @@ share their sides, instead of one march per prism face, and level 0 by default).
 previous frames the exact variant moved by at most 0.0009 texel on the planes (0.8 on the torus,
 where the frame is now interpolated at the hit) and the approximate ones by up to 26 texels at
 85 deg, where a sample placed elsewhere meets another spike; accuracy is checked against Mitsuba
-and Tessellated in test_silhouettes.py.
+and Tessellated in test_silhouettes.py. Also the NCS frames (issue 12: adaptive steps by
+default, the frame map packed into one texture and fetched per texel crossed, level 0 by
+default); checked against Mitsuba in test_silhouettes.py.
 
 Every AOV must be bit-identical, except where a shared routine changed the arithmetic: those
 frames are listed in TOLERANT with the reason and the measured bound, and are checked against it

@@ -259,17 +259,26 @@ class NCS(_PerPixel):
     tangents and scale factors (S_tangent, S_binormal) are rendered into 512^2 texture-space
     maps on the GPU once per mesh (and dilated past the charts); the view ray is marched in
     texture space, looking up the local frame at each step: P += c * delta * S * TBN * V with
-    delta = depth / max_steps and c = `step_scale` (the paper's 2.5). A ray leaving the shell
-    through its top is discarded (`mask` false: the silhouette); a ray still inside after
-    `max_steps` is an early termination, flagged in `Frame.flags & 2` (the paper's red pixels)."""
+    delta = depth / max_steps and c = `step_scale` (the paper's 2.5). `adaptive=True` (default)
+    lengthens a step to POM's layer density where that is longer: each step descends at least
+    one of the shell's max_steps + N.V (8 - max_steps) layers (N.V of the local frame), and
+    spans at most one shell depth, so that it still follows the curved surface; `adaptive=False`
+    is the paper's fixed step. The frame is fetched again when the ray enters another texel cell
+    of the map. A ray leaving the shell through its top is discarded (`mask` false: the
+    silhouette); a ray still inside after `max_steps` is an early termination, flagged in
+    `Frame.flags & 2` (the paper's red pixels). Level 0 by default (`mip_filtering=False`)."""
 
     step_scale: float = 2.5
     max_steps: int = 64
+    adaptive: bool = True
+    # level 0, as POM and Prism
+    mip_filtering: bool = field(default=False, kw_only=True)
     _kind = "NCS"
 
     def _validate(self):
         _real_field(self, "step_scale", 1e-6, 1000)
         _int_field(self, "max_steps")
+        _bool_field(self, "adaptive")
 
 
 @dataclass(frozen=True)

@@ -199,9 +199,9 @@ pub struct Spec {
     pub geometry: Geometry,
     /// NCS's texture-space frame maps
     pub frame_maps: bool,
-    /// ConeStep's cone map (binding 12)
+    /// ConeStep's cone map (binding 11)
     pub cone_map: Option<Cones>,
-    /// the uniform block `params` (binding 11), field by field, all f32
+    /// the uniform block `params` (binding 10), field by field, all f32
     pub params: Vec<(String, f32)>,
     pub pixel: PerPixel,
     /// LOD_BLEND's threshold (POM)

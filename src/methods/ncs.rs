@@ -9,6 +9,8 @@ pub struct Ncs {
     /// c of P_{i+1} = P_i + c * delta * S * TBN * V (the paper's 2.5)
     pub step_scale: f32,
     pub max_steps: u32,
+    /// steps of at least POM's layer density (by the local N.V), up to one shell depth long
+    pub adaptive: bool,
 }
 
 impl Unit for Ncs {
@@ -24,6 +26,7 @@ impl Unit for Ncs {
             &[
                 ("step_scale", self.step_scale),
                 ("max_steps", self.max_steps as f32),
+                ("adaptive", super::flag(self.adaptive)),
             ],
         );
         s.frame_maps = true;

@@ -16,23 +16,43 @@
 #import pomkit::aov::FLAG_EARLY
 #import pomkit::frame::{Frame, make_frame}
 #import pomkit::height::{height_at, bilinear_taps, bilerp}
-#import pomkit::march::{Ray, Hit}
+#import pomkit::march::{Ray, Hit, pom_sample_count}
+#import pomkit::frame_map::{FrameTexel, unpack_frame}
 
-@group(0) @binding(8) var frame_n: texture_2d<u32>;
-@group(0) @binding(9) var frame_t: texture_2d<u32>;
+@group(0) @binding(8) var frame_map: texture_2d<u32>;
 
-fn frame_texel(m: texture_2d<u32>, x: i32, y: i32) -> vec4<f32> {
-    return bitcast<vec4<f32>>(textureLoad(m, vec2<i32>(x, y), 0));
+fn frame_texel(x: i32, y: i32) -> FrameTexel {
+    return unpack_frame(textureLoad(frame_map, vec2<i32>(x, y), 0));
 }
 
-// The base frame at mesh uv, bilinear between texel centres of the maps.
+// The base frame at mesh uv, bilinear between texel centres of the map (four fetches).
 fn frame_at(uv: vec2<f32>) -> Frame {
-    let k = bilinear_taps(uv, vec2<i32>(textureDimensions(frame_n)));
-    let n = bilerp(k, frame_texel(frame_n, k.xa, k.ya), frame_texel(frame_n, k.xb, k.ya),
-                   frame_texel(frame_n, k.xa, k.yb), frame_texel(frame_n, k.xb, k.yb));
-    let t = bilerp(k, frame_texel(frame_t, k.xa, k.ya), frame_texel(frame_t, k.xb, k.ya),
-                   frame_texel(frame_t, k.xa, k.yb), frame_texel(frame_t, k.xb, k.yb));
+    let k = bilinear_taps(uv, vec2<i32>(textureDimensions(frame_map)));
+    let a = frame_texel(k.xa, k.ya);
+    let b = frame_texel(k.xb, k.ya);
+    let c = frame_texel(k.xa, k.yb);
+    let d = frame_texel(k.xb, k.yb);
+    let n = bilerp(k, vec4<f32>(a.n, a.s_t), vec4<f32>(b.n, b.s_t), vec4<f32>(c.n, c.s_t), vec4<f32>(d.n, d.s_t));
+    let t = bilerp(k, vec4<f32>(a.t, a.s_b), vec4<f32>(b.t, b.s_b), vec4<f32>(c.t, c.s_b), vec4<f32>(d.t, d.s_b));
     return make_frame(n.xyz, vec4<f32>(t.xyz, select(1.0, -1.0, t.w < 0.0)), vec2<f32>(n.w, abs(t.w)));
+}
+
+// The map texel a uv falls in (wrapped): the frame the march steps with, fetched again only when
+// the ray enters another texel (one fetch; the hit's frame is the bilinear one).
+fn frame_texel_at(uv: vec2<f32>) -> vec2<i32> {
+    let dims = vec2<i32>(textureDimensions(frame_map));
+    return min(vec2<i32>(fract(uv) * vec2<f32>(dims)), dims - 1);
+}
+
+// A texel's frame as stored (orthonormal; see texspace.wgsl's pack).
+fn frame_near(x: vec2<i32>) -> Frame {
+    let a = frame_texel(x.x, x.y);
+    var f: Frame;
+    f.n = a.n;
+    f.t = a.t;
+    f.b = select(1.0, -1.0, a.s_b < 0.0) * cross(a.n, a.t);
+    f.scale = max(vec2<f32>(a.s_t, abs(a.s_b)), vec2<f32>(1e-12));
+    return f;
 }
 
 fn ncs_hit(r: Ray, uv: vec2<f32>, h: f32, len: f32, steps: f32, flags: u32, f: Frame) -> Hit {
@@ -48,9 +68,13 @@ fn ncs_hit(r: Ray, uv: vec2<f32>, h: f32, len: f32, steps: f32, flags: u32, f: F
     return hit;
 }
 
+// adaptive steps: the fewest layers per shell height (head-on), as POM's default min_steps
+const MIN_LAYERS: f32 = 8.0;
+
 fn march(r: Ray) -> Hit {
     let n = max(params.max_steps, 1.0);
-    let dl = params.step_scale * G.depth / n;
+    // the paper's step: c * delta, delta = depth / N (world length)
+    let dl0 = params.step_scale * G.depth / n;
     let tiling = G.tiling;
     let view = r.view;
     var uv = r.uv;
@@ -58,12 +82,23 @@ fn march(r: Ray) -> Hit {
     var len = 0.0;
     var d = h - height_at(uv * tiling, r.lod);
     var steps = 1.0;
-    var f = frame_at(uv);
     if (d <= 0.0) {
-        return ncs_hit(r, uv, h, 0.0, steps, 0u, f);
+        return ncs_hit(r, uv, h, 0.0, steps, 0u, frame_at(uv));
     }
+    // the first step goes along the rasterised frame
+    var f = r.f;
+    var cell = frame_texel_at(uv);
     let ni = i32(n);
     for (var i = 0; i < ni; i = i + 1) {
+        var dl = dl0;
+        if (params.adaptive > 0.5) {
+            // at least POM's layer density: each step descends one of the shell's
+            // pom_sample_count(N.V, 8, N) layers (N.V local), and at most one shell depth along
+            // the ray, so that the step still follows the surface's curvature
+            let ndv = max(-dot(view, f.n), 1e-3);
+            let layers = pom_sample_count(ndv, MIN_LAYERS, n, true);
+            dl = clamp(G.depth / (ndv * layers), dl0, max(G.depth, dl0));
+        }
         let step = vec3<f32>(dot(view, f.t) / f.scale.x, dot(view, f.b) / f.scale.y, dot(view, f.n) / max(G.depth, 1e-12)) * dl;
         let uv1 = uv + step.xy;
         let h1 = h + step.z;
@@ -84,7 +119,13 @@ fn march(r: Ray) -> Hit {
         h = h1;
         len = len + dl;
         d = d1;
-        f = frame_at(uv);
+        // the frame changes slowly (a map texel spans several steps): fetched again only when
+        // the ray enters another cell of the map
+        let c = frame_texel_at(uv);
+        if (any(c != cell)) {
+            f = frame_near(c);
+            cell = c;
+        }
     }
-    return ncs_hit(r, uv, h, len, steps, FLAG_EARLY, f);
+    return ncs_hit(r, uv, h, len, steps, FLAG_EARLY, frame_at(uv));
 }

@@ -47,7 +47,7 @@ const NONE: u32 = 0xffffffffu;
 // the most prisms one ray walks through (a grazing ray crosses a handful)
 const MAX_PRISMS: u32 = 64u;
 
-@group(0) @binding(10) var<storage, read> prisms: array<PrismData>;
+@group(0) @binding(9) var<storage, read> prisms: array<PrismData>;
 
 // A boundary-face corner seen through `clip_from_world` (the camera's or the light's).
 fn prism_vertex(v: VertexIn, prism: u32, clip_from_world: mat4x4<f32>) -> VertexOut {

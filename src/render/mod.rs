@@ -108,8 +108,7 @@ impl Fixed {
                     mapped_at_creation: false,
                 }),
                 no_maps: FrameMaps {
-                    n: maps("no frame map N"),
-                    t: maps("no frame map T"),
+                    map: maps("no frame map"),
                 },
                 no_prisms: dev.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("no prisms"),
@@ -401,8 +400,7 @@ impl Renderer {
             R::TextureView(shadow),
             R::Sampler(&f.shadow_sampler),
             i.height.max_buf.as_entire_binding(),
-            R::TextureView(&i.maps.n),
-            R::TextureView(&i.maps.t),
+            R::TextureView(&i.maps.map),
             prisms.as_entire_binding(),
             i.params.as_entire_binding(),
             i.cones.as_entire_binding(),

@@ -88,7 +88,8 @@ impl Pipelines {
                 layout::buffer(b, vf, wgpu::BufferBindingType::Storage { read_only: true })
             };
             let uniform = |b: u32| layout::buffer(b, vf, wgpu::BufferBindingType::Uniform);
-            // the bindings of shaders/globals.wgsl, then NCS's maps, the prisms, the params
+            // the bindings of shaders/globals.wgsl, then NCS's frame map, the prisms, the params,
+            // the cone map
             let bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("pomkit surface"),
                 entries: &[
@@ -101,10 +102,9 @@ impl Pipelines {
                     layout::sampler(6, vf, wgpu::SamplerBindingType::Comparison),
                     storage(7),
                     uint(8),
-                    uint(9),
-                    storage(10),
+                    storage(9),
                     uniform(crate::shaders::PARAMS_BINDING),
-                    storage(12),
+                    storage(11),
                 ],
             });
             let layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
