@@ -157,6 +157,76 @@ def objects_cost(size: int = 512, rounds: int = 5) -> dict:
     return out
 
 
+def _curved(mesh: pk.Mesh, size: int, tiles: float, map_size: int = 512) -> pk.Scene:
+    return pk.Scene(mesh=mesh, material=pk.Material(pk.textures.cobblestones(map_size, cells=8), depth=0.12, tiling=tiles),
+                    camera=pk.Camera.look_at((0.0, 1.0, 2.8), fov_y=40, width=size, height=size),
+                    lights=[pk.DirectionalLight((-0.4, -1, -0.3), 3.0)])
+
+
+def _paired_ratios(r: pk.Renderer, scene: pk.Scene, methods: list, rounds: int) -> tuple[list[float], list[float]]:
+    """Per method: the median GPU ms and the median of per-round ratios to the first method
+    (every method renders once per round, after a warm-up: the ratios hold on a noisy machine)."""
+    for m in methods:
+        r.render(scene, m, aovs=("color",))
+    ts: list[list[float]] = [[] for _ in methods]
+    for k in range(rounds):
+        for j in range(len(methods)):
+            i = (j + k) % len(methods)
+            ts[i].append(r.render(scene, methods[i], aovs=("color",)).time_ms or 0.0)
+    base = np.array(ts[0])
+    return [float(np.median(t)) for t in ts], [float(np.median(np.array(t) / base)) for t in ts]
+
+
+SILHOUETTE_METHODS = {"POM": lambda: pk.POM(shadows="none"), "NCS": lambda: pk.NCS(shadows="none"),
+                      "Prism": lambda: pk.Prism(shadows="none"), "Tessellated(1)": lambda: pk.Tessellated(1.0, shadows="none")}
+
+
+def silhouette_cost(size: int = 256, rounds: int = 12) -> dict[str, Any]:
+    """Issue 12's cost table: the torus and the sphere at size², shadows off, each method's GPU
+    time as a ratio to POM's (medians of per-round ratios)."""
+    r = pk.Renderer()
+    out: dict[str, Any] = {}
+    for name, mesh in (("torus", pk.Mesh.torus(segments=48, tube_segments=24)), ("sphere", pk.Mesh.sphere(segments=48, rings=24))):
+        methods = [f() for f in SILHOUETTE_METHODS.values()]
+        ms, x = _paired_ratios(r, _curved(mesh, size, 1.0, 256), methods, rounds)
+        out[f"silhouettes_{name}_{size} ms POM / NCS / Prism / Tessellated(1)"] = " / ".join(f"{v:.2f}" for v in ms)
+        out[f"silhouettes_{name}_prism_over_pom (goal <= 3)"] = round(x[2], 3)
+        out[f"silhouettes_{name}_ncs_over_pom (goal <= 2)"] = round(x[1], 3)
+        out[f"silhouettes_{name}_prism_over_tessellated (goal < 1)"] = round(x[2] / x[3], 3)
+        out[f"silhouettes_{name}_ncs_over_tessellated (goal < 1)"] = round(x[1] / x[3], 3)
+    return out
+
+
+def curved_tiling(tiles=(1, 2, 4, 8), size: int = 512, rounds: int = 5) -> list[dict]:
+    """Chen & Chang's fig. 6 on a curved mesh: the torus with a 512² map tiled 1..8 times at
+    size², POM, NCS, Prism and Tessellated(1): GPU ms (median of interleaved rounds), coverage
+    IoU and uv p95 (texels) against Tessellated(1) at the same tiling."""
+    from pomkit import metrics
+    r = pk.Renderer()
+    mesh = pk.Mesh.torus(segments=48, tube_segments=24)
+    rows = []
+    for t in tiles:
+        sc = _curved(mesh, size, float(t))
+        methods = [f() for f in SILHOUETTE_METHODS.values()]
+        ms, x = _paired_ratios(r, sc, methods, rounds)
+        ref = r.render(sc, methods[3])
+        for name, m, v, xr in zip(SILHOUETTE_METHODS, methods, ms, x):
+            e = metrics.uv_error(r.render(sc, m), ref, sc)
+            rows.append(dict(chart="curved_tiling", tiling=t, label=name, method=m.name, gpu_ms=v, over_pom=xr,
+                             mask_iou=e["mask_iou"], uv_p95=e["p95"]))
+    return rows
+
+
+def curved_tiling_markdown(rows: list[dict]) -> str:
+    lines = ["| tiles | method | GPU ms | x POM | x Tessellated(1) | IoU vs Tessellated(1) | uv p95 vs Tessellated(1) (texels) |",
+             "|---|---|---|---|---|---|---|"]
+    tess = {x["tiling"]: x["gpu_ms"] for x in rows if x["label"] == "Tessellated(1)"}
+    for x in rows:
+        lines.append(f"| {x['tiling']} | {x['label']} | {x['gpu_ms']:.2f} | {x['over_pom']:.2f} | {x['gpu_ms'] / tess[x['tiling']]:.3f} | "
+                     f"{x['mask_iou']:.4f} | {x['uv_p95']:.3f} |")
+    return "\n".join(lines)
+
+
 def throughput(size: int = 512, frames: int = 64) -> dict[str, Any]:
     """The call-overhead figures (issue 14), at `size`², bricks 60°: Flat with colour only
     against all AOVs (GPU and wall), wall over GPU for POM with ("color", "uv") through a single
@@ -312,14 +382,34 @@ def run_bench(out: str = "pomkit-out/bench", quick: bool = False) -> dict:
     goals["python_overhead_pct_exact_default"] = round(100.0 * (exact_d["call_ms"] - exact_d["gpu_ms"]) / exact_d["gpu_ms"], 1)
     goals.update(throughput(size=512, frames=16 if quick else 64))
     goals.update(objects_cost(size=512, rounds=2 if quick else 6))
+    goals.update(silhouette_cost(size=256, rounds=6 if quick else 12))
+    curved = curved_tiling(tiles=(1, 4) if quick else (1, 2, 4, 8), size=512, rounds=3 if quick else 5)
+    (outdir / "curved_tiling.md").write_text(curved_tiling_markdown(curved) + "\n")
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    for name in SILHOUETTE_METHODS:
+        pts = [(x["tiling"], x["gpu_ms"]) for x in curved if x["label"] == name]
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", label=name)
+    ax.set_xscale("log", base=2)
+    ax.set_yscale("log")
+    ax.set_xlabel("map tiles on the torus")
+    ax.set_ylabel("GPU ms (512², shadows off)")
+    ax.set_title("Silhouettes as the map tiles (Chen & Chang fig. 6)")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(outdir / "curved_tiling.png", dpi=120)
+    plt.close(fig)
+    tess4 = {x["label"]: x["gpu_ms"] for x in curved if x["tiling"] == 4}
+    goals["curved_tiling_4_tessellated_over_prism (goal >= 3)"] = round(tess4["Tessellated(1)"] / tess4["Prism"], 2)
+    goals["curved_tiling_4_tessellated_over_ncs (goal >= 3)"] = round(tess4["Tessellated(1)"] / tess4["NCS"], 2)
     for k, v in goals.items():
         print(f"  goal {k}: {v}")
 
-    write_csv(table + at + ft + tiling_rows + swim, outdir / "bench.csv")
+    write_csv(table + at + ft + tiling_rows + swim + curved, outdir / "bench.csv")
     with open(outdir / "goals.txt", "w") as fh:
         for k, v in goals.items():
             fh.write(f"{k}: {v}\n")
         fh.write("pareto front: " + "; ".join(front_labels) + "\n")
-    print(f"wrote {outdir.resolve()}/: bench.csv, goals.txt, pareto.png, angle.png, frequency.png, tiling.png, swimming.png "
+    print(f"wrote {outdir.resolve()}/: bench.csv, goals.txt, pareto.png, angle.png, frequency.png, tiling.png, swimming.png, "
+          "curved_tiling.png, curved_tiling.md "
           f"in {time.perf_counter() - t_start:.0f} s")
-    return dict(table=table, angle=at, frequency=ft, tiling=tiling_rows, swimming=swim, goals=goals)
+    return dict(table=table, angle=at, frequency=ft, tiling=tiling_rows, swimming=swim, curved_tiling=curved, goals=goals)

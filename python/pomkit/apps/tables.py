@@ -178,11 +178,12 @@ def silhouettes_table(size: int = 256) -> str:
                 sweep_rows.append(f"| {c:g} | {((f.flags & 2) > 0)[f.mask].mean():.3f} | {e['p95']:.3f} | {e['mask_iou']:.4f} |")
     rows += ["", "NCS step_scale c on the torus (64 steps):", "", "| c | early-termination rate | uv p95 | mask IoU |", "|---|---|---|---|"] + sweep_rows
     from pomkit import _core
-    MAP_BYTES = {"size": _core.NCS_MAP_SIZE, "bytes": 2 * _core.NCS_MAP_SIZE ** 2 * 16}  # two Rgba32Uint maps
+    MAP_BYTES = {"size": _core.NCS_MAP_SIZE, "bytes": _core.NCS_MAP_SIZE ** 2 * 16}  # one packed Rgba32Uint map
     tris = len(pk.Mesh.torus(segments=48, tube_segments=24).indices) // 3
-    prism_bytes = tris * (24 * 60 + 160)
-    rows += ["", f"NCS's extra GPU memory: two {MAP_BYTES['size']}² Rgba32Uint maps = {MAP_BYTES['bytes'] / 2**20:.0f} MiB per mesh (cached, at most 4 meshes).",
-             f"Prism's extra GPU memory: 24 vertices of 60 bytes + 160 bytes of prism data per triangle = {prism_bytes / 2**20:.2f} MiB for this {tris}-triangle torus."]
+    # a closed shell draws its tops only: 3 vertices of 60 bytes, and 272 bytes of prism data
+    prism_bytes = tris * (3 * 60 + 272)
+    rows += ["", f"NCS's extra GPU memory: one packed {MAP_BYTES['size']}² Rgba32Uint map = {MAP_BYTES['bytes'] / 2**20:.0f} MiB per mesh (cached, at most 4 meshes).",
+             f"Prism's extra GPU memory: 3 boundary vertices of 60 bytes (a closed shell) + 272 bytes of prism data per triangle = {prism_bytes / 2**20:.2f} MiB for this {tris}-triangle torus."]
     return "\n".join(rows)
 
 
