@@ -50,23 +50,11 @@ impl ConeBuilder {
                     layout::buffer(2, cs, wgpu::BufferBindingType::Storage { read_only: false }),
                 ],
             });
-            let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("cone map"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
             let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("pomkit cone map"),
                 source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
             });
-            let pipeline = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("cone map"),
-                layout: Some(&pl),
-                module: &module,
-                entry_point: Some("build"),
-                compilation_options: Default::default(),
-                cache: None,
-            });
+            let pipeline = ctx.compute_pipeline("cone map", &module, "build", &layout);
             Ok(ConeBuilder { pipeline, layout })
         })
     }
@@ -91,24 +79,15 @@ impl ConeBuilder {
                 bytemuck::bytes_of(&p),
                 wgpu::BufferUsages::UNIFORM,
             );
-            let bg = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("cone map"),
-                layout: &self.layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: g.max_buf.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: ubuf.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: buf.as_entire_binding(),
-                    },
+            let bg = ctx.bind_group(
+                "cone map",
+                &self.layout,
+                vec![
+                    g.max_buf.as_entire_binding(),
+                    ubuf.as_entire_binding(),
+                    buf.as_entire_binding(),
                 ],
-            });
+            );
             let mut enc = ctx.device.create_command_encoder(&Default::default());
             {
                 let mut pass = enc.begin_compute_pass(&Default::default());

@@ -146,19 +146,7 @@ impl MipBuilder {
                     layout::storage_texture(1, cs, wgpu::TextureFormat::R32Float),
                 ],
             });
-            let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("mips"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            });
-            let mean = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("mips mean"),
-                layout: Some(&pl),
-                module: &module,
-                entry_point: Some("reduce"),
-                compilation_options: Default::default(),
-                cache: None,
-            });
+            let mean = ctx.compute_pipeline("mips mean", &module, "reduce", &layout);
             let max_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("max pyramid"),
                 entries: &[
@@ -345,20 +333,8 @@ impl MipBuilder {
                                 src: wgpu::TextureView,
                                 dst: wgpu::TextureView,
                                 k: u32| {
-                let bg = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("mips"),
-                    layout: &self.layout,
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: wgpu::BindingResource::TextureView(&src),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: wgpu::BindingResource::TextureView(&dst),
-                        },
-                    ],
-                });
+                use wgpu::BindingResource::TextureView as V;
+                let bg = ctx.bind_group("mips", &self.layout, vec![V(&src), V(&dst)]);
                 let (w, h) = level_size(map.width, map.height, k);
                 let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("reduce"),

@@ -78,36 +78,12 @@ impl TexSpace {
                 label: Some("dilate"),
                 entries: &[tex(0), tex(1), sto(2), sto(3)],
             });
-            let dpl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("dilate"),
-                bind_group_layouts: &[Some(&dilate_layout)],
-                immediate_size: 0,
-            });
-            let dilate = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("dilate"),
-                layout: Some(&dpl),
-                module: &module,
-                entry_point: Some("dilate"),
-                compilation_options: Default::default(),
-                cache: None,
-            });
+            let dilate = ctx.compute_pipeline("dilate", &module, "dilate", &dilate_layout);
             let pack_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("pack"),
                 entries: &[tex(0), tex(1), sto(2)],
             });
-            let ppl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("pack"),
-                bind_group_layouts: &[Some(&pack_layout)],
-                immediate_size: 0,
-            });
-            let pack = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("pack"),
-                layout: Some(&ppl),
-                module: &module,
-                entry_point: Some("pack"),
-                compilation_options: Default::default(),
-                cache: None,
-            });
+            let pack = ctx.compute_pipeline("pack", &module, "pack", &pack_layout);
             Ok(Self {
                 bake,
                 dilate,
@@ -184,28 +160,12 @@ impl TexSpace {
             }
             for k in 0..DILATE_PASSES {
                 let (src, dst) = if k % 2 == 0 { (&va, &vb) } else { (&vb, &va) };
-                let bg = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("dilate"),
-                    layout: &self.dilate_layout,
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: wgpu::BindingResource::TextureView(&src[0]),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: wgpu::BindingResource::TextureView(&src[1]),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 2,
-                            resource: wgpu::BindingResource::TextureView(&dst[0]),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 3,
-                            resource: wgpu::BindingResource::TextureView(&dst[1]),
-                        },
-                    ],
-                });
+                use wgpu::BindingResource::TextureView as V;
+                let bg = ctx.bind_group(
+                    "dilate",
+                    &self.dilate_layout,
+                    vec![V(&src[0]), V(&src[1]), V(&dst[0]), V(&dst[1])],
+                );
                 let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("dilate"),
                     timestamp_writes: None,
@@ -217,24 +177,12 @@ impl TexSpace {
             // DILATE_PASSES is even: the result is back in `a`; pack it into one map
             let packed = make("ncs frame map");
             let pv = packed.create_view(&Default::default());
-            let bg = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("pack"),
-                layout: &self.pack_layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: wgpu::BindingResource::TextureView(&va[0]),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: wgpu::BindingResource::TextureView(&va[1]),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: wgpu::BindingResource::TextureView(&pv),
-                    },
-                ],
-            });
+            use wgpu::BindingResource::TextureView as V;
+            let bg = ctx.bind_group(
+                "pack",
+                &self.pack_layout,
+                vec![V(&va[0]), V(&va[1]), V(&pv)],
+            );
             {
                 let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("pack"),

@@ -51,7 +51,9 @@ def time_methods(r: pk.Renderer, scene: pk.Scene, methods: list, aovs: tuple[pk.
 
     Returns per method: median, p25, p75 (ms; GPU timestamps where the adapter has them, else
     wall time), `call_ms` (median wall time of the Python call), `march_ms` (median cost above
-    Flat timed in the same rounds; `baseline=False` skips Flat), `repeats` and `timing`."""
+    Flat timed in the same rounds; `baseline=False` skips Flat), `over_first` (the median of
+    per-round ratios to the first method: steadier than a ratio of medians on a noisy machine),
+    `repeats` and `timing`."""
     ms = list(methods) + ([pk.Flat()] if baseline else [])
     for m in ms:
         r.render(scene, m, aovs=aovs)
@@ -74,10 +76,12 @@ def time_methods(r: pk.Renderer, scene: pk.Scene, methods: list, aovs: tuple[pk.
             break
         prev = med
     flat = float(np.median(times[-1])) if baseline else float("nan")
+    first = np.array(times[0])
     out = []
     for i in range(len(methods)):
         st = _stats(times[i])
         out.append(dict(ms=st["median"], ms_p25=st["p25"], ms_p75=st["p75"], march_ms=st["median"] - flat,
+                        over_first=float(np.median(np.array(times[i]) / np.maximum(first, 1e-9))),
                         call_ms=float(np.median(calls[i])), repeats=len(times[i]), timing=timing))
     return out
 

@@ -405,21 +405,8 @@ impl Renderer {
             i.params.as_entire_binding(),
             i.cones.as_entire_binding(),
         ];
-        let entries: Vec<wgpu::BindGroupEntry> = resources
-            .into_iter()
-            .enumerate()
-            .map(|(b, resource)| wgpu::BindGroupEntry {
-                binding: b as u32,
-                resource,
-            })
-            .collect();
         self.ctx
-            .device
-            .create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("surface"),
-                layout: &self.pipelines.bgl,
-                entries: &entries,
-            })
+            .bind_group("surface", &self.pipelines.bgl, resources.into())
     }
 
     /// Every object's draw: its resources (made or found in the caches), its uniform block and

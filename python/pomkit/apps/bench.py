@@ -164,17 +164,9 @@ def _curved(mesh: pk.Mesh, size: int, tiles: float, map_size: int = 512) -> pk.S
 
 
 def _paired_ratios(r: pk.Renderer, scene: pk.Scene, methods: list, rounds: int) -> tuple[list[float], list[float]]:
-    """Per method: the median GPU ms and the median of per-round ratios to the first method
-    (every method renders once per round, after a warm-up: the ratios hold on a noisy machine)."""
-    for m in methods:
-        r.render(scene, m, aovs=("color",))
-    ts: list[list[float]] = [[] for _ in methods]
-    for k in range(rounds):
-        for j in range(len(methods)):
-            i = (j + k) % len(methods)
-            ts[i].append(r.render(scene, methods[i], aovs=("color",)).time_ms or 0.0)
-    base = np.array(ts[0])
-    return [float(np.median(t)) for t in ts], [float(np.median(np.array(t) / base)) for t in ts]
+    """Per method: the median GPU ms and the median of per-round ratios to the first method."""
+    t = time_methods(r, scene, methods, min_repeats=rounds, max_repeats=rounds, baseline=False)
+    return [x["ms"] for x in t], [x["over_first"] for x in t]
 
 
 SILHOUETTE_METHODS = {"POM": lambda: pk.POM(shadows="none"), "NCS": lambda: pk.NCS(shadows="none"),
