@@ -89,6 +89,11 @@ fn march(r: Ray) -> Hit {
     var f = r.f;
     var cell = frame_texel_at(uv);
     let ni = i32(n);
+    // the loop only marches; the hit's bilinear frame (four fetches) is taken once after it, in
+    // control flow all lanes share again (inside the loop a SIMD group would run it at every
+    // step where one of its lanes hits)
+    var flags = FLAG_EARLY;
+    var exited = false;
     for (var i = 0; i < ni; i = i + 1) {
         var dl = dl0;
         if (params.adaptive > 0.5) {
@@ -102,18 +107,20 @@ fn march(r: Ray) -> Hit {
         let step = vec3<f32>(dot(view, f.t) / f.scale.x, dot(view, f.b) / f.scale.y, dot(view, f.n) / max(G.depth, 1e-12)) * dl;
         let uv1 = uv + step.xy;
         let h1 = h + step.z;
+        steps = steps + 1.0;
         if (h1 > 1.0) {
-            var out: Hit;
-            out.exited = true;
-            out.steps = steps + 1.0;
-            return out;
+            exited = true;
+            break;
         }
         let d1 = h1 - height_at(uv1 * tiling, r.lod);
-        steps = steps + 1.0;
         if (d1 <= 0.0) {
+            // the crossing between the last two points
             let t = d / max(d - d1, 1e-12);
-            let uv_hit = mix(uv, uv1, t);
-            return ncs_hit(r, uv_hit, mix(h, h1, t), len + dl * t, steps, 0u, frame_at(uv_hit));
+            uv = mix(uv, uv1, t);
+            h = mix(h, h1, t);
+            len = len + dl * t;
+            flags = 0u;
+            break;
         }
         uv = uv1;
         h = h1;
@@ -127,5 +134,11 @@ fn march(r: Ray) -> Hit {
             cell = c;
         }
     }
-    return ncs_hit(r, uv, h, len, steps, FLAG_EARLY, frame_at(uv));
+    if (exited) {
+        var out: Hit;
+        out.exited = true;
+        out.steps = steps;
+        return out;
+    }
+    return ncs_hit(r, uv, h, len, steps, flags, frame_at(uv));
 }
