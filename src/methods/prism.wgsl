@@ -211,6 +211,7 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
     // the sample at the walk's point t0 (ray height minus surface height), when taken
     var d0 = 0.0;
     var have_d0 = false;
+    var st_hit = vec2<f32>(0.0);
     var k = 0u;
     for (; k < MAX_PRISMS; k = k + 1u) {
         let sp = prism_span(p, o, view);
@@ -265,14 +266,13 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
                 }
             }
             if (hit >= 0.0) {
-                let st = mix(st_in, sp.st_out, hit);
+                // the frame is interpolated after the loop, once (see below)
+                st_hit = mix(st_in, sp.st_out, hit).xy;
                 out.ok = true;
                 out.t = mix(t_in, sp.t_out, hit);
                 out.s = mix(s_e, s_x, hit);
                 out.h = mix(h_e, h_x, hit);
-                out.f = prism_frame(p, st.xy);
-                out.steps = steps;
-                return out;
+                break;
             }
         }
         // the exit's sample carries to the next prism (not after the max-mip traversal, or a
@@ -288,10 +288,14 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
         p = next;
         t0 = sp.t_out;
     }
-    if (k == MAX_PRISMS) {
+    out.steps = steps;
+    if (out.ok) {
+        // the hit's frame, outside the loop: inside it, a SIMD group would interpolate it at
+        // every prism where one of its lanes hits
+        out.f = prism_frame(p, st_hit);
+    } else if (k == MAX_PRISMS) {
         out.flags = FLAG_BOUND;
     }
-    out.steps = steps;
     return out;
 }
 
