@@ -81,19 +81,17 @@ fn dilate(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 
 // The packed map: n and t octahedral (snorm16 pairs), S_tangent and the signed S_binormal as f32.
-@group(0) @binding(0) var pack_n: texture_2d<u32>;
-@group(0) @binding(1) var pack_t: texture_2d<u32>;
-@group(0) @binding(2) var pack_dst: texture_storage_2d<rgba32uint, write>;
+// It reads the dilated maps through dilate's bindings and writes through dst_n (bindings 0-2).
 
 @compute @workgroup_size(8, 8)
 fn pack(@builtin(global_invocation_id) id: vec3<u32>) {
-    let d = vec2<i32>(textureDimensions(pack_n));
+    let d = vec2<i32>(textureDimensions(src_n));
     let p = vec2<i32>(id.xy);
     if (p.x >= d.x || p.y >= d.y) {
         return;
     }
-    let n = bitcast<vec4<f32>>(textureLoad(pack_n, p, 0));
-    let t = bitcast<vec4<f32>>(textureLoad(pack_t, p, 0));
+    let n = bitcast<vec4<f32>>(textureLoad(src_n, p, 0));
+    let t = bitcast<vec4<f32>>(textureLoad(src_t, p, 0));
     // orthonormal as stored, so that the march can step with it as it is
     let nn = normalize(n.xyz);
     var tt = t.xyz - nn * dot(t.xyz, nn);
@@ -101,5 +99,5 @@ fn pack(@builtin(global_invocation_id) id: vec3<u32>) {
         let a = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 0.0, 1.0), abs(nn.x) > 0.9);
         tt = cross(nn, a);
     }
-    textureStore(pack_dst, p, pack_frame(nn, normalize(tt), n.w, t.w));
+    textureStore(dst_n, p, pack_frame(nn, normalize(tt), n.w, t.w));
 }

@@ -89,12 +89,14 @@ impl ConeBuilder {
                 ],
             );
             let mut enc = ctx.device.create_command_encoder(&Default::default());
-            {
-                let mut pass = enc.begin_compute_pass(&Default::default());
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &bg, &[]);
-                pass.dispatch_workgroups(g.width.div_ceil(8), g.height.div_ceil(8), 1);
-            }
+            Context::dispatch_8x8(
+                &mut enc,
+                "cone map",
+                &self.pipeline,
+                0,
+                &bg,
+                (g.width, g.height),
+            );
             ctx.queue.submit([enc.finish()]);
             Ok(ConeMap {
                 buf,

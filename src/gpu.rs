@@ -422,6 +422,25 @@ impl Context {
             })
     }
 
+    /// Record one compute pass of `pipeline` over a w x h grid in 8 x 8 workgroups (every
+    /// compute shader of pomkit), with `bg` at bind group `group`.
+    pub fn dispatch_8x8(
+        enc: &mut wgpu::CommandEncoder,
+        label: &str,
+        pipeline: &wgpu::ComputePipeline,
+        group: u32,
+        bg: &wgpu::BindGroup,
+        (w, h): (u32, u32),
+    ) {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(label),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(group, bg, &[]);
+        pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+    }
+
     /// A bind group of `layout` with `resources` at bindings 0, 1, 2, ...
     pub fn bind_group(
         &self,

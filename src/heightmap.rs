@@ -335,14 +335,8 @@ impl MipBuilder {
                                 k: u32| {
                 use wgpu::BindingResource::TextureView as V;
                 let bg = ctx.bind_group("mips", &self.layout, vec![V(&src), V(&dst)]);
-                let (w, h) = level_size(map.width, map.height, k);
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("reduce"),
-                    timestamp_writes: None,
-                });
-                pass.set_pipeline(pipe);
-                pass.set_bind_group(0, &bg, &[]);
-                pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+                let wh = level_size(map.width, map.height, k);
+                Context::dispatch_8x8(&mut enc, "reduce", pipe, 0, &bg, wh);
             };
             for k in 1..g.mips {
                 dispatch(&self.mean, level(&g.tex, k - 1), level(&g.tex, k), k);
@@ -386,17 +380,12 @@ impl MipBuilder {
                         },
                     ],
                 });
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("max level"),
-                    timestamp_writes: None,
-                });
-                pass.set_pipeline(if k == 0 {
+                let pipe = if k == 0 {
                     &self.max_cells
                 } else {
                     &self.max_reduce
-                });
-                pass.set_bind_group(1, &bg, &[]);
-                pass.dispatch_workgroups(dw.div_ceil(8), dh.div_ceil(8), 1);
+                };
+                Context::dispatch_8x8(&mut enc, "max level", pipe, 1, &bg, (dw, dh));
             }
             ctx.queue.submit([enc.finish()]);
             Ok(())

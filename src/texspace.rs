@@ -166,13 +166,14 @@ impl TexSpace {
                     &self.dilate_layout,
                     vec![V(&src[0]), V(&src[1]), V(&dst[0]), V(&dst[1])],
                 );
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("dilate"),
-                    timestamp_writes: None,
-                });
-                pass.set_pipeline(&self.dilate);
-                pass.set_bind_group(0, &bg, &[]);
-                pass.dispatch_workgroups(MAP_SIZE.div_ceil(8), MAP_SIZE.div_ceil(8), 1);
+                Context::dispatch_8x8(
+                    &mut enc,
+                    "dilate",
+                    &self.dilate,
+                    0,
+                    &bg,
+                    (MAP_SIZE, MAP_SIZE),
+                );
             }
             // DILATE_PASSES is even: the result is back in `a`; pack it into one map
             let packed = make("ncs frame map");
@@ -183,15 +184,7 @@ impl TexSpace {
                 &self.pack_layout,
                 vec![V(&va[0]), V(&va[1]), V(&pv)],
             );
-            {
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("pack"),
-                    timestamp_writes: None,
-                });
-                pass.set_pipeline(&self.pack);
-                pass.set_bind_group(0, &bg, &[]);
-                pass.dispatch_workgroups(MAP_SIZE.div_ceil(8), MAP_SIZE.div_ceil(8), 1);
-            }
+            Context::dispatch_8x8(&mut enc, "pack", &self.pack, 0, &bg, (MAP_SIZE, MAP_SIZE));
             ctx.queue.submit([enc.finish()]);
             Ok(FrameMaps { map: pv })
         })
