@@ -14,7 +14,7 @@
 
 #import pomkit::globals::{G, shadow_tex, shadow_samp, PI}
 #import pomkit::frame::{Frame, to_texture_space}
-#import pomkit::height::height_at
+#import pomkit::height::{height_at, height_exact_level}
 #import pomkit::lights::LightSample
 #import pomkit::maxmip::{maxmip_traverse, positive_start}
 
@@ -30,7 +30,7 @@ fn disk_occlusion(x: f32) -> f32 {
     return 1.0 - (acos(c) - c * sqrt(max(1.0 - c * c, 0.0))) / PI;
 }
 
-fn shadow_march(f: Frame, s: vec2<f32>, h: f32, ls: LightSample, lod: f32) -> ShadowResult {
+fn shadow_march(f: Frame, s: vec2<f32>, h_march: f32, ls: LightSample, lod: f32) -> ShadowResult {
     var r: ShadowResult;
     r.visibility = 1.0;
     r.steps = 0.0;
@@ -40,6 +40,10 @@ fn shadow_march(f: Frame, s: vec2<f32>, h: f32, ls: LightSample, lod: f32) -> Sh
         r.visibility = 0.0;
         return r;
     }
+    // The light ray starts on the height field at s, not at the march's h: an approximate
+    // march (POM's secant, a steep stair-step) can stop below the surface, and every sample
+    // near the start then lies above the ray: a false shadow line along each slope and edge.
+    let h = max(h_march, height_at(s, lod));
     if (h >= 1.0) {
         return r;
     }
@@ -117,7 +121,11 @@ fn shadow_map_visibility(light: u32, p: vec3<f32>, n: vec3<f32>, bias: f32) -> f
 }
 
 // Exact shadows: the same traversal along the light ray; visible if it leaves the shell.
-fn exact_shadow(f: Frame, s: vec2<f32>, h: f32, ls: LightSample) -> ShadowResult {
+// The light ray starts EXACT_SHADOW_BIAS above the hit (the hit's own patch must not block it)
+// and leaves the shell EXACT_SHADOW_BIAS below its top: a blocker must rise more than the bias
+// above the ray. On the bilinear field this misses no blocker taller than 1e-4 of the shell.
+const EXACT_SHADOW_BIAS: f32 = 1e-4;
+fn exact_shadow(f: Frame, s: vec2<f32>, h_march: f32, ls: LightSample) -> ShadowResult {
     var r: ShadowResult;
     let l_ts = to_texture_space(f, ls.dir);
     if (l_ts.z <= 1e-7) {
@@ -126,11 +134,21 @@ fn exact_shadow(f: Frame, s: vec2<f32>, h: f32, ls: LightSample) -> ShadowResult
         return r;
     }
     let dsdh = l_ts.xy / l_ts.z;
-    // start a hair above the surface so that the hit point does not shadow itself
-    let h0 = min(h + 1e-4, 1.0);
+    // start a hair above the surface at s (the exact field: an approximate march may stop below
+    // it), so that the hit point does not shadow itself
+    let h0 = max(h_march, height_exact_level(s, 0)) + EXACT_SHADOW_BIAS;
+    r.visibility = 1.0;
+    r.steps = 0.0;
+    // The ray has left the shell once it is within the bias of its top: no height lies above
+    // h = 1, so nothing there can block it. (Walked to h = 1 itself, a plateau at exactly 1 met
+    // the ray at its end, or at its start for a point on the plateau, and counted as a blocker:
+    // every h = 1 plateau rendered black.) The walk stops the same bias short of the top.
+    if (h0 >= 1.0 - EXACT_SHADOW_BIAS) {
+        return r;
+    }
     let d = dsdh * G.map_size;
     let p0 = positive_start(s, d);
-    let tr = maxmip_traverse(p0.x, p0.y, h0, d.x, d.y, 1.0, 2.0, G.max_iterations);
+    let tr = maxmip_traverse(p0.x, p0.y, h0, d.x, d.y, 1.0, (1.0 - EXACT_SHADOW_BIAS) - h0, G.max_iterations);
     r.visibility = select(1.0, 0.0, tr.hit);
     r.steps = tr.iters;
     return r;

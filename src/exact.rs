@@ -7,6 +7,12 @@
 //! texel centres). In each cell the bilinear patch along the ray is a quadratic in the ray
 //! parameter, solved in closed form; no step size, no missed features. The base plane is taken
 //! as infinite under the hit triangle, which is what the per-pixel methods assume too.
+//!
+//! The same walk, upward, gives the exact visibility of the scene's first directional light at
+//! each hit: the fraction of the light's disk (`angular_diameter`, sampled on a stratified 8x8
+//! grid; one direction for a zero diameter) whose ray from the hit leaves the shell (reaches
+//! h = 1) without passing below the bilinear field. It is the ground truth for the per-pixel
+//! methods' self-shadowing (`pk.metrics.shadow_error`).
 
 use crate::error::{Error, Result};
 use crate::scene::{HeightMap, Scene};
@@ -23,6 +29,9 @@ pub struct OracleFrame {
     pub mask: Vec<bool>,
     /// cells visited per pixel
     pub cells: Vec<u32>,
+    /// the first directional light's visibility at the hit (fraction of its disk unblocked by
+    /// the height field), NaN where no hit or the scene has no directional light
+    pub visibility: Vec<f64>,
 }
 
 struct Tri {
@@ -111,7 +120,9 @@ pub fn exact_hits(scene: &Scene) -> Result<OracleFrame> {
         depth: vec![f64::NAN; n],
         mask: vec![false; n],
         cells: vec![0; n],
+        visibility: vec![f64::NAN; n],
     };
+    let light_dirs = first_light_directions(scene);
     let threads = std::thread::available_parallelism()
         .map(|x| x.get())
         .unwrap_or(1)
@@ -123,6 +134,7 @@ pub fn exact_hits(scene: &Scene) -> Result<OracleFrame> {
         let mut d_rest: &mut [f64] = &mut out.depth;
         let mut m_rest: &mut [bool] = &mut out.mask;
         let mut c_rest: &mut [u32] = &mut out.cells;
+        let mut v_rest: &mut [f64] = &mut out.visibility;
         for k in 0..threads {
             let r0 = k * rows_per;
             let r1 = ((k + 1) * rows_per).min(h as usize);
@@ -138,6 +150,9 @@ pub fn exact_hits(scene: &Scene) -> Result<OracleFrame> {
             m_rest = c;
             let (c_c, d) = std::mem::take(&mut c_rest).split_at_mut(cnt);
             c_rest = d;
+            let (v_c, e) = std::mem::take(&mut v_rest).split_at_mut(cnt);
+            v_rest = e;
+            let light_dirs = &light_dirs;
             let tris = &tris;
             let basis = &basis;
             sc.spawn(move || {
@@ -145,7 +160,7 @@ pub fn exact_hits(scene: &Scene) -> Result<OracleFrame> {
                     for j in 0..w as usize {
                         let dir = cam.ray_dir(basis, i as u32, j as u32);
                         let idx = (i - r0) * w as usize + j;
-                        if let Some((uv, dist, cells)) = trace(
+                        if let Some(hit) = trace(
                             basis.eye,
                             dir,
                             tris,
@@ -153,11 +168,26 @@ pub fn exact_hits(scene: &Scene) -> Result<OracleFrame> {
                             mat.depth as f64,
                             mat.tiling as f64,
                         ) {
-                            uv_c[idx * 2] = uv.x;
-                            uv_c[idx * 2 + 1] = uv.y;
-                            d_c[idx] = dist;
+                            uv_c[idx * 2] = hit.uv.x;
+                            uv_c[idx * 2 + 1] = hit.uv.y;
+                            d_c[idx] = hit.dist;
                             m_c[idx] = true;
-                            c_c[idx] = cells;
+                            c_c[idx] = hit.cells;
+                            if !light_dirs.is_empty() {
+                                let lit = light_dirs
+                                    .iter()
+                                    .filter(|l| {
+                                        light_reaches(
+                                            &hit,
+                                            **l,
+                                            &mat.height,
+                                            mat.depth as f64,
+                                            mat.tiling as f64,
+                                        )
+                                    })
+                                    .count();
+                                v_c[idx] = lit as f64 / light_dirs.len() as f64;
+                            }
                         }
                     }
                 }
@@ -167,14 +197,25 @@ pub fn exact_hits(scene: &Scene) -> Result<OracleFrame> {
     Ok(out)
 }
 
-fn trace(
+/// A pixel's exact hit: uv (mesh space), distance, cells walked, and what the light test needs
+/// (the texture-space point and height, the triangle's world-to-texture map).
+struct OracleHit<'a> {
+    uv: DVec2,
+    dist: f64,
+    cells: u32,
+    s: DVec2,
+    h: f64,
+    tri: &'a Tri,
+}
+
+fn trace<'a>(
     eye: DVec3,
     dir: DVec3,
-    tris: &[Tri],
+    tris: &'a [Tri],
     hm: &HeightMap,
     depth: f64,
     tiling: f64,
-) -> Option<(DVec2, f64, u32)> {
+) -> Option<OracleHit<'a>> {
     // nearest front-facing triangle (Moller-Trumbore)
     let mut best: Option<(f64, &Tri, f64, f64)> = None;
     for t in tris {
@@ -206,14 +247,103 @@ fn trace(
     let uv0 = t.uv0 + t.d1 * b1 + t.d2 * b2;
     let c = t.to_tex * dir; // (du, dv, dn) per unit world length
     let dh = c.z / depth.max(1e-300);
-    if depth <= 0.0 {
-        return Some((uv0, d0, 0));
-    }
     let s0 = uv0 * tiling;
+    if depth <= 0.0 {
+        return Some(OracleHit {
+            uv: uv0,
+            dist: d0,
+            cells: 0,
+            s: s0,
+            h: 1.0,
+            tri: t,
+        });
+    }
     let ds = DVec2::new(c.x, c.y) * tiling;
     let (lam, cells) = march_height_field(hm, s0, ds, dh)?;
     let s = s0 + ds * lam;
-    Some((s / tiling, d0 + lam, cells))
+    let h = (1.0 + dh * lam).clamp(0.0, 1.0);
+    Some(OracleHit {
+        uv: s / tiling,
+        dist: d0 + lam,
+        cells,
+        s,
+        h,
+        tri: t,
+    })
+}
+
+/// Directions toward the scene's first directional light (unit, world space): one for a zero
+/// angular diameter, else 64 over its disk (a stratified 8x8 grid, concentric map), spread on
+/// the plane perpendicular to the light as the penumbra estimates assume. Empty without one.
+fn first_light_directions(scene: &Scene) -> Vec<DVec3> {
+    use crate::scene::Light;
+    let Some((dir, diameter)) = scene.lights.iter().find_map(|l| match l {
+        Light::Directional {
+            direction,
+            angular_diameter,
+            ..
+        } => Some((DVec3::from(*direction), *angular_diameter)),
+        _ => None,
+    }) else {
+        return Vec::new();
+    };
+    let to_light = -dir.normalize();
+    if diameter <= 0.0 {
+        return vec![to_light];
+    }
+    let tan_r = (0.5 * diameter).to_radians().tan();
+    let a = if to_light.y.abs() < 0.9 {
+        DVec3::Y
+    } else {
+        DVec3::X
+    };
+    let e1 = to_light.cross(a).normalize();
+    let e2 = to_light.cross(e1);
+    let k = 8;
+    let mut out = Vec::with_capacity(k * k);
+    for i in 0..k {
+        for j in 0..k {
+            // Shirley-Chiu concentric map of the cell centre onto the unit disk
+            let a = 2.0 * (i as f64 + 0.5) / k as f64 - 1.0;
+            let b = 2.0 * (j as f64 + 0.5) / k as f64 - 1.0;
+            let (r, phi) = if a.abs() > b.abs() {
+                (a, std::f64::consts::FRAC_PI_4 * (b / a))
+            } else {
+                (
+                    b,
+                    std::f64::consts::FRAC_PI_2 - std::f64::consts::FRAC_PI_4 * (a / b),
+                )
+            };
+            let off = (e1 * phi.cos() + e2 * phi.sin()) * (r * tan_r);
+            out.push((to_light + off).normalize());
+        }
+    }
+    out
+}
+
+/// Whether the ray from the hit toward the light (world direction `l`) leaves the shell: it
+/// rises from the hit's height to h = 1 without passing below the bilinear field. A light below
+/// the base tangent plane is blocked (the tiled field continues under it), as on the GPU.
+fn light_reaches(hit: &OracleHit, l: DVec3, hm: &HeightMap, depth: f64, tiling: f64) -> bool {
+    let c = hit.tri.to_tex * l;
+    if depth <= 0.0 {
+        return c.z > 0.0;
+    }
+    if c.z <= 0.0 {
+        return false;
+    }
+    light_ray_free(hm, hit.s, hit.h, DVec2::new(c.x, c.y) * tiling, c.z / depth)
+}
+
+/// The light ray (s0 + ds*lam, h0 + dh*lam), dh > 0, from a point on the surface up to h = 1:
+/// true where no point of the bilinear field lies above it. It starts 1e-9 above the surface
+/// (the point's own patch), and a point at the top (h0 >= 1) has left the shell.
+pub fn light_ray_free(hm: &HeightMap, s0: DVec2, h0: f64, ds: DVec2, dh: f64) -> bool {
+    let h0 = h0 + 1e-9;
+    if h0 >= 1.0 {
+        return true;
+    }
+    walk_cells(hm, s0, h0, ds, dh, (1.0 - h0) / dh).0.is_none()
 }
 
 /// First ray parameter lam >= 0 where the ray (s0 + ds*lam, 1 + dh*lam), dh < 0, meets the
@@ -223,6 +353,22 @@ pub fn march_height_field(hm: &HeightMap, s0: DVec2, ds: DVec2, dh: f64) -> Opti
         return None;
     }
     let lam_max = -1.0 / dh;
+    let (hit, cells) = walk_cells(hm, s0, 1.0, ds, dh, lam_max);
+    Some((hit.unwrap_or(lam_max), cells))
+}
+
+/// The cell walk of the ray (s0 + ds*lam, h0 + dh*lam) over lam in [0, lam_max]: the first lam
+/// at which the bilinear field is at or above the ray (None if there is none: for a descending
+/// ray, the floor at lam_max is the caller's to report), and the cells walked. A walk that
+/// reaches MAX_CELLS stops there and reports lam_max.
+fn walk_cells(
+    hm: &HeightMap,
+    s0: DVec2,
+    h0: f64,
+    ds: DVec2,
+    dh: f64,
+    lam_max: f64,
+) -> (Option<f64>, u32) {
     let (wf, hf) = (hm.width as f64, hm.height as f64);
     // texel space: cell (i, j) spans [i, i+1] x [j, j+1] between texel centres
     let x0 = s0.x * wf - 0.5;
@@ -257,11 +403,14 @@ pub fn march_height_field(hm: &HeightMap, s0: DVec2, ds: DVec2, dh: f64) -> Opti
         let tx = next_x(ci);
         let ty = next_y(cj);
         let lb = tx.min(ty).min(lam_max);
-        if let Some(l) = cell_hit(hm, ci, cj, x0, y0, dx, dy, dh, la, lb) {
-            return Some((l, cells));
+        if let Some(l) = cell_hit(hm, ci, cj, x0, y0, h0, dx, dy, dh, la, lb) {
+            return (Some(l), cells);
         }
-        if lb >= lam_max || cells >= MAX_CELLS {
-            return Some((lam_max, cells));
+        if lb >= lam_max {
+            return (None, cells);
+        }
+        if cells >= MAX_CELLS {
+            return (Some(lam_max), cells);
         }
         if tx <= ty {
             ci += step_i;
@@ -279,6 +428,7 @@ fn cell_hit(
     cj: i64,
     x0: f64,
     y0: f64,
+    h0: f64,
     dx: f64,
     dy: f64,
     dh: f64,
@@ -294,7 +444,7 @@ fn cell_hit(
     let a3 = h00 - h10 - h01 + h11;
     let xa = x0 + dx * la - ci as f64;
     let ya = y0 + dy * la - cj as f64;
-    let hra = 1.0 + dh * la;
+    let hra = h0 + dh * la;
     // f(tau) = H(x, y) - h_ray = A tau^2 + B tau + C on tau in [0, len]
     let c = h00 + a1 * xa + a2 * ya + a3 * xa * ya - hra;
     let b = a1 * dx + a2 * dy + a3 * (xa * dy + ya * dx) - dh;
@@ -378,5 +528,43 @@ mod tests {
             "hit at texel {}",
             s * 64.0 - 0.5
         );
+    }
+
+    #[test]
+    fn light_rays_at_the_top_and_behind_a_wall() {
+        // a plateau at exactly h = 1 is lit: its light rays start at the top of the shell
+        let hm = HeightMap::new(8, 8, vec![1.0; 64]).unwrap();
+        assert!(light_ray_free(
+            &hm,
+            DVec2::new(0.3, 0.6),
+            1.0,
+            DVec2::new(0.5, 0.0),
+            0.2
+        ));
+        // a floor at 0 with a full-height wall at columns 8..16 of 32, lit from +x by a light
+        // that rises one shell height per 4 texels. In texel space (x = s * 32 - 0.5) the ramp
+        // rises from h = 0 at x = 7 to h = 1 at x = 8; the ray from the floor at x0 is at height
+        // (x - x0) / 4, so it clears the ramp's top iff x0 <= 4: the shadow spans (4, 7].
+        let mut data = vec![0.0f32; 32 * 32];
+        for r in 0..32 {
+            for c in 8..16 {
+                data[r * 32 + c] = 1.0;
+            }
+        }
+        let hm = HeightMap::new(32, 32, data).unwrap();
+        let ds = DVec2::new(4.0 / 32.0, 0.0);
+        // texel-space x of the point: s.x * 32 - 0.5
+        let free = |x: f64| light_ray_free(&hm, DVec2::new((x + 0.5) / 32.0, 0.5), 0.0, ds, 1.0);
+        assert!(free(3.9));
+        assert!(!free(4.1));
+        assert!(!free(6.9));
+        // on the wall's top (h = 1) it is lit
+        assert!(light_ray_free(
+            &hm,
+            DVec2::new(10.5 / 32.0, 0.5),
+            1.0,
+            ds,
+            1.0
+        ));
     }
 }

@@ -14,6 +14,9 @@ __all__ = ["Frame", "AovName", "AOV_NAMES"]
 #: the AOVs a render can return (`Renderer.render(..., aovs=...)`)
 AovName = Literal["color", "uv", "depth", "mask", "steps", "lod", "flags", "object"]
 AOV_NAMES: tuple[str, ...] = get_args(AovName)
+#: arrays a Frame may also hold that no render target writes: `visibility` comes from the CPU
+#: oracle (`exact_uv`) or from `Renderer.render_visibility` (a shadowed and an unshadowed render)
+DERIVED_NAMES: tuple[str, ...] = ("visibility",)
 
 
 class Frame:
@@ -27,6 +30,10 @@ class Frame:
     lod:   (H, W) float32 mip level the LOD system used, NaN where no hit
     flags: (H, W) uint8, bit 0: the march hit its iteration bound (Exact)
     object: (H, W) int32 index of the object hit in `scene.objects`, -1 where no hit
+    visibility: (H, W) float32, the first directional light's visibility at the hit (1 lit,
+           0 shadowed, between in a penumbra), NaN where there is no hit or the light is behind
+           the shading normal. Not a render target: `pk.exact_uv` (the exact oracle) and
+           `Renderer.render_visibility` fill it.
     gpu_ms: GPU time of the render pass from timestamp queries, None where the adapter has none
     wall_ms: wall time of submit-and-wait (always measured)
     timing: "gpu" when gpu_ms holds a timestamp measurement, "wall" when only wall_ms exists;
@@ -38,9 +45,9 @@ class Frame:
 
     def __init__(self, *, method: str = "", gpu_ms: Optional[float] = None, wall_ms: Optional[float] = None,
                  timing: Optional[str] = None, **arrays: Optional[np.ndarray]):
-        unknown = set(arrays) - set(AOV_NAMES)
+        unknown = set(arrays) - set(AOV_NAMES) - set(DERIVED_NAMES)
         if unknown:
-            raise TypeError(f"Frame: unknown AOVs {sorted(unknown)}; known: {AOV_NAMES}")
+            raise TypeError(f"Frame: unknown AOVs {sorted(unknown)}; known: {AOV_NAMES + DERIVED_NAMES}")
         self._arrays: dict[str, np.ndarray] = {k: v for k, v in arrays.items() if v is not None}
         self.method = method
         self.gpu_ms = gpu_ms
@@ -71,6 +78,15 @@ class Frame:
     lod = property(lambda self: self._get("lod"), doc="(H, W) float32 mip level, NaN where no hit")
     flags = property(lambda self: self._get("flags"), doc="(H, W) uint8, bit 0: iteration bound hit")
     object = property(lambda self: self._get("object"), doc="(H, W) int32 object index, -1 where no hit")
+
+    @property
+    def visibility(self) -> np.ndarray:
+        """(H, W) float32 visibility of the first directional light at the hit (see the class doc)."""
+        try:
+            return self._arrays["visibility"]
+        except KeyError:
+            raise AttributeError("visibility: this frame has none; take it from pk.exact_uv(scene) (the exact "
+                                 "oracle, planar meshes) or renderer.render_visibility(scene, method)") from None
 
     @property
     def shape(self) -> tuple[int, int]:

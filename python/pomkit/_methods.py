@@ -8,7 +8,9 @@ docs/custom_methods.md for `Custom`.
 Every per-pixel method (Parallax, SteepParallax, POM, Relief, Exact) also takes, by keyword:
   shadows: "none" | "hard" (horizon test along the light ray, `shadow_steps` samples) |
            "soft" (penumbra estimate from the light's angular diameter) |
-           "horizon" (max-mip horizon angle, Dachsbacher & Tatarchuk 2007) | "exact" (Exact only)
+           "horizon" (max-mip horizon angle, Dachsbacher & Tatarchuk 2007) |
+           "exact" (the max-mip traversal along the light ray from the height field at the hit:
+           no false shadow and no false light on the bilinear field; hard-edged)
   filtering: "hardware" (the sampler's bilinear filter) | "exact" (four loads, float32 lerp)
   mip_filtering: sample the footprint's mip level (True) or level 0 (False)
   ao_directions: 0, 4 or 8 horizon directions for ambient occlusion of Scene.ambient
@@ -28,7 +30,7 @@ __all__ = ["Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief
 #: the option values, as types (Literal) and as tuples for the checks
 ShadowKind = Literal["none", "hard", "soft", "horizon", "exact"]
 FilteringKind = Literal["hardware", "exact"]
-_SHADOWS: tuple[str, ...] = ("none", "hard", "soft", "horizon")
+_SHADOWS: tuple[str, ...] = get_args(ShadowKind)
 _FILTERING: tuple[str, ...] = get_args(FilteringKind)
 
 
@@ -198,8 +200,8 @@ class Exact(_PerPixel):
     """Maximum mipmaps (Tevs, Ihrke & Seidel 2008): hierarchical traversal of the max-reduced
     pyramid (built on the GPU), the exact ray/bilinear-patch intersection at the finest level.
     No step count to tune; `max_iterations` bounds the traversal and `Frame.flags & 1` marks rays
-    that hit the bound. Always samples level 0 with exact filtering. Shadows may also be "exact":
-    the same traversal along the light ray."""
+    that hit the bound. Always samples level 0 with exact filtering. shadows="exact" (every
+    per-pixel method has it) is the same traversal along the light ray."""
 
     max_iterations: int = 4096
     _kind = "Exact"
@@ -207,7 +209,6 @@ class Exact(_PerPixel):
     @property
     def safety(self) -> str:
         return "safe"
-    _shadow_options = _SHADOWS + ("exact",)
 
     def _validate(self):
         _int_field(self, "max_iterations", 1, 1 << 24)

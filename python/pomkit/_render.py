@@ -58,6 +58,31 @@ class Renderer:
         ds = self._r.render_many([sc._describe() for sc in scenes], method, _aovs(aovs))
         return [_frame(d, method) for d in ds]
 
+    def render_visibility(self, scene: Scene, method: Method, aovs: Aovs = ("color", "uv", "mask")) -> Frame:
+        """The frame of `render(scene, method, aovs)` plus `visibility`: what the method's shadow
+        test lets through of the scene's first directional light at each hit, in [0, 1].
+
+        Measured, not modelled: the same scene is rendered twice more with only that light, no
+        ambient and a constant albedo, once with the method as given and once with its
+        self-shadowing off (`shadows="none"`; cast shadows off too). The march, and so the hit,
+        is the same in both; the colour's ratio is the light's visibility. NaN where there is no
+        hit or the light is behind the shading normal (both renders black). For Tessellated it
+        is its shadow map's verdict."""
+        _check(scene, method)
+        names = _aovs(aovs)
+        frame = self.render(scene, method, aovs if names is None else tuple(dict.fromkeys(names + ("mask",))))
+        lit, free = _visibility_twins(scene, method)
+        a = self.render(lit, method, aovs=("color", "mask"))
+        b = self.render(free, _unshadowed(method), aovs=("color", "mask"))
+        ca = a.color.mean(-1, dtype=np.float64)
+        cb = b.color.mean(-1, dtype=np.float64)
+        ok = a.mask & b.mask & (cb > 1e-12)
+        vis = np.full(ca.shape, np.nan, np.float32)
+        vis[ok] = np.clip(ca[ok] / cb[ok], 0.0, 1.0)
+        arrays = {k: frame._arrays[k] for k in frame.aovs}
+        return Frame(**arrays, visibility=vis, gpu_ms=frame.gpu_ms, wall_ms=frame.wall_ms, timing=frame.timing,
+                     method=frame.method)
+
     def update_height(self, material: Material, height) -> Material:
         """Dynamic height fields: a new Material with `height` in place of `material.height` (same
         depth, albedo, tiling). When the old map is resident on the GPU and the sizes match, the new
@@ -93,6 +118,34 @@ def _aovs(aovs: Aovs) -> Optional[Any]:
     return names
 
 
+def _first_directional(scene: Scene):
+    from ._scene import DirectionalLight
+    for l in scene.lights:
+        if isinstance(l, DirectionalLight):
+            return l
+    raise ValueError("scene: visibility is that of the first directional light, and this scene has none; "
+                     "add a pk.DirectionalLight to scene.lights")
+
+
+def _visibility_twins(scene: Scene, method: Method) -> tuple[Scene, Scene]:
+    """The scene with only its first directional light, no ambient and constant albedo: with its
+    cast shadows as given (for the shadowed render) and without (for the unshadowed one)."""
+    import dataclasses
+    light = _first_directional(scene)
+    objects = [o if o.material.albedo is None else dataclasses.replace(o, material=dataclasses.replace(o.material, albedo=None))
+               for o in scene.objects]
+    lit = scene.replace(objects=objects, lights=[light], ambient=0.0)
+    free = scene.replace(objects=objects, lights=[dataclasses.replace(light, cast_shadows=False)], ambient=0.0)
+    return lit, free
+
+
+def _unshadowed(method: Method) -> Method:
+    import dataclasses
+    if hasattr(method, "shadows"):
+        return dataclasses.replace(method, shadows="none")  # type: ignore[type-var]
+    return method
+
+
 def _check(scene: Any, method: Any) -> None:
     if not isinstance(scene, Scene):
         raise TypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
@@ -108,8 +161,13 @@ def _frame(d: dict, method: Method) -> Frame:
 def exact_uv(scene: Scene) -> Frame:
     """CPU float64 oracle: the exact first hit of each pixel's ray against the bilinear height
     field, for planar meshes (each triangle's plane is taken as the base surface under it).
-    Returns a Frame with float64 uv and depth, the mask, and `steps` = cells visited."""
+    Returns a Frame with float64 uv and depth, the mask, `steps` = cells visited, and
+    `visibility`: the exact visibility of the first directional light at the hit (the fraction
+    of its disk, 64 directions when `angular_diameter` > 0, whose ray leaves the shell without
+    passing below the field; NaN without a directional light). Self-shadowing only: the other
+    objects' cast shadows are not traced."""
     if not isinstance(scene, Scene):
         raise TypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
     d = _core.exact_uv(scene._describe())
-    return Frame(uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["cells"], method="exact_uv")
+    vis = d["visibility"].astype(np.float32)
+    return Frame(uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["cells"], visibility=vis, method="exact_uv")

@@ -13,7 +13,7 @@ import numpy as np
 from ._frame import Frame
 from ._scene import Scene, linear_to_srgb
 
-__all__ = ["uv_error", "depth_error", "mask_iou", "flip", "psnr", "ssim"]
+__all__ = ["uv_error", "depth_error", "mask_iou", "shadow_error", "flip", "psnr", "ssim"]
 
 
 def _check(frame, ref):
@@ -69,6 +69,52 @@ def uv_error(frame: Frame, ref: Frame, scene: Scene) -> dict:
     out["mask_iou"] = mask_iou(frame, ref)
     out["image"] = img
     return out
+
+
+def shadow_error(frame: Frame, ref: Frame, scene: Scene, *, uv_tol: float = 0.5, threshold: float = 0.5) -> dict:
+    """Self-shadowing against a reference, where both frames show the same surface point.
+
+    Both frames need `visibility` (the first directional light's, in [0, 1]): take the method's
+    from `Renderer.render_visibility(scene, method)` and the reference's from `pk.exact_uv(scene)`
+    (the exact float64 oracle, planar meshes; 64 directions over the light's disk when its
+    `angular_diameter` > 0) or from `render_visibility` with `pk.Tessellated()` (its shadow map:
+    an approximate reference, ~1.5 shadow-map texels at edges). Pixels are compared where both
+    hit, both visibilities are defined (the light faces the shading normal) and the hits lie
+    within `uv_tol` texels of each other: elsewhere the two frames shade different points, which
+    uv_error measures. A pixel is in shadow where its visibility is below `threshold`.
+
+    Returns: iou (of the shadow masks; 1.0 when neither has a shadow), vis_error (mean
+    |visibility - reference visibility|), false_shadow and false_light (fractions of the compared
+    pixels shadowed where the reference is lit, and lit where it is shadowed), shadowed and
+    ref_shadowed (shadowed fractions), n (pixels compared), compared (n over the reference's
+    hits), and "image" (signed visibility difference, NaN where not compared)."""
+    _check(frame, ref)
+    for name, f in (("frame", frame), ("ref", ref)):
+        if not f.has("visibility"):
+            raise ValueError(f"{name}: has no visibility; use renderer.render_visibility(scene, method) or, for the "
+                             "reference, pk.exact_uv(scene)")
+    va = np.asarray(frame.visibility, np.float64)
+    vb = np.asarray(ref.visibility, np.float64)
+    both = frame.mask & ref.mask & np.isfinite(va) & np.isfinite(vb)
+    if frame.has("uv") and ref.has("uv"):
+        e = uv_error(frame, ref, scene)["image"]
+        both &= np.nan_to_num(e, nan=np.inf) <= uv_tol
+    a = (va < threshold) & both
+    b = (vb < threshold) & both
+    n = int(both.sum())
+    union = int((a | b).sum())
+    diff = np.where(both, va - vb, np.nan)
+    return dict(
+        iou=float((a & b).sum() / union) if union else 1.0,
+        vis_error=float(np.abs(diff[both]).mean()) if n else float("nan"),
+        false_shadow=float((a & ~b).sum() / n) if n else float("nan"),
+        false_light=float((b & ~a).sum() / n) if n else float("nan"),
+        shadowed=float(a.sum() / n) if n else float("nan"),
+        ref_shadowed=float(b.sum() / n) if n else float("nan"),
+        n=n,
+        compared=float(n / max(int(ref.mask.sum()), 1)),
+        image=diff,
+    )
 
 
 def depth_error(frame: Frame, ref: Frame, relative: bool = True) -> dict:

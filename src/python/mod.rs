@@ -189,6 +189,7 @@ fn exact_uv<'py>(py: Python<'py>, scene: &Bound<'py, PyDict>) -> PyResult<Bound<
     d.set_item("depth", nd_array(py, (h, w), o.depth)?)?;
     d.set_item("mask", nd_array(py, (h, w), o.mask)?)?;
     d.set_item("cells", nd_array(py, (h, w), o.cells)?)?;
+    d.set_item("visibility", nd_array(py, (h, w), o.visibility)?)?;
     Ok(d)
 }
 
