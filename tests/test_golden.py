@@ -46,6 +46,24 @@ TOLERANT: dict[str, tuple[str, float, float, int]] = {
     "-exact_shadow": (_MAXMIP, 3e-5, 5e-6, 0),
 }
 
+_SHADOW_START = ("issue 22: the hard, soft and exact light rays start on the height field at the hit's s (max of the "
+                 "march's h and the field's height there), not at an approximate march's h below the surface, "
+                 "which put a false shadow line along slopes and edges (checker vs the float64 oracle: POM's "
+                 "shadow IoU 0.74 -> 0.96). The hit is unchanged (uv within 1e-5 texel, coverage and flags "
+                 "identical); the colour changes where a false shadow went (at most the stated pixels of 48^2), "
+                 "and the shadow ray's sample count (steps) by at most shadow_steps")
+
+#: frame key -> most pixels whose colour may change because the light ray's start moved
+SHADOW_START: dict[str, int] = {
+    "bricks-0-steep_hard": 1400, "bricks-60-steep_hard": 1100, "bricks-85-steep_hard": 400,
+    "spikes-0-steep_hard": 10, "spikes-60-steep_hard": 10, "spikes-85-steep_hard": 10,
+    "bricks-60-pom_fixed": 60, "bricks-85-pom_fixed": 20, "torus-pom": 5,
+    "bricks-0-prism": 70, "bricks-60-prism": 70, "bricks-85-prism": 250,
+    "spikes-0-prism": 10, "spikes-60-prism": 10, "spikes-85-prism": 10,
+    "torus-prism": 15, "sphere-prism": 5, "torus-prism_exact": 2, "sphere-prism_exact": 2,
+    "torus-ncs_c1": 20, "sphere-ncs_c1": 10,
+}
+
 #: frames whose step counts changed by design (the reason is in TOLERANT)
 STEPS_CHANGED = ("-exact", "-exact_shadow")
 
@@ -62,6 +80,9 @@ def _tolerance(key: str):
 @pytest.mark.parametrize("key,scene,method", CASES, ids=[c[0] for c in CASES])
 def test_golden_frame(renderer, key, scene, method):
     f = renderer.render(scene, method)
+    if key in SHADOW_START:
+        _check_shadow_start(key, scene, method, f)
+        return
     tol = _tolerance(key)
     if tol is None:
         for a in golden.AOVS:
@@ -78,3 +99,15 @@ def test_golden_frame(renderer, key, scene, method):
     if not key.endswith(STEPS_CHANGED):
         assert steps.max() <= 1, f"{key}: steps ({why})"
     np.testing.assert_array_equal(f.flags, DATA[f"{key}/flags"])
+
+
+def _check_shadow_start(key, scene, method, f):
+    np.testing.assert_array_equal(f.mask, DATA[f"{key}/mask"], err_msg=f"{key}: coverage ({_SHADOW_START})")
+    np.testing.assert_array_equal(f.flags, DATA[f"{key}/flags"])
+    m = f.mask
+    d = np.abs(f.uv[m] - DATA[f"{key}/uv"][m]) * np.array(scene.material.height.shape[::-1]) * scene.material.tiling
+    assert d.max(initial=0) <= 1e-5, f"{key}: uv moved by {d.max():.2e} texel ({_SHADOW_START})"
+    changed = int((np.abs(f.color - DATA[f"{key}/color"]).max(-1)[m] > 1e-6).sum())
+    assert changed <= SHADOW_START[key], f"{key}: colour changed at {changed} pixels > {SHADOW_START[key]} ({_SHADOW_START})"
+    steps = np.abs(f.steps[m].astype(np.int64) - DATA[f"{key}/steps"][m])
+    assert steps.max(initial=0) <= method.shadow_steps, f"{key}: steps ({_SHADOW_START})"
