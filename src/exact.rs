@@ -49,7 +49,9 @@ struct Tri {
 /// Upper bound on cells walked per ray (a ray at 89.99 degrees over a 4k map stays below it).
 pub const MAX_CELLS: u32 = 4_000_000;
 
-pub fn exact_hits(scene: &Scene) -> Result<OracleFrame> {
+/// The oracle's frame. `light_bias` (shell depths, >= 0) raises the light rays: a blocker must
+/// rise more than it above the ray (0: the exact field; the GPU's exact shadows use 1e-4).
+pub fn exact_hits(scene: &Scene, light_bias: f64) -> Result<OracleFrame> {
     scene.validate()?;
     let obj = scene.only_object("the CPU oracle (exact_uv)")?;
     if !obj.transform.is_identity() {
@@ -123,6 +125,7 @@ pub fn exact_hits(scene: &Scene) -> Result<OracleFrame> {
         visibility: vec![f64::NAN; n],
     };
     let light_dirs = first_light_directions(scene);
+    let light_bias = light_bias.max(0.0);
     let threads = std::thread::available_parallelism()
         .map(|x| x.get())
         .unwrap_or(1)
@@ -183,6 +186,7 @@ pub fn exact_hits(scene: &Scene) -> Result<OracleFrame> {
                                             &mat.height,
                                             mat.depth as f64,
                                             mat.tiling as f64,
+                                            light_bias,
                                         )
                                     })
                                     .count();
@@ -324,7 +328,14 @@ fn first_light_directions(scene: &Scene) -> Vec<DVec3> {
 /// Whether the ray from the hit toward the light (world direction `l`) leaves the shell: it
 /// rises from the hit's height to h = 1 without passing below the bilinear field. A light below
 /// the base tangent plane is blocked (the tiled field continues under it), as on the GPU.
-fn light_reaches(hit: &OracleHit, l: DVec3, hm: &HeightMap, depth: f64, tiling: f64) -> bool {
+fn light_reaches(
+    hit: &OracleHit,
+    l: DVec3,
+    hm: &HeightMap,
+    depth: f64,
+    tiling: f64,
+    bias: f64,
+) -> bool {
     let c = hit.tri.to_tex * l;
     if depth <= 0.0 {
         return c.z > 0.0;
@@ -332,18 +343,28 @@ fn light_reaches(hit: &OracleHit, l: DVec3, hm: &HeightMap, depth: f64, tiling: 
     if c.z <= 0.0 {
         return false;
     }
-    light_ray_free(hm, hit.s, hit.h, DVec2::new(c.x, c.y) * tiling, c.z / depth)
+    light_ray_free(
+        hm,
+        hit.s,
+        hit.h,
+        DVec2::new(c.x, c.y) * tiling,
+        c.z / depth,
+        bias,
+    )
 }
 
 /// The light ray (s0 + ds*lam, h0 + dh*lam), dh > 0, from a point on the surface up to h = 1:
-/// true where no point of the bilinear field lies above it. It starts 1e-9 above the surface
-/// (the point's own patch), and a point at the top (h0 >= 1) has left the shell.
-pub fn light_ray_free(hm: &HeightMap, s0: DVec2, h0: f64, ds: DVec2, dh: f64) -> bool {
-    let h0 = h0 + 1e-9;
-    if h0 >= 1.0 {
+/// true where no point of the bilinear field lies above it. It starts `bias` above the surface
+/// (at least 1e-9: the point's own patch) and ends `bias` below the top, so that a blocker must
+/// rise more than `bias` above the ray (the GPU's exact shadows use 1e-4); a point at the top
+/// (h0 >= 1 - bias) has left the shell.
+pub fn light_ray_free(hm: &HeightMap, s0: DVec2, h0: f64, ds: DVec2, dh: f64, bias: f64) -> bool {
+    let top = 1.0 - bias.max(0.0);
+    let h0 = h0 + bias.max(1e-9);
+    if h0 >= top {
         return true;
     }
-    walk_cells(hm, s0, h0, ds, dh, (1.0 - h0) / dh).0.is_none()
+    walk_cells(hm, s0, h0, ds, dh, (top - h0) / dh).0.is_none()
 }
 
 /// First ray parameter lam >= 0 where the ray (s0 + ds*lam, 1 + dh*lam), dh < 0, meets the

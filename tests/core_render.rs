@@ -57,7 +57,7 @@ fn pom_matches_the_oracle_on_a_constant_height() {
         PerPixel::off(),
     );
     let f = r.render(&s, &m).unwrap();
-    let o = exact_hits(&s).unwrap();
+    let o = exact_hits(&s, 0.0).unwrap();
     let mut n = 0;
     for i in 0..(64 * 64) {
         if f.mask[i] && o.mask[i] {

@@ -6,7 +6,7 @@ tiles seamlessly, and is deterministic for a given seed.
 
 from __future__ import annotations
 
-from typing import Callable
+from typing import Callable, Optional
 
 import numpy as np
 
@@ -161,3 +161,48 @@ def text(size: int = 512, message: str = "pomkit", raised: float = 1.0, backgrou
 #: name -> function, for sweeps over every map
 ALL: dict[str, Callable[..., np.ndarray]] = {"bricks": bricks, "cobblestones": cobblestones, "pyramids": pyramids, "sine": sine,
        "noise": noise, "spikes": spikes, "text": text}
+
+
+def _real_source(name: str) -> np.ndarray:
+    if name in ("terrain", "seafloor"):
+        try:
+            from matplotlib.cbook import get_sample_data
+        except ImportError:
+            raise ImportError(f"name: the {name!r} map is an elevation model that matplotlib ships; "
+                              "pip install matplotlib (or pomkit[bench])") from None
+        if name == "terrain":
+            return np.asarray(get_sample_data("jacksboro_fault_dem.npz")["elevation"], np.float64)
+        return np.asarray(get_sample_data("topobathy.npz")["topo"], np.float64)
+    try:
+        import skimage.data
+    except ImportError:
+        raise ImportError(f"name: the {name!r} map is a photograph that scikit-image ships; "
+                          "pip install scikit-image (or pomkit[reference])") from None
+    return np.asarray(getattr(skimage.data, name)(), np.float64)
+
+
+#: real content, not made by pomkit: two elevation models and two photographs taken as heights
+REAL: dict[str, str] = {
+    "terrain": "Jacksboro fault, Tennessee: a USGS elevation model (344x403, int16 metres; matplotlib's sample data)",
+    "seafloor": "topography and bathymetry, 91x120 (matplotlib's sample data)",
+    "gravel": "a photograph of gravel, luminance as height (scikit-image's data.gravel)",
+    "moon": "a photograph of the Moon's surface, luminance as height (scikit-image's data.moon)",
+}
+
+
+def real(name: str, size: Optional[int] = 128) -> np.ndarray:
+    """A height map from real data that a dependency ships (see `REAL`): the largest centred
+    square, resampled to `size`² by area averaging (None: kept at its own size and shape), and
+    normalised as users normalise their maps: min to exactly 0, max to exactly 1."""
+    if name not in REAL:
+        raise ValueError(f"name: one of {', '.join(REAL)}, got {name!r}")
+    a = _real_source(name)
+    if size is not None:
+        size = _check_size(size)
+        n = min(a.shape)
+        r0, c0 = (a.shape[0] - n) // 2, (a.shape[1] - n) // 2
+        a = a[r0:r0 + n, c0:c0 + n]
+        from PIL import Image
+        a = np.asarray(Image.fromarray(a.astype(np.float32)).resize((size, size), Image.Resampling.BOX), np.float64)
+    lo, hi = float(a.min()), float(a.max())
+    return ((a - lo) / (hi - lo) if hi > lo else np.zeros_like(a)).astype(np.float32)

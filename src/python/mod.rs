@@ -178,11 +178,24 @@ fn adapters<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
     Ok(out)
 }
 
-/// The CPU float64 oracle: dict with uv (H, W, 2) f64, depth (H, W) f64, mask, cells.
+/// The CPU float64 oracle: dict with uv (H, W, 2) f64, depth (H, W) f64, mask, cells, and the
+/// first directional light's visibility (H, W) f64.
 #[pyfunction]
-fn exact_uv<'py>(py: Python<'py>, scene: &Bound<'py, PyDict>) -> PyResult<Bound<'py, PyDict>> {
+#[pyo3(signature = (scene, light_bias=0.0))]
+fn exact_uv<'py>(
+    py: Python<'py>,
+    scene: &Bound<'py, PyDict>,
+    light_bias: f64,
+) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene_from_py(scene)?;
-    let o = py.detach(move || exact_hits(&scene))?;
+    if !(0.0..0.5).contains(&light_bias) {
+        return Err(Error::arg(
+            "light_bias",
+            format!("must lie in [0, 0.5) shell depths, got {light_bias}"),
+        )
+        .into());
+    }
+    let o = py.detach(move || exact_hits(&scene, light_bias))?;
     let (h, w) = (o.height as usize, o.width as usize);
     let d = PyDict::new(py);
     d.set_item("uv", nd_array(py, (h, w, 2), o.uv)?)?;
