@@ -560,7 +560,8 @@ mod tests {
             DVec2::new(0.3, 0.6),
             1.0,
             DVec2::new(0.5, 0.0),
-            0.2
+            0.2,
+            0.0
         ));
         // a floor at 0 with a full-height wall at columns 8..16 of 32, lit from +x by a light
         // that rises one shell height per 4 texels. In texel space (x = s * 32 - 0.5) the ramp
@@ -575,7 +576,8 @@ mod tests {
         let hm = HeightMap::new(32, 32, data).unwrap();
         let ds = DVec2::new(4.0 / 32.0, 0.0);
         // texel-space x of the point: s.x * 32 - 0.5
-        let free = |x: f64| light_ray_free(&hm, DVec2::new((x + 0.5) / 32.0, 0.5), 0.0, ds, 1.0);
+        let free =
+            |x: f64| light_ray_free(&hm, DVec2::new((x + 0.5) / 32.0, 0.5), 0.0, ds, 1.0, 0.0);
         assert!(free(3.9));
         assert!(!free(4.1));
         assert!(!free(6.9));
@@ -585,7 +587,15 @@ mod tests {
             DVec2::new(10.5 / 32.0, 0.5),
             1.0,
             ds,
-            1.0
+            1.0,
+            0.0
         ));
+        // with the GPU's bias, a floor point whose ray clears the ramp's top by less than it is
+        // also lit: x0 = 4.0002 passes 5e-5 below the top (blocked exactly, free with 1e-4)
+        let biased = |x: f64, b: f64| {
+            light_ray_free(&hm, DVec2::new((x + 0.5) / 32.0, 0.5), 0.0, ds, 1.0, b)
+        };
+        assert!(!biased(4.0002, 0.0));
+        assert!(biased(4.0002, 1e-4));
     }
 }

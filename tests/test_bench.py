@@ -1,5 +1,7 @@
 """The sweep's table and the Pareto front (speed itself is measured in benchmarks, not here)."""
 
+import numpy as np
+
 import pomkit as pk
 from pomkit.bench import pareto_front, sweep, variants
 
@@ -86,3 +88,16 @@ def test_bench_without_its_extra_names_the_extra():
     assert p.returncode == 2, p.stderr
     lines = p.stderr.strip().splitlines()
     assert len(lines) == 1 and "pip install pomkit[bench]" in lines[0], p.stderr
+
+
+def test_sweep_shadow_columns():
+    """The shadow error against the oracle's visibility is a column: NaN without shadows, the
+    exact light walk's IoU near 1 with them."""
+    rows = sweep([pk.Exact(), pk.Exact(shadows="exact"), pk.POM(shadows="hard")], scenes=["cobblestones"],
+                 angles=[60.0], settings=dict(size=64), repeats=1, progress=False)
+    rows = rows.to_dict("records") if hasattr(rows, "to_dict") else rows
+    by = {x["label"]: x for x in rows}
+    assert np.isnan(by["Exact()"]["shadow_iou"])
+    assert by["Exact(shadows='exact')"]["shadow_iou"] > 0.95
+    assert 0.5 < by["POM(shadows='hard')"]["shadow_iou"] <= 1.0
+    assert by["POM(shadows='hard')"]["shadow_vis_error"] >= 0.0

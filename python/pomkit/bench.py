@@ -165,12 +165,25 @@ def _sweep_scene(job: tuple) -> list[dict]:
             except ImportError:
                 pass
         steps = float(f.steps[f.mask].mean()) if f.mask.any() else 0.0
-        rows.append(dict(method=method_name(m), label=label(m), safety=m.safety, scene=sname, angle=angle,
+        shadow = _shadow_columns(r, scene, m, ref if reference == "exact" else None)
+        rows.append(dict(**shadow, method=method_name(m), label=label(m), safety=m.safety, scene=sname, angle=angle,
                          size=cfg["size"], gpu_ms=t["ms"], gpu_ms_p25=t["ms_p25"], gpu_ms_p75=t["ms_p75"],
                          march_ms=t["march_ms"], call_ms=t["call_ms"], repeats=t["repeats"], timing=t["timing"],
                          ms_per_mpix=t["ms"] / mpix, mean_steps=steps, uv_p50=e["p50"], uv_p95=e["p95"],
                          uv_p99=e["p99"], mask_iou=e["mask_iou"], flip=fl))
     return rows
+
+
+def _shadow_columns(r: pk.Renderer, scene: pk.Scene, method, oracle) -> dict:
+    """shadow_iou and shadow_vis_error of the method's self-shadowing against the exact oracle's
+    visibility (metrics.shadow_error); NaN where the reference is not the oracle, the method
+    casts no shadows or the scene has no directional light."""
+    nan = dict(shadow_iou=float("nan"), shadow_vis_error=float("nan"))
+    if oracle is None or getattr(method, "shadows", "none") == "none" or not oracle.has("visibility") \
+            or not np.isfinite(oracle.visibility).any():
+        return nan
+    e = metrics.shadow_error(r.render_visibility(scene, method), oracle, scene)
+    return dict(shadow_iou=e["iou"], shadow_vis_error=e["vis_error"])
 
 
 #: the columns that hold timings (they differ between runs; the rest is deterministic)

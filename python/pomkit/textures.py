@@ -170,9 +170,9 @@ def _real_source(name: str) -> np.ndarray:
         except ImportError:
             raise ImportError(f"name: the {name!r} map is an elevation model that matplotlib ships; "
                               "pip install matplotlib (or pomkit[bench])") from None
-        if name == "terrain":
-            return np.asarray(get_sample_data("jacksboro_fault_dem.npz")["elevation"], np.float64)
-        return np.asarray(get_sample_data("topobathy.npz")["topo"], np.float64)
+        fname, key = ("jacksboro_fault_dem.npz", "elevation") if name == "terrain" else ("topobathy.npz", "topo")
+        with np.load(get_sample_data(fname, asfileobj=False)) as z:
+            return np.asarray(z[key], np.float64)
     try:
         import skimage.data
     except ImportError:
