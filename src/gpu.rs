@@ -14,20 +14,125 @@ pub struct AdapterDesc {
     pub driver: String,
 }
 
+/// Read-only storage buffers the surface pass binds per stage (the max pyramid, prisms, cone
+/// steps: render/pipelines.rs).
+pub const STORAGE_BUFFERS_PER_STAGE: u32 = 3;
+
+/// What the adapter can do that pomkit uses, detected once per device, and the fallback taken
+/// for each missing feature. The one place these decisions live: the renderer reads them from
+/// here, `python -m pomkit info` prints them (docs/platforms.md).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Capabilities {
+    /// TIMESTAMP_QUERY: GPU time around the render pass. Fallback: `gpu_ms` is None and the
+    /// bench times submit-and-wait (`wall_ms`).
+    pub timestamps: bool,
+    /// TIMESTAMP_QUERY_INSIDE_PASSES (reported; pomkit times whole passes only)
+    pub timestamps_inside_passes: bool,
+    /// FLOAT32_FILTERABLE: the R32Float height map through a linear sampler. Fallback: every
+    /// height sample takes `filtering="exact"` (four loads and a float32 lerp), and the
+    /// mip-filtered march lerps between levels in the shader.
+    pub float32_filterable: bool,
+    /// storage buffers in fragment shaders (the max pyramid, prisms, cone data): required;
+    /// without them pomkit reports no usable adapter rather than rendering wrongly
+    pub fragment_storage: bool,
+    /// textureGather on R32Float (the max-mip walk's cell corners): WebGPU core on every
+    /// native backend; reported
+    pub gather: bool,
+    /// SHADER_F64 (reported: the float64 oracle runs on the CPU, no shader needs f64)
+    pub shader_f64: bool,
+    /// Compute writes to a mip level through a single-level storage view land in that level.
+    /// Not on wgpu's GL backend (measured: Mesa GL 4.5 left levels >= 1 at zero, so every
+    /// mip-filtered march read a flat field). Fallback: each level is reduced into a
+    /// single-level texture and copied into its mip level (heightmap.rs).
+    pub storage_mip_views: bool,
+}
+
+impl Capabilities {
+    fn detect(adapter: &wgpu::Adapter) -> Self {
+        let f = adapter.features();
+        let d = adapter.get_downlevel_capabilities();
+        let gl = adapter.get_info().backend == wgpu::Backend::Gl;
+        Capabilities {
+            timestamps: f.contains(wgpu::Features::TIMESTAMP_QUERY),
+            timestamps_inside_passes: f.contains(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES),
+            float32_filterable: f.contains(wgpu::Features::FLOAT32_FILTERABLE),
+            fragment_storage: d.flags.contains(wgpu::DownlevelFlags::FRAGMENT_STORAGE)
+                && adapter.limits().max_storage_buffers_per_shader_stage
+                    >= STORAGE_BUFFERS_PER_STAGE,
+            gather: d.flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS),
+            shader_f64: f.contains(wgpu::Features::SHADER_F64),
+            storage_mip_views: !gl,
+        }
+    }
+
+    /// The features pomkit asks the device for (those it uses, where present).
+    fn required(&self) -> wgpu::Features {
+        let mut f = wgpu::Features::empty();
+        if self.timestamps {
+            f |= wgpu::Features::TIMESTAMP_QUERY;
+        }
+        if self.float32_filterable {
+            f |= wgpu::Features::FLOAT32_FILTERABLE;
+        }
+        f
+    }
+
+    /// (feature, present, what pomkit does without it), for `python -m pomkit info`.
+    pub fn report(&self) -> Vec<(&'static str, bool, &'static str)> {
+        vec![
+            (
+                "timestamp queries (around passes)",
+                self.timestamps,
+                "gpu_ms is None; the bench times submit-and-wait",
+            ),
+            (
+                "timestamp queries (inside passes)",
+                self.timestamps_inside_passes,
+                "not used: pomkit times whole passes",
+            ),
+            (
+                "float32 filtering",
+                self.float32_filterable,
+                "filtering=\"exact\" everywhere (four loads, float32 lerp)",
+            ),
+            (
+                "storage buffers in fragment shaders",
+                self.fragment_storage,
+                "required: no usable adapter",
+            ),
+            (
+                "textureGather on R32Float",
+                self.gather,
+                "required: no usable adapter",
+            ),
+            (
+                "shader f64",
+                self.shader_f64,
+                "not used: the float64 oracle runs on the CPU",
+            ),
+            (
+                "compute writes to mip-level views",
+                self.storage_mip_views,
+                "each mip level reduced into its own texture and copied",
+            ),
+        ]
+    }
+}
+
 pub struct Context {
     pub adapter: wgpu::Adapter,
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub info: AdapterDesc,
-    pub timestamps: bool,
-    pub float32_filterable: bool,
+    pub caps: Capabilities,
     pub limits: wgpu::Limits,
     lost: Arc<AtomicBool>,
     lost_msg: Arc<Mutex<String>>,
     uncaptured: Arc<Mutex<Option<String>>>,
 }
 
-/// Which backends to try: POMKIT_BACKEND=vulkan|gl|all forces them (default: Vulkan, then GL).
+/// Which backends to try: POMKIT_BACKEND=vulkan|metal|dx12|gl|all forces them (default: every
+/// native backend; the best adapter wins, GL last).
 pub fn backends_from_env() -> Result<wgpu::Backends> {
     match std::env::var("POMKIT_BACKEND")
         .ok()
@@ -35,14 +140,17 @@ pub fn backends_from_env() -> Result<wgpu::Backends> {
         .map(str::to_ascii_lowercase)
         .as_deref()
     {
-        None | Some("") | Some("auto") | Some("all") => {
-            Ok(wgpu::Backends::VULKAN | wgpu::Backends::GL)
-        }
+        None | Some("") | Some("auto") | Some("all") => Ok(wgpu::Backends::VULKAN
+            | wgpu::Backends::METAL
+            | wgpu::Backends::DX12
+            | wgpu::Backends::GL),
         Some("vulkan") | Some("vk") => Ok(wgpu::Backends::VULKAN),
+        Some("metal") | Some("mtl") => Ok(wgpu::Backends::METAL),
+        Some("dx12") | Some("d3d12") => Ok(wgpu::Backends::DX12),
         Some("gl") | Some("gles") | Some("opengl") => Ok(wgpu::Backends::GL),
         Some(other) => Err(Error::arg(
             "POMKIT_BACKEND",
-            format!("unknown backend {other:?}; use vulkan, gl or auto"),
+            format!("unknown backend {other:?}; use vulkan, metal, dx12, gl or auto"),
         )),
     }
 }
@@ -65,7 +173,7 @@ fn describe(a: &wgpu::Adapter) -> AdapterDesc {
 }
 
 const NO_ADAPTER_HELP: &str =
-    "pomkit needs a Vulkan or OpenGL ES adapter. Without a GPU, install Mesa's \
+    "pomkit needs a Vulkan, Metal, DX12 or OpenGL adapter. Without a GPU on Linux, install Mesa's \
 software drivers: `sudo apt-get install mesa-vulkan-drivers libegl1 libegl-mesa0 libgl1-mesa-dri` \
 (Debian/Ubuntu), or set POMKIT_BACKEND=gl to try the GL backend";
 
@@ -96,11 +204,8 @@ impl Context {
                 wgpu::DeviceType::Cpu => 3,
                 wgpu::DeviceType::Other => 4,
             };
-            let b = if i.backend == wgpu::Backend::Vulkan {
-                0
-            } else {
-                1
-            };
+            // native APIs before GL (GL is the fallback: fewer features, see Capabilities)
+            let b = if i.backend == wgpu::Backend::Gl { 1 } else { 0 };
             (t, b)
         };
         list.sort_by_key(rank);
@@ -135,16 +240,14 @@ impl Context {
             }
         };
         let info = describe(&adapter);
-        let af = adapter.features();
-        let mut features = wgpu::Features::empty();
-        let timestamps = af.contains(wgpu::Features::TIMESTAMP_QUERY);
-        if timestamps {
-            features |= wgpu::Features::TIMESTAMP_QUERY;
+        let caps = Capabilities::detect(&adapter);
+        if !caps.fragment_storage || !caps.gather {
+            return Err(Error::NoAdapter(format!(
+                "{} ({}) lacks storage buffers in fragment shaders or compute shaders, which pomkit needs; {NO_ADAPTER_HELP}",
+                info.name, info.backend
+            )));
         }
-        let float32_filterable = af.contains(wgpu::Features::FLOAT32_FILTERABLE);
-        if float32_filterable {
-            features |= wgpu::Features::FLOAT32_FILTERABLE;
-        }
+        let features = caps.required();
         let limits = adapter.limits();
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("pomkit"),
@@ -184,8 +287,7 @@ impl Context {
             device,
             queue,
             info,
-            timestamps,
-            float32_filterable,
+            caps,
             limits,
             lost,
             lost_msg,

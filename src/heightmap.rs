@@ -85,6 +85,11 @@ pub struct GpuHeight {
     pub view: wgpu::TextureView,
     /// the max pyramid, levels back to back (offsets from `max_offsets`)
     pub max_buf: wgpu::Buffer,
+    /// Where the adapter cannot write a mip level through a storage view (GL: see
+    /// `Capabilities::storage_mip_views`): one single-level texture per level k >= 1, written
+    /// by the reduce pass from the previous one and copied into level k. Allocated with the map,
+    /// so that `update_height` still allocates nothing.
+    scratch: Vec<wgpu::Texture>,
 }
 
 /// Element offset of each level of the max pyramid in its buffer, and the total length.
@@ -211,6 +216,22 @@ impl MipBuilder {
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             });
+            let scratch = if ctx.caps.storage_mip_views {
+                Vec::new()
+            } else {
+                (1..mip_count(map.width, map.height))
+                    .map(|k| {
+                        ctx.texture_2d(
+                            "height mip scratch",
+                            level_size(map.width, map.height, k),
+                            wgpu::TextureFormat::R32Float,
+                            wgpu::TextureUsages::TEXTURE_BINDING
+                                | wgpu::TextureUsages::STORAGE_BINDING
+                                | wgpu::TextureUsages::COPY_SRC,
+                        )
+                    })
+                    .collect()
+            };
             Ok(GpuHeight {
                 width: map.width,
                 height: map.height,
@@ -218,6 +239,7 @@ impl MipBuilder {
                 view: tex.create_view(&Default::default()),
                 tex,
                 max_buf,
+                scratch,
             })
         })?;
         self.update(ctx, &g, map)?;
@@ -338,8 +360,39 @@ impl MipBuilder {
                 let wh = level_size(map.width, map.height, k);
                 Context::dispatch_8x8(&mut enc, "reduce", pipe, 0, &bg, wh);
             };
-            for k in 1..g.mips {
-                dispatch(&self.mean, level(&g.tex, k - 1), level(&g.tex, k), k);
+            if g.scratch.is_empty() {
+                for k in 1..g.mips {
+                    dispatch(&self.mean, level(&g.tex, k - 1), level(&g.tex, k), k);
+                }
+            } else {
+                // the same reduce, level by level through single-level textures (each read at
+                // its level 0), each copied into its mip level of the sampling texture
+                for k in 1..g.mips {
+                    let src = if k == 1 {
+                        level(&g.tex, 0)
+                    } else {
+                        g.scratch[k as usize - 2].create_view(&Default::default())
+                    };
+                    let dst = &g.scratch[k as usize - 1];
+                    dispatch(&self.mean, src, dst.create_view(&Default::default()), k);
+                }
+                for k in 1..g.mips {
+                    let (w, h) = level_size(map.width, map.height, k);
+                    enc.copy_texture_to_texture(
+                        g.scratch[k as usize - 1].as_image_copy(),
+                        wgpu::TexelCopyTextureInfo {
+                            texture: &g.tex,
+                            mip_level: k,
+                            origin: wgpu::Origin3d::ZERO,
+                            aspect: wgpu::TextureAspect::All,
+                        },
+                        wgpu::Extent3d {
+                            width: w,
+                            height: h,
+                            depth_or_array_layers: 1,
+                        },
+                    );
+                }
             }
             // the max pyramid: cell maxima, then 2x2 max levels, one dispatch per level
             let (offs, _) = max_offsets(map.width, map.height);

@@ -72,7 +72,7 @@ fn pom_matches_the_oracle_on_a_constant_height() {
         }
     }
     assert!(n > 1000, "{n}");
-    assert!(f.gpu_ms.is_some() == r.ctx.timestamps);
+    assert!(f.gpu_ms.is_some() == r.ctx.caps.timestamps);
 }
 
 #[test]

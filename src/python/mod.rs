@@ -140,8 +140,8 @@ impl PyRenderer {
         d.set_item("backend", &c.info.backend)?;
         d.set_item("device_type", &c.info.device_type)?;
         d.set_item("driver", &c.info.driver)?;
-        d.set_item("timestamps", c.timestamps)?;
-        d.set_item("float32_filterable", c.float32_filterable)?;
+        d.set_item("timestamps", c.caps.timestamps)?;
+        d.set_item("float32_filterable", c.caps.float32_filterable)?;
         d.set_item(
             "max_texture_dimension_2d",
             c.limits.max_texture_dimension_2d,

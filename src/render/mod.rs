@@ -48,7 +48,7 @@ impl Fixed {
     fn new(ctx: &Context) -> Result<Self> {
         ctx.scoped(|| {
             let dev = &ctx.device;
-            let filterable = ctx.float32_filterable;
+            let filterable = ctx.caps.float32_filterable;
             let filt = if filterable {
                 wgpu::FilterMode::Linear
             } else {
@@ -210,7 +210,7 @@ impl Renderer {
 
     /// The filtering a method actually gets: exact where the adapter cannot filter float32.
     pub fn effective_filtering(&self, f: Filtering) -> Filtering {
-        if self.ctx.float32_filterable {
+        if self.ctx.caps.float32_filterable {
             f
         } else {
             Filtering::Exact

@@ -65,7 +65,7 @@ fn variant_key(
 impl Pipelines {
     pub fn new(ctx: &Context) -> Result<Self> {
         let lib = ShaderLib::new()?;
-        let filterable = ctx.float32_filterable;
+        let filterable = ctx.caps.float32_filterable;
         ctx.scoped(|| {
             let dev = &ctx.device;
             let vf = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX;

@@ -146,7 +146,7 @@ impl Targets {
             })
         };
         let rb = wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST;
-        let ts = ctx.timestamps;
+        let ts = ctx.caps.timestamps;
         Targets {
             w,
             h,
