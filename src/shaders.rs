@@ -312,6 +312,7 @@ pub fn builtin_variants() -> Vec<crate::methods::Method> {
         Shadows::Hard,
         Shadows::Soft,
         Shadows::Horizon,
+        Shadows::Exact,
     ] {
         for filtering in [Filtering::Hardware, Filtering::Exact] {
             let o = PerPixel {
