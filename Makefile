@@ -4,6 +4,8 @@
 SHELL := /bin/bash
 export XDG_RUNTIME_DIR ?= /tmp/pomkit-xdg-$(shell id -u)
 VENV := .venv/bin
+# the tests that run a second time on the GL backend in `make test` (about a minute)
+GL_TESTS := tests/test_methods.py tests/test_analytic.py tests/test_differential.py tests/test_shadows.py tests/test_throughput.py
 
 .PHONY: setup setup-test setup-bench demo test bench clean
 
@@ -24,6 +26,9 @@ test: setup-test
 	$(VENV)/python -m mypy.stubtest pomkit._core --mypy-config-file pyproject.toml
 	$(VENV)/python -m mypy
 	$(VENV)/python -m pytest tests notebooks --nbmake
+	@echo "== the GL backend (POMKIT_BACKEND=gl): core, method, analytic, differential, shadow and target tests =="
+	POMKIT_BACKEND=gl cargo test --release --test core_render 2>&1 | grep -E "^(test result|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
+	POMKIT_BACKEND=gl $(VENV)/python -m pytest $(GL_TESTS) -q
 
 bench: setup-bench
 	$(VENV)/python -m pomkit bench

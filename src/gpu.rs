@@ -45,6 +45,11 @@ pub struct Capabilities {
     /// mip-filtered march read a flat field). Fallback: each level is reduced into a
     /// single-level texture and copied into its mip level (heightmap.rs).
     pub storage_mip_views: bool,
+    /// A render pass may leave gaps in its colour attachments (write the geo target without the
+    /// colour target). Not on wgpu's GL backend (measured: with only the geo target attached,
+    /// at location 1, its clear did not happen and a new target read as hits everywhere).
+    /// Fallback: every target up to the last requested one is written and cleared (not read).
+    pub sparse_attachments: bool,
 }
 
 impl Capabilities {
@@ -62,6 +67,7 @@ impl Capabilities {
             gather: d.flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS),
             shader_f64: f.contains(wgpu::Features::SHADER_F64),
             storage_mip_views: !gl,
+            sparse_attachments: !gl,
         }
     }
 

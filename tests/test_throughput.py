@@ -84,3 +84,15 @@ def test_bad_albedo_is_refused_once_converted(renderer):
     al[2, 3, 1] = np.nan
     with pytest.raises(ValueError, match="albedo"):
         renderer.render(plane_scene(pk.textures.bricks(8), size=8, albedo=al), pk.Flat())
+
+
+def test_subset_targets_are_cleared_on_fresh_targets(renderer):
+    """A frame of only uv and mask, at a size no earlier frame used (fresh targets): the pixels
+    without a hit are cleared, not read as hits. On wgpu's GL backend the geo target alone (at
+    location 1, no colour target) was not cleared: every pixel of a new target read as a hit."""
+    sc = plane_scene(pk.textures.bricks(64), depth=0.1, theta_deg=70.0, size=37)
+    sc = sc.replace(camera=pk.Camera.look_at(sc.camera.eye, (0, 0, 0), up=(0, 0, -1), fov_y=30.0, width=37, height=29))
+    part = renderer.render(sc, pk.POM(), aovs=("uv", "mask"))
+    full = renderer.render(sc, pk.POM())
+    assert 0 < full.mask.sum() < full.mask.size
+    assert np.array_equal(part.mask, full.mask)

@@ -21,12 +21,20 @@ fn glsl_bindings(module: &naga::Module) -> glsl::BindingMap {
     let mut map = glsl::BindingMap::default();
     let (mut tex, mut samp, mut buf, mut ssbo, mut img) = (0u8, 0u8, 0u8, 0u8, 0u8);
     for (_, g) in module.global_variables.iter() {
-        let Some(br) = g.binding.clone() else { continue };
+        let Some(br) = g.binding.clone() else {
+            continue;
+        };
         let counter = match (&g.space, &module.types[g.ty].inner) {
             (naga::AddressSpace::Uniform, _) => &mut buf,
             (naga::AddressSpace::Storage { .. }, _) => &mut ssbo,
             (_, naga::TypeInner::Sampler { .. }) => &mut samp,
-            (_, naga::TypeInner::Image { class: naga::ImageClass::Storage { .. }, .. }) => &mut img,
+            (
+                _,
+                naga::TypeInner::Image {
+                    class: naga::ImageClass::Storage { .. },
+                    ..
+                },
+            ) => &mut img,
             _ => &mut tex,
         };
         map.insert(br, *counter);
@@ -45,9 +53,13 @@ fn translate(module: &naga::Module, info: &ModuleInfo, what: &str) -> usize {
     msl::write_string(module, info, &msl_opts, &msl::PipelineOptions::default())
         .unwrap_or_else(|e| panic!("{what}: MSL: {e:?}"));
     let mut out = String::new();
-    hlsl::Writer::new(&mut out, &hlsl::Options::default(), &hlsl::PipelineOptions::default())
-        .write(module, info, None)
-        .unwrap_or_else(|e| panic!("{what}: HLSL: {e:?}"));
+    hlsl::Writer::new(
+        &mut out,
+        &hlsl::Options::default(),
+        &hlsl::PipelineOptions::default(),
+    )
+    .write(module, info, None)
+    .unwrap_or_else(|e| panic!("{what}: HLSL: {e:?}"));
     let mut n = 3;
     for version in [
         glsl::Version::Desktop(450),
@@ -79,10 +91,17 @@ fn translate(module: &naga::Module, info: &ModuleInfo, what: &str) -> usize {
 }
 
 /// Per stage, the resources of each kind the entry points use, against a backend's limits.
-fn check_limits(module: &naga::Module, info: &ModuleInfo, limits: &wgpu::Limits, backend: &str, what: &str) {
+fn check_limits(
+    module: &naga::Module,
+    info: &ModuleInfo,
+    limits: &wgpu::Limits,
+    backend: &str,
+    what: &str,
+) {
     for (i, ep) in module.entry_points.iter().enumerate() {
         let used = info.get_entry_point(i);
-        let (mut storage, mut uniform, mut sampled, mut samplers, mut images) = (0u32, 0u32, 0u32, 0u32, 0u32);
+        let (mut storage, mut uniform, mut sampled, mut samplers, mut images) =
+            (0u32, 0u32, 0u32, 0u32, 0u32);
         let mut max_group = 0;
         for (h, g) in module.global_variables.iter() {
             if used[h].is_empty() {
@@ -94,24 +113,54 @@ fn check_limits(module: &naga::Module, info: &ModuleInfo, limits: &wgpu::Limits,
                 (naga::AddressSpace::Uniform, _) => uniform += 1,
                 (naga::AddressSpace::Storage { .. }, _) => storage += 1,
                 (_, naga::TypeInner::Sampler { .. }) => samplers += 1,
-                (_, naga::TypeInner::Image { class: naga::ImageClass::Storage { .. }, .. }) => images += 1,
+                (
+                    _,
+                    naga::TypeInner::Image {
+                        class: naga::ImageClass::Storage { .. },
+                        ..
+                    },
+                ) => images += 1,
                 _ => sampled += 1,
             }
         }
         let at = format!("{what}, entry point {} on {backend}", ep.name);
-        assert!(max_group <= limits.max_bind_groups, "{at}: {max_group} bind groups");
-        assert!(storage <= limits.max_storage_buffers_per_shader_stage, "{at}: {storage} storage buffers");
-        assert!(uniform <= limits.max_uniform_buffers_per_shader_stage, "{at}: {uniform} uniform buffers");
-        assert!(sampled <= limits.max_sampled_textures_per_shader_stage, "{at}: {sampled} textures");
-        assert!(samplers <= limits.max_samplers_per_shader_stage, "{at}: {samplers} samplers");
-        assert!(images <= limits.max_storage_textures_per_shader_stage, "{at}: {images} storage textures");
+        assert!(
+            max_group <= limits.max_bind_groups,
+            "{at}: {max_group} bind groups"
+        );
+        assert!(
+            storage <= limits.max_storage_buffers_per_shader_stage,
+            "{at}: {storage} storage buffers"
+        );
+        assert!(
+            uniform <= limits.max_uniform_buffers_per_shader_stage,
+            "{at}: {uniform} uniform buffers"
+        );
+        assert!(
+            sampled <= limits.max_sampled_textures_per_shader_stage,
+            "{at}: {sampled} textures"
+        );
+        assert!(
+            samplers <= limits.max_samplers_per_shader_stage,
+            "{at}: {samplers} samplers"
+        );
+        assert!(
+            images <= limits.max_storage_textures_per_shader_stage,
+            "{at}: {images} storage textures"
+        );
     }
 }
 
 fn limits() -> [(&'static str, wgpu::Limits); 2] {
     [
-        ("Vulkan/Metal/DX12 (WebGPU defaults)", wgpu::Limits::default()),
-        ("GL (downlevel defaults)", wgpu::Limits::downlevel_defaults()),
+        (
+            "Vulkan/Metal/DX12 (WebGPU defaults)",
+            wgpu::Limits::default(),
+        ),
+        (
+            "GL (downlevel defaults)",
+            wgpu::Limits::downlevel_defaults(),
+        ),
     ]
 }
 
@@ -127,7 +176,8 @@ fn every_variant_translates_to_every_backend() {
                 shadow_map,
                 displaced_depth,
             };
-            let what = format!("{m:?} (shadow map {shadow_map}, displaced depth {displaced_depth})");
+            let what =
+                format!("{m:?} (shadow map {shadow_map}, displaced depth {displaced_depth})");
             let module = lib
                 .compose(&spec, spec.pixel.filtering, frame, "method")
                 .unwrap_or_else(|e| panic!("{what}: {e}"));

@@ -309,6 +309,13 @@ impl Renderer {
         } else {
             "method"
         };
+        // the targets the pass writes: the requested ones, or (where attachments cannot have
+        // gaps) every target up to the last requested one
+        let written = if self.ctx.caps.sparse_attachments {
+            aovs
+        } else {
+            aovs.dense()
+        };
         let mut frames = Vec::with_capacity(scenes.len());
         let _guard = self.submit.lock().map_err(poisoned)?;
         let mut pending: Option<Pending> = None;
@@ -324,7 +331,11 @@ impl Renderer {
                     shadow_map: shadow.is_some(),
                     displaced_depth: scene.objects.len() > 1,
                 },
-                (aovs.color_target(), aovs.geo_target(), aovs.id_target()),
+                (
+                    written.color_target(),
+                    written.geo_target(),
+                    written.id_target(),
+                ),
                 arg,
             )?;
             let shadow_view = shadow
@@ -333,7 +344,7 @@ impl Renderer {
                 .transpose()?;
             let shadow_view = shadow_view.as_deref();
             let draws = self.draws(scene, &spec, shadow.as_ref(), shadow_view)?;
-            let next = self.submit(scene, &variant, shadow_view, &draws, aovs)?;
+            let next = self.submit(scene, &variant, shadow_view, &draws, aovs, written)?;
             if let Some(p) = pending.replace(next) {
                 frames.push(self.finish(p)?);
             }
@@ -489,6 +500,7 @@ impl Renderer {
         shadow_view: Option<&wgpu::TextureView>,
         draws: &[Draw],
         aovs: Aovs,
+        written: Aovs,
     ) -> Result<Pending> {
         let ctx = &self.ctx;
         let (w, h) = (scene.camera.width, scene.camera.height);
@@ -505,7 +517,7 @@ impl Renderer {
             {
                 let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("surface"),
-                    color_attachments: &tg.attachments(aovs),
+                    color_attachments: &tg.attachments(written),
                     depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                         view: &tg.depth_v,
                         depth_ops: Some(wgpu::Operations {

@@ -58,6 +58,19 @@ impl Aovs {
     pub fn geo_target(self) -> bool {
         self.any(&["uv", "depth", "mask", "lod", "steps", "flags", "object"])
     }
+    /// The AOVs whose targets a pass writes when the adapter cannot leave a gap in its colour
+    /// attachments (`Capabilities::sparse_attachments` false): the targets before the last
+    /// requested one are written too (and cleared), though not read back.
+    pub fn dense(self) -> Aovs {
+        let mut a = self;
+        if a.id_target() {
+            a.0 |= Self::bit("uv").unwrap_or(0);
+        }
+        if a.geo_target() {
+            a.0 |= Self::bit("color").unwrap_or(0);
+        }
+        a
+    }
     /// Whether the object-id target is written and read.
     pub fn id_target(self) -> bool {
         self.has("object")
