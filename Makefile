@@ -7,7 +7,7 @@ VENV := .venv/bin
 # the tests that run a second time on the GL backend in `make test` (about a minute)
 GL_TESTS := tests/test_methods.py tests/test_analytic.py tests/test_differential.py tests/test_shadows.py tests/test_throughput.py
 
-.PHONY: setup setup-test setup-bench demo test bench clean
+.PHONY: setup setup-test setup-bench demo test bench wheel info clean
 
 setup:
 	scripts/setup.sh
@@ -29,6 +29,13 @@ test: setup-test
 	@echo "== the GL backend (POMKIT_BACKEND=gl): core, method, analytic, differential, shadow and target tests =="
 	POMKIT_BACKEND=gl cargo test --release --test core_render 2>&1 | grep -E "^(test result|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
 	POMKIT_BACKEND=gl $(VENV)/python -m pytest $(GL_TESTS) -q
+
+# one abi3 wheel (CPython 3.10 and later) in target/wheels; setup reuses it while the sources match
+wheel: setup
+	@ls target/wheels/pomkit-*-abi3-*.whl
+
+info: setup
+	$(VENV)/python -m pomkit info
 
 bench: setup-bench
 	$(VENV)/python -m pomkit bench

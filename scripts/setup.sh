@@ -45,10 +45,28 @@ fi
 pip install -q --upgrade pip >/dev/null
 pip install -q "maturin>=1.16,<2" numpy pillow
 
-echo "[setup] building the extension (release)"
-rm -rf target/wheels
-maturin build --release --quiet -o target/wheels
-WHEEL=$(ls target/wheels/pomkit-*.whl | head -n 1)
+# The extension: one abi3 wheel (CPython 3.10+). Rebuilt only when the sources changed since the
+# wheel in target/wheels was built (their hash is kept beside it); without a Rust toolchain, a
+# wheel already in target/wheels or dist/ is installed as it is.
+src_hash() {
+  { git ls-files -s Cargo.toml Cargo.lock pyproject.toml src shaders python 2>/dev/null || true
+    git diff HEAD -- Cargo.toml Cargo.lock pyproject.toml src shaders python 2>/dev/null || true; } | sha256sum | cut -c1-16
+}
+HASH=$(src_hash)
+WHEEL=$(ls target/wheels/pomkit-*-abi3-*.whl 2>/dev/null | head -n 1 || true)
+if [ -n "$WHEEL" ] && [ "$(cat target/wheels/.source-hash 2>/dev/null)" = "$HASH" ]; then
+  echo "[setup] $WHEEL matches the sources: not rebuilding"
+elif ! command -v cargo >/dev/null; then
+  WHEEL=$(ls target/wheels/pomkit-*-abi3-*.whl dist/pomkit-*-abi3-*.whl 2>/dev/null | head -n 1 || true)
+  [ -n "$WHEEL" ] || { echo "[setup] no Rust toolchain and no wheel in target/wheels or dist/: install Rust (https://rustup.rs) or put a pomkit abi3 wheel in dist/" >&2; exit 1; }
+  echo "[setup] no Rust toolchain: installing $WHEEL"
+else
+  echo "[setup] building the extension (release, abi3)"
+  rm -rf target/wheels
+  maturin build --release --quiet -o target/wheels
+  WHEEL=$(ls target/wheels/pomkit-*.whl | head -n 1)
+  echo "$HASH" > target/wheels/.source-hash
+fi
 spec="$WHEEL"
 if [ ${#EXTRAS[@]} -gt 0 ]; then spec="$WHEEL[$(IFS=,; echo "${EXTRAS[*]}")]"; fi
 pip install -q --force-reinstall --no-deps "$WHEEL"

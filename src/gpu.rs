@@ -14,6 +14,10 @@ pub struct AdapterDesc {
     pub driver: String,
 }
 
+/// The wgpu release pomkit is built against (Cargo.lock's; a test holds the two equal), for
+/// `python -m pomkit info` and the bench's records.
+pub const WGPU_VERSION: &str = "30.0.1";
+
 /// Read-only storage buffers the surface pass binds per stage (the max pyramid, prisms, cone
 /// steps: render/pipelines.rs).
 pub const STORAGE_BUFFERS_PER_STAGE: u32 = 3;
@@ -120,6 +124,11 @@ impl Capabilities {
                 "compute writes to mip-level views",
                 self.storage_mip_views,
                 "each mip level reduced into its own texture and copied",
+            ),
+            (
+                "colour attachments with gaps",
+                self.sparse_attachments,
+                "the targets before the last requested one are written too (not read)",
             ),
         ]
     }
@@ -600,4 +609,17 @@ pub fn shared(choice: Option<&str>) -> Result<Arc<Context>> {
     let ctx = Arc::new(Context::new(choice)?);
     *g = Some((choice.map(str::to_string), ctx.clone()));
     Ok(ctx)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn wgpu_version_is_the_locked_one() {
+        let lock = include_str!("../Cargo.lock");
+        let i = lock
+            .find("name = \"wgpu\"\nversion = \"")
+            .expect("wgpu in Cargo.lock");
+        let rest = &lock[i + "name = \"wgpu\"\nversion = \"".len()..];
+        assert_eq!(&rest[..rest.find('"').unwrap()], super::WGPU_VERSION);
+    }
 }

@@ -1,5 +1,7 @@
 """The package, meshes, frames, adapters and the shared device."""
 
+import os
+
 import numpy as np
 import pytest
 
@@ -101,3 +103,19 @@ def test_textures_are_deterministic_and_in_range():
         assert a.shape == (64, 64) and a.dtype == np.float32, name
         assert np.array_equal(a, b), name
         assert 0.0 <= a.min() and a.max() <= 1.0 and a.max() - a.min() > 0.2, name
+
+
+def test_info_names_the_adapter_features_and_fallbacks():
+    """`python -m pomkit info` on this install: adapter, backend, driver, every feature with its
+    fallback, limits and versions; on GL the float32 filtering fallback is reported."""
+    import subprocess
+    import sys
+    for backend in ("vulkan", "gl"):
+        env = dict(os.environ, POMKIT_BACKEND=backend)
+        out = subprocess.run([sys.executable, "-m", "pomkit", "info"], env=env, capture_output=True, text=True, check=True).stdout
+        assert f"({backend}," in out and "driver" in out and "wgpu 30" in out, out
+        assert "float32 filtering" in out and "max_texture_dimension_2d" in out, out
+        if backend == "gl":
+            assert "NO  float32 filtering  -> fallback" in out, out
+    d = pk.info()
+    assert d["pomkit"] == pk.__version__ and d["features"] and d["adapters"]

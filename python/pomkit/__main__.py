@@ -15,7 +15,8 @@ def main(argv=None) -> int:
     b = sub.add_parser("bench", help="speed-versus-accuracy sweep: table and charts")
     b.add_argument("--out", default="pomkit-out/bench")
     b.add_argument("--quick", action="store_true", help="a small sweep (minutes)")
-    sub.add_parser("info", help="print the adapters and the one pomkit would use")
+    i = sub.add_parser("info", help="adapters, backend, driver, features and fallbacks, limits, versions (paste it into a bug report)")
+    i.add_argument("--adapter", default=None, help="an adapter index, name or backend (default: the best)")
     t = sub.add_parser("tables", help="regenerate the measured tables in docs/tables/")
     t.add_argument("--out", default="docs/tables")
     a = p.parse_args(argv)
@@ -33,10 +34,8 @@ def main(argv=None) -> int:
         from .apps.tables import run_tables
         run_tables(a.out)
     elif a.cmd == "info":
-        import pomkit as pk
-        for i, ad in enumerate(pk.adapters()):
-            print(i, ad)
-        print("using:", pk.Renderer())
+        from ._info import format_info, info
+        print(format_info(info(a.adapter)))
     return 0
 
 

@@ -248,7 +248,12 @@ def sweep(methods: Iterable, scenes: Iterable = ("bricks",), angles: Iterable[fl
 
 
 def write_csv(rows: list[dict], path) -> None:
-    """Rows with possibly different keys, as one CSV (missing cells empty)."""
+    """Rows with possibly different keys, as one CSV (missing cells empty). Every row also
+    records the machine (adapter, backend, driver, pomkit and wgpu versions, OS: `pk.info`), so
+    that CSVs from different machines can be pooled."""
+    from ._info import machine
+    m = machine()
+    rows = [{**row, **{k: v for k, v in m.items() if k not in row}} for row in rows]
     keys: list[str] = []
     for row in rows:
         keys += [k for k in row if k not in keys]

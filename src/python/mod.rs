@@ -147,6 +147,21 @@ impl PyRenderer {
             c.limits.max_texture_dimension_2d,
         )?;
         d.set_item("max_buffer_size", c.limits.max_buffer_size)?;
+        d.set_item(
+            "max_storage_buffer_binding_size",
+            c.limits.max_storage_buffer_binding_size,
+        )?;
+        d.set_item(
+            "max_storage_buffers_per_shader_stage",
+            c.limits.max_storage_buffers_per_shader_stage,
+        )?;
+        // (feature, present, what pomkit does without it)
+        let feats = PyList::empty(py);
+        for (name, present, fallback) in c.caps.report() {
+            feats.append((name, present, fallback))?;
+        }
+        d.set_item("features", feats)?;
+        d.set_item("wgpu_version", crate::gpu::WGPU_VERSION)?;
         Ok(d)
     }
 

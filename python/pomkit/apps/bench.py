@@ -398,6 +398,9 @@ def run_bench(out: str = "pomkit-out/bench", quick: bool = False) -> dict:
 
     write_csv(table + at + ft + tiling_rows + swim + curved, outdir / "bench.csv")
     with open(outdir / "goals.txt", "w") as fh:
+        from pomkit._info import machine
+        for field, value in machine().items():
+            fh.write(f"{field}: {value}\n")
         for k, v in goals.items():
             fh.write(f"{k}: {v}\n")
         fh.write("pareto front: " + "; ".join(front_labels) + "\n")
