@@ -52,15 +52,18 @@ fn translate(module: &naga::Module, info: &ModuleInfo, what: &str) -> usize {
     };
     msl::write_string(module, info, &msl_opts, &msl::PipelineOptions::default())
         .unwrap_or_else(|e| panic!("{what}: MSL: {e:?}"));
-    let mut out = String::new();
-    hlsl::Writer::new(
-        &mut out,
-        &hlsl::Options::default(),
-        &hlsl::PipelineOptions::default(),
-    )
-    .write(module, info, None)
-    .unwrap_or_else(|e| panic!("{what}: HLSL: {e:?}"));
-    let mut n = 3;
+    // FXC's shader model 5.1 and DXC's 6.0: wgpu's DX12 backend takes the newest the system has
+    for sm in [hlsl::ShaderModel::V5_1, hlsl::ShaderModel::V6_0] {
+        let opts = hlsl::Options {
+            shader_model: sm,
+            ..Default::default()
+        };
+        let mut out = String::new();
+        hlsl::Writer::new(&mut out, &opts, &hlsl::PipelineOptions::default())
+            .write(module, info, None)
+            .unwrap_or_else(|e| panic!("{what}: HLSL {sm:?}: {e:?}"));
+    }
+    let mut n = 4;
     for version in [
         glsl::Version::Desktop(450),
         glsl::Version::Embedded {
@@ -202,6 +205,6 @@ fn every_variant_translates_to_every_backend() {
         }
         variants += 1;
     }
-    println!("{variants} shader modules, {outputs} translations (SPIR-V, MSL, HLSL, GLSL 4.50 and ES 3.10 per entry point)");
+    println!("{variants} shader modules, {outputs} translations (SPIR-V, MSL 2.4, HLSL SM 5.1 and 6.0, GLSL 4.50 and ES 3.10 per entry point)");
     assert!(variants > 80, "{variants} modules");
 }
