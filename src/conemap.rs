@@ -8,12 +8,7 @@ use crate::heightmap::{max_offset_table, top_maxmip_level, GpuHeight};
 
 pub const CONEMAP_SHADER: &str = include_str!("../shaders/conemap.wgsl");
 
-/// Which cones: conservative against the bilinear field, or relaxed (wider, refined).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Cones {
-    Conservative,
-    Relaxed,
-}
+pub use crate::contract::Cones;
 
 pub struct ConeBuilder {
     pipeline: wgpu::ComputePipeline,

@@ -5,6 +5,7 @@
 //! (`pomkit._core`), which only converts arrays and errors.
 
 pub mod conemap;
+pub mod contract;
 pub mod error;
 pub mod exact;
 pub mod geometry;

@@ -8,7 +8,8 @@
 
 use naga::back::{glsl, hlsl, msl, spv};
 use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
-use pomkit::shaders::{builtin_variants, FrameDefs, ShaderLib};
+use pomkit::methods::builtin_variants;
+use pomkit::shaders::{FrameDefs, ShaderLib};
 
 fn validate(module: &naga::Module, what: &str) -> ModuleInfo {
     Validator::new(ValidationFlags::all(), Capabilities::default())

@@ -72,3 +72,30 @@ impl Unit for Custom {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn a_compile_error_names_the_argument_and_the_line() {
+        let lib = crate::shaders::ShaderLib::new().unwrap();
+        let m = crate::methods::Method::Custom(
+            crate::methods::Custom {
+                name: "broken".into(),
+                wgsl: "#import pomkit::march::{Ray, Hit}\n\nfn march(r: Ray) -> Hit {\n    let x: f32 = undefined_thing;\n}\n".into(),
+                params: vec![],
+            },
+            crate::methods::PerPixel::off(),
+        );
+        let e = lib
+            .compose(
+                &m.spec(),
+                crate::methods::Filtering::Hardware,
+                Default::default(),
+                "wgsl",
+            )
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("wgsl:"), "{e}");
+        assert!(e.contains("broken.wgsl") && e.contains(":4:"), "{e}");
+    }
+}

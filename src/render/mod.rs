@@ -17,10 +17,11 @@ pub use crate::heightmap::top_maxmip_level;
 pub use targets::{Aovs, Frame};
 
 use crate::conemap::{ConeBuilder, Cones};
+use crate::contract::{Filtering, Geometry, Spec};
 use crate::error::{Error, Result};
 use crate::gpu::Context;
 use crate::heightmap::{GpuHeight, MipBuilder};
-use crate::methods::{Filtering, Geometry, Method, Spec};
+use crate::methods::Method;
 use crate::scene::{HeightMap, Keyed, Scene};
 use crate::shaders::FrameDefs;
 use crate::texspace::{FrameMaps, TexSpace};

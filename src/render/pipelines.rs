@@ -2,11 +2,11 @@
 //! composed shader variant (the method's module or pass, its shader defs, shadows, filtering).
 
 use super::{COLOR_FORMAT, DEPTH_FORMAT};
+use crate::contract::{Filtering, Geometry, Pass, Spec};
 use crate::error::{Error, Result};
 use crate::geometry::prisms::PrismVertex;
 use crate::gpu::{layout, Context};
 use crate::mesh::Vertex;
-use crate::methods::{Filtering, Geometry, Pass, Spec};
 use crate::shaders::{FrameDefs, ShaderLib};
 use std::collections::HashMap;
 use std::hash::{Hash, Hasher};

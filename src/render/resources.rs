@@ -3,12 +3,12 @@
 //! bounded (least recently used goes first) and can be re-keyed in place (`update_height`).
 
 use crate::conemap::{ConeBuilder, ConeMap, Cones};
+use crate::contract::Geometry;
 use crate::error::{Error, Result};
 use crate::geometry::{prisms, tessellate::tessellate};
 use crate::gpu::Context;
 use crate::heightmap::{mip_count, pyramid, GpuHeight, MipBuilder};
 use crate::mesh::Vertex;
-use crate::methods::Geometry;
 use crate::scene::{hash_bytes, Albedo, HeightMap, Keyed, Object};
 use crate::texspace::{FrameMaps, TexSpace};
 use std::sync::Arc;

@@ -2,7 +2,7 @@
 //! (orthographic, fitted to the scene's bounding sphere), rendered before the surface pass.
 
 use super::DEPTH_FORMAT;
-use crate::methods::{Geometry, Shadows, Spec};
+use crate::contract::{Geometry, Shadows, Spec};
 use crate::scene::{Light, Scene};
 use glam::DVec3;
 

@@ -2,8 +2,8 @@
 //! method's spec. `uniform_layout` (a test) checks that every field has the same name and
 //! offset in Rust and in the composed WGSL.
 
+use crate::contract::Spec;
 use crate::heightmap::{max_offset_table, mip_count, top_maxmip_level};
-use crate::methods::Spec;
 use crate::scene::{Light, Scene, MAX_LIGHTS};
 use glam::DVec3;
 

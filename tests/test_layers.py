@@ -1,0 +1,71 @@
+"""The Rust core's module graph has no cycle (issue 24): for each top-level module of src/
+(a file or a folder), the modules it names through `crate::` paths (and `use super::` in a
+folder's nested files stays inside the folder). The pyo3 layer (src/python) sits on top and
+may use anything; nothing may use it."""
+
+import re
+from pathlib import Path
+
+SRC = Path(__file__).resolve().parent.parent / "src"
+
+
+def graph() -> dict[str, set[str]]:
+    g: dict[str, set[str]] = {}
+    for f in SRC.rglob("*.rs"):
+        rel = f.relative_to(SRC)
+        top = rel.parts[0].removesuffix(".rs")
+        if top in ("lib", "main"):
+            continue
+        text = "\n".join(l for l in f.read_text().splitlines() if not l.lstrip().startswith("//"))
+        deps = set(re.findall(r"\bcrate::([a-z_][a-z0-9_]*)", text)) - {top}
+        g.setdefault(top, set()).update(deps)
+    return g
+
+
+def cycles(g: dict[str, set[str]]) -> list[list[str]]:
+    """Strongly connected components with more than one module (Tarjan)."""
+    index, low, on, stack, out = {}, {}, set(), [], []
+    counter = [0]
+
+    def visit(v):
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on.add(v)
+        for w in g.get(v, ()):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    for v in list(g):
+        if v not in index:
+            visit(v)
+    return out
+
+
+def test_no_module_cycle():
+    g = graph()
+    assert "contract" in g and "render" in g and "methods" in g
+    assert cycles(g) == [], f"module cycles: {cycles(g)}; graph: { {k: sorted(v) for k, v in g.items()} }"
+
+
+def test_contract_is_at_the_bottom_and_python_on_top():
+    g = graph()
+    assert g["contract"] <= {"error", "gpu", "scene", "mesh", "heightmap"}, g["contract"]
+    for m, deps in g.items():
+        if m != "python":
+            assert "python" not in deps, f"{m} uses the pyo3 layer"
+    for m in ("shaders", "render", "methods"):
+        assert "contract" in g[m], f"{m} does not build on the contract"
