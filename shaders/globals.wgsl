@@ -1,6 +1,4 @@
-// globals.wgsl: the frame's uniform block and the bindings every pass of the surface shares.
-// The Rust side is `render::uniforms::Globals`; a test (uniform_layout in src/render/uniforms.rs)
-// checks that every field has the same name and offset on both sides.
+// globals.wgsl: the uniform blocks and the bindings every pass of the surface shares.
 #define_import_path pomkit::globals
 
 const PI: f32 = 3.14159265358979;
@@ -14,16 +12,37 @@ struct Light {
     color: vec4<f32>,
 }
 
-struct Globals {
+// Bind groups by how often they change (as Bevy's): group 0 the view and frame (camera,
+// lights, the shadow map), group 1 the object and its material (its transform, its height map
+// and pyramids, its albedo), group 2 the method (its `params` block at binding 0, generated
+// from the method's Rust parameter list, and its own resources from binding 1, declared in its
+// folder under src/methods/). The Rust side is `render::uniforms::{View, Globals}`; a test
+// (uniform_layout in src/render/uniforms.rs) checks that every field has the same name and
+// offset on both sides.
+
+struct View {
     view_proj: mat4x4<f32>,
     eye: vec3<f32>,
     light_count: f32,
+    // constant environment radiance
+    ambient: vec3<f32>,
+    pad_v: f32,
+    lights: array<Light, MAX_LIGHTS>,
+    // the shadow map: light view-projection, index of the shadowed light (-1: none), world size
+    // of a shadow-map texel, map size in texels
+    shadow_vp: mat4x4<f32>,
+    shadow_light: f32,
+    shadow_texel: f32,
+    shadow_size: f32,
+    // depth bias of the cast-shadow lookup: two shadow-map texels, in depth units
+    shadow_bias: f32,
+}
+
+struct Globals {
     // height map size in texels
     map_size: vec2<f32>,
     tiling: f32,
     depth: f32,
-    // constant environment radiance
-    ambient: vec3<f32>,
     mip_count: f32,
     // options shared by the per-pixel methods
     shadow_steps: f32,
@@ -34,18 +53,8 @@ struct Globals {
     horizon_samples: f32,
     // the highest max-mip level whose nodes tile the map
     top_max_level: f32,
-    // bound on the iterations of every max-mip traversal (Exact's `max_iterations`)
+    // bound on the iterations of every max-mip traversal
     max_iterations: f32,
-    pad_a: f32,
-    lights: array<Light, 4>,
-    // Tessellated's shadow map: light view-projection, index of the shadowed light (-1: none),
-    // world size of a shadow-map texel, map size in texels
-    shadow_vp: mat4x4<f32>,
-    shadow_light: f32,
-    shadow_texel: f32,
-    shadow_size: f32,
-    // depth bias of the cast-shadow lookup: two shadow-map texels, in depth units
-    shadow_bias: f32,
     // element offset of each max-pyramid level in max_buf
     max_offsets: array<vec4<u32>, 4>,
     // the object drawn (one block per object; see object.wgsl): object-to-world matrix, the
@@ -62,18 +71,16 @@ struct Globals {
     pad_e: f32,
 }
 
-@group(0) @binding(0) var<uniform> G: Globals;
-@group(0) @binding(1) var height_tex: texture_2d<f32>;
-@group(0) @binding(2) var height_samp: sampler;
-@group(0) @binding(3) var albedo_tex: texture_2d<f32>;
-@group(0) @binding(4) var albedo_samp: sampler;
-@group(0) @binding(5) var shadow_tex: texture_depth_2d;
-@group(0) @binding(6) var shadow_samp: sampler_comparison;
+@group(0) @binding(0) var<uniform> V: View;
+@group(0) @binding(1) var shadow_tex: texture_depth_2d;
+@group(0) @binding(2) var shadow_samp: sampler_comparison;
+
+@group(1) @binding(0) var<uniform> G: Globals;
+@group(1) @binding(1) var height_tex: texture_2d<f32>;
+@group(1) @binding(2) var height_samp: sampler;
+@group(1) @binding(3) var albedo_tex: texture_2d<f32>;
+@group(1) @binding(4) var albedo_samp: sampler;
 // max-mip pyramid, levels back to back: level 0 holds the max of the bilinear field over each
 // cell between texel centres (cell (i, j) spans texel centres i..i+1, j..j+1), level k the max
 // over 2^k x 2^k cells
-@group(0) @binding(7) var<storage, read> max_buf: array<f32>;
-// bindings 8, 9: NCS's frame maps (src/methods/ncs.wgsl); 10: the prisms (prism.wgsl);
-// 11: the method's own parameters (`params`, generated from its Rust parameter list)
-// ConeStep's cone map: (base, w) per cell, row-major (shaders/conemap.wgsl)
-@group(0) @binding(11) var<storage, read> cone_buf: array<vec2<f32>>;
+@group(1) @binding(5) var<storage, read> max_buf: array<f32>;

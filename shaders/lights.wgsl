@@ -1,7 +1,7 @@
 // lights.wgsl: the direction toward a light and the irradiance it delivers.
 #define_import_path pomkit::lights
 
-#import pomkit::globals::G
+#import pomkit::globals::V
 
 struct LightSample {
     dir: vec3<f32>,
@@ -11,7 +11,7 @@ struct LightSample {
 }
 
 fn light_sample(i: u32, p: vec3<f32>) -> LightSample {
-    let l = G.lights[i];
+    let l = V.lights[i];
     var ls: LightSample;
     if (l.vec.w < 0.5) {
         ls.dir = normalize(-l.vec.xyz);

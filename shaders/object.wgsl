@@ -5,7 +5,7 @@
 // bit-identical to a scene without transforms.
 #define_import_path pomkit::object
 
-#import pomkit::globals::G
+#import pomkit::globals::{G, V}
 
 fn is_transformed() -> bool {
     return G.transformed > 0.5;
@@ -48,18 +48,18 @@ fn stretch(v: vec3<f32>) -> f32 {
 // map tiles on), beyond the far plane: such hits keep the largest depth below the cleared 1.0,
 // so that they still pass the depth test.
 fn clip_depth(p: vec3<f32>) -> f32 {
-    let c = G.view_proj * vec4<f32>(p, 1.0);
+    let c = V.view_proj * vec4<f32>(p, 1.0);
     return clamp(c.z / c.w, 0.0, 0.99999994);
 }
 
 // The shadow map's depth of a world point (the light's orthographic projection).
 fn shadow_depth(p: vec3<f32>) -> f32 {
-    let c = G.shadow_vp * vec4<f32>(p, 1.0);
+    let c = V.shadow_vp * vec4<f32>(p, 1.0);
     return clamp(c.z / c.w, 0.0, 0.99999994);
 }
 
 // The shadow-map pass's view direction: the shadowing light's direction of travel, in object
 // space (unit).
 fn shadow_light_object() -> vec3<f32> {
-    return dir_to_object(G.lights[u32(max(G.shadow_light, 0.0))].vec.xyz);
+    return dir_to_object(V.lights[u32(max(V.shadow_light, 0.0))].vec.xyz);
 }

@@ -6,7 +6,7 @@
 // mesh: visibility from the shadow map, no AO).
 #define_import_path pomkit::shading
 
-#import pomkit::globals::{G, PI, MAX_LIGHTS}
+#import pomkit::globals::{G, V, PI, MAX_LIGHTS}
 #import pomkit::frame::Frame
 #import pomkit::height::albedo_at
 #import pomkit::lights::{LightSample, light_sample}
@@ -44,7 +44,7 @@ fn light_visibility(f: Frame, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, 
 #endif
 #ifdef CAST_SHADOWS
     // a marched surface meets its own displaced depth in the map: a larger bias than the mesh's
-    r.visibility = r.visibility * shadow_map_visibility(i, p, n, G.shadow_bias);
+    r.visibility = r.visibility * shadow_map_visibility(i, p, n, V.shadow_bias);
 #endif
 #endif
     return r;
@@ -62,7 +62,7 @@ fn shade(f: Frame, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, lod: f32, w
     o.steps = 0.0;
     let albedo = albedo_at(s, lod);
     var sum = vec3<f32>(0.0);
-    let nl = u32(G.light_count);
+    let nl = u32(V.light_count);
     for (var i = 0u; i < min(nl, MAX_LIGHTS); i = i + 1u) {
         let ls = light_sample(i, p);
         let ndl = dot(n, ls.dir);
@@ -75,12 +75,12 @@ fn shade(f: Frame, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, lod: f32, w
     }
     var ao = 1.0;
 #ifndef TESSELLATED
-    if (with_shadows && G.ao_directions > 0.0 && any(G.ambient > vec3<f32>(0.0))) {
+    if (with_shadows && G.ao_directions > 0.0 && any(V.ambient > vec3<f32>(0.0))) {
         let a = horizon_ao(f, s, h, px);
         ao = a.x;
         o.steps = o.steps + a.y;
     }
 #endif
-    o.color = albedo / PI * sum + albedo * G.ambient * ao;
+    o.color = albedo / PI * sum + albedo * V.ambient * ao;
     return o;
 }

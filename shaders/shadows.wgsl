@@ -12,7 +12,7 @@
 // Shader defs: SHADOWS (1 hard, 2 soft, 3 horizon, 4 exact).
 #define_import_path pomkit::shadows
 
-#import pomkit::globals::{G, shadow_tex, shadow_samp, PI}
+#import pomkit::globals::{G, V, shadow_tex, shadow_samp, PI}
 #import pomkit::frame::{Frame, to_texture_space}
 #import pomkit::height::{height_at, height_exact_level}
 #import pomkit::lights::LightSample
@@ -98,19 +98,19 @@ fn shadow_march(f: Frame, s: vec2<f32>, h_march: f32, ls: LightSample, lod: f32)
 // light (orthographic, fitted to the mesh's bounding sphere). 3x3 percentage-closer filtering
 // of hardware 2x2 comparisons; the lookup point is offset along the surface normal by 1.5
 // shadow-map texels to avoid acne. Its own error: shadow boundaries are placed to within about
-// one and a half shadow-map texels (G.shadow_texel world units) and penumbrae of area lights are not
+// one and a half shadow-map texels (V.shadow_texel world units) and penumbrae of area lights are not
 // modelled (the PCF kernel is a fixed ~3 texels wide).
 fn shadow_map_visibility(light: u32, p: vec3<f32>, n: vec3<f32>, bias: f32) -> f32 {
-    if (i32(G.shadow_light) != i32(light)) {
+    if (i32(V.shadow_light) != i32(light)) {
         return 1.0;
     }
-    let q = G.shadow_vp * vec4<f32>(p + n * (1.5 * G.shadow_texel), 1.0);
+    let q = V.shadow_vp * vec4<f32>(p + n * (1.5 * V.shadow_texel), 1.0);
     let ndc = q.xyz / q.w;
     let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
     if (any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || ndc.z > 1.0) {
         return 1.0;
     }
-    let texel = 1.0 / G.shadow_size;
+    let texel = 1.0 / V.shadow_size;
     var sum = 0.0;
     for (var dy = -1; dy <= 1; dy = dy + 1) {
         for (var dx = -1; dx <= 1; dx = dx + 1) {

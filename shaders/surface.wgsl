@@ -11,7 +11,7 @@
 //   TESSELLATED  the displaced mesh itself, shaded with the height field's level-0 normal
 //   SHADOWS, FILTERING  see shading.wgsl and height.wgsl
 
-#import pomkit::globals::G
+#import pomkit::globals::{G, V}
 #import pomkit::vertex::{VertexIn, VertexOut, pass_through}
 #import pomkit::aov::{FsOut, write_aovs}
 #import pomkit::frame::{Frame, make_frame, to_texture_space}
@@ -22,7 +22,7 @@
 
 @vertex
 fn vs_main(v: VertexIn) -> VertexOut {
-    return pass_through(v, G.view_proj * (G.model * vec4<f32>(v.position, 1.0)));
+    return pass_through(v, V.view_proj * (G.model * vec4<f32>(v.position, 1.0)));
 }
 
 // The shadow-map pass: the scene seen from the shadowing light (orthographic). Meshes that are
@@ -31,7 +31,7 @@ fn vs_main(v: VertexIn) -> VertexOut {
 // every object casts with its displaced surface.
 @vertex
 fn vs_shadow(v: VertexIn) -> VertexOut {
-    return pass_through(v, G.shadow_vp * (G.model * vec4<f32>(v.position, 1.0)));
+    return pass_through(v, V.shadow_vp * (G.model * vec4<f32>(v.position, 1.0)));
 }
 
 // The ray of a fragment along `view` (object space, unit) in its tangent frame.

@@ -4,6 +4,11 @@
 //! on none of them (tests/test_layers.py holds the module graph acyclic).
 
 use crate::error::{Error, Result};
+use crate::gpu::Context;
+use crate::scene::Object;
+use std::any::Any;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
 /// Loops a shader may run per pixel: more would risk the driver's watchdog.
 pub const MAX_STEPS_LIMIT: u32 = 4096;
@@ -120,6 +125,8 @@ pub struct ShaderUnit {
     /// the file name shown in compile errors
     pub file: String,
     pub source: std::borrow::Cow<'static, str>,
+    /// modules of the method's own that this one imports (registered before it)
+    pub deps: Vec<ShaderUnit>,
 }
 
 impl ShaderUnit {
@@ -128,8 +135,22 @@ impl ShaderUnit {
             path: path.to_string(),
             file: file.to_string(),
             source: std::borrow::Cow::Borrowed(source),
+            deps: Vec::new(),
         }
     }
+    pub fn with_deps(mut self, deps: Vec<ShaderUnit>) -> Self {
+        self.deps = deps;
+        self
+    }
+}
+
+/// What composes WGSL with pomkit's library (implemented by `shaders::ShaderLib`): a method's
+/// builder composes its compute passes through it.
+pub trait Composer: Send + Sync {
+    /// Register a module (and its deps) so that others can import it; once per import path.
+    fn register(&self, unit: &ShaderUnit) -> Result<()>;
+    /// A top-level pass (compute or render) that imports the library and registered modules.
+    fn compose_pass(&self, source: &str, file: &str) -> Result<naga::Module>;
 }
 
 /// Which pass draws the method.
@@ -138,7 +159,7 @@ pub enum Pass {
     /// surface.wgsl; `march` (when given) is imported as `method` and must define
     /// `fn march(r: Ray) -> Hit`
     Surface { march: Option<ShaderUnit> },
-    /// a top-level shader of the method's own with entry points `vs_prism`/`fs_prism`-style names
+    /// a top-level shader of the method's own
     Own {
         shader: ShaderUnit,
         vs: &'static str,
@@ -149,35 +170,196 @@ pub enum Pass {
     },
 }
 
+/// A mesh on the GPU: vertices, indices (None: a non-indexed draw), and buffers its builder
+/// made beside them for the method's resources to bind.
+pub struct GpuMesh {
+    pub vbuf: wgpu::Buffer,
+    pub ibuf: Option<wgpu::Buffer>,
+    pub count: u32,
+    pub extra: Vec<wgpu::Buffer>,
+}
+
+impl GpuMesh {
+    /// Upload an indexed mesh; `arg` names what a user changes when it exceeds the device's
+    /// buffer limit.
+    pub fn upload_indexed(
+        ctx: &Context,
+        verts: &[crate::mesh::Vertex],
+        indices: &[u32],
+        arg: &str,
+    ) -> Result<GpuMesh> {
+        let vbytes = std::mem::size_of_val(verts) as u64;
+        if vbytes > ctx.limits.max_buffer_size {
+            return Err(Error::limit(
+                arg,
+                format!(
+                    "the mesh needs a {vbytes}-byte vertex buffer; the device's max_buffer_size is {}",
+                    ctx.limits.max_buffer_size
+                ),
+            ));
+        }
+        ctx.scoped(|| {
+            let vbuf = ctx.upload(
+                "vertices",
+                bytemuck::cast_slice(verts),
+                wgpu::BufferUsages::VERTEX,
+            );
+            let ibuf = ctx.upload(
+                "indices",
+                bytemuck::cast_slice(indices),
+                wgpu::BufferUsages::INDEX,
+            );
+            Ok(GpuMesh {
+                vbuf,
+                ibuf: Some(ibuf),
+                count: indices.len() as u32,
+                extra: Vec::new(),
+            })
+        })
+    }
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_vertex_buffer(0, self.vbuf.slice(..));
+        match &self.ibuf {
+            Some(ib) => {
+                pass.set_index_buffer(ib.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..self.count, 0, 0..1);
+            }
+            None => pass.draw(0..self.count, 0..1),
+        }
+    }
+}
+
+/// A mesh a method builds for itself from an object (instead of drawing the base mesh).
+pub trait MethodGeometry: std::fmt::Debug + Send + Sync {
+    /// What the mesh is built from, as a cache key (the renderer keeps the upload).
+    fn key(&self, object: &Object) -> u64;
+    fn build(&self, ctx: &Context, object: &Object) -> Result<GpuMesh>;
+    fn vertex_layout(&self) -> wgpu::VertexBufferLayout<'static>;
+    /// Cull back faces in the shadow-map pass (a closed shell casts from its entry faces);
+    /// otherwise a mesh casts from both sides.
+    fn shadow_cull_back(&self) -> bool {
+        false
+    }
+}
+
 /// The mesh the pass rasterises.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub enum Geometry {
     /// the base mesh
     Base,
-    /// the displaced mesh on a lattice `texels_per_vertex` texels apart
-    Tessellated { texels_per_vertex: f64 },
-    /// one prism per base triangle, inward or outward
-    Prisms { outward: bool },
+    /// a mesh of the method's own
+    Own(Arc<dyn MethodGeometry>),
+}
+
+impl PartialEq for Geometry {
+    fn eq(&self, other: &Self) -> bool {
+        format!("{self:?}") == format!("{other:?}")
+    }
+}
+
+/// The kind of one binding of a method's own resources (bind group 2, from binding 1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ResourceKind {
+    /// `var<storage, read>`
+    Storage,
+    /// `texture_2d<u32>`
+    TextureUint,
+}
+
+/// One built resource, bound in the order its method declares.
+#[derive(Clone, Debug)]
+pub enum Resident {
+    Buffer(wgpu::Buffer),
+    Texture(wgpu::TextureView),
+}
+
+impl Resident {
+    pub fn binding(&self) -> wgpu::BindingResource<'_> {
+        match self {
+            Resident::Buffer(b) => b.as_entire_binding(),
+            Resident::Texture(v) => wgpu::BindingResource::TextureView(v),
+        }
+    }
+}
+
+/// What a method's resources for one object are built from.
+pub struct BuildInputs<'a> {
+    pub ctx: &'a Context,
+    pub composer: &'a dyn Composer,
+    /// compiled builder pipelines, made once per renderer
+    pub builders: &'a Builders,
+    pub object: &'a Object,
+    /// the object's height map: its size and max pyramid (levels back to back)
+    pub height_size: (u32, u32),
+    pub height_max: &'a wgpu::Buffer,
+    /// the mesh this method draws for the object (the base mesh, or its own geometry)
+    pub mesh: &'a GpuMesh,
+}
+
+/// The GPU data a method brings (a cone map, texture-space frame maps, per-prism data): it
+/// declares the bindings its WGSL reads at group 2 from binding 1, builds them for an object (on
+/// the CPU or in compute passes of its own), and keys them by what they are built from; the
+/// renderer caches and binds them and knows nothing else of them.
+pub trait MethodResources: std::fmt::Debug + Send + Sync {
+    /// The bindings, in order from binding 1.
+    fn layout(&self) -> Vec<ResourceKind>;
+    /// What one object's resources are built from, as a cache key.
+    fn key(&self, object: &Object) -> u64;
+    fn build(&self, inputs: &BuildInputs<'_>) -> Result<Vec<Resident>>;
+}
+
+/// Builder state a method makes once per renderer (compiled compute pipelines), by name.
+#[derive(Default)]
+pub struct Builders(Mutex<HashMap<&'static str, Arc<dyn Any + Send + Sync>>>);
+
+impl Builders {
+    /// The builder `name`, made by `make` on first use.
+    pub fn get<T: Any + Send + Sync>(
+        &self,
+        name: &'static str,
+        make: impl FnOnce() -> Result<T>,
+    ) -> Result<Arc<T>> {
+        let mut g = self
+            .0
+            .lock()
+            .map_err(|_| Error::Gpu("builder cache lock poisoned".into()))?;
+        if let Some(b) = g.get(name) {
+            return b
+                .clone()
+                .downcast::<T>()
+                .map_err(|_| Error::Gpu(format!("builder {name} has another type")));
+        }
+        let b = Arc::new(make()?);
+        g.insert(name, b.clone());
+        Ok(b)
+    }
 }
 
 /// Everything the renderer needs to run a method.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct Spec {
     pub pass: Pass,
-    /// boolean shader defs (MARCH, LOD_BLEND, FLAT, BUMP, TESSELLATED)
+    /// boolean shader defs (MARCH, LOD_BLEND, FLAT, BUMP, ... and the method's own)
     pub defs: Vec<&'static str>,
     pub geometry: Geometry,
-    /// NCS's texture-space frame maps
-    pub frame_maps: bool,
-    /// ConeStep's cone map (binding 11)
-    pub cone_map: Option<Cones>,
-    /// the uniform block `params` (binding 10), field by field, all f32
+    /// the method's own GPU data (bind group 2, from binding 1)
+    pub resources: Option<Arc<dyn MethodResources>>,
+    /// the method's self-shadowing is the scene's shadow map of its own geometry (a method that
+    /// rasterises the displaced surface itself)
+    pub shadow_map_self: bool,
+    /// the uniform block `params` (group 2, binding 0), field by field, all f32
     pub params: Vec<(String, f32)>,
     pub pixel: PerPixel,
-    /// LOD_BLEND's threshold (POM)
+    /// LOD_BLEND's threshold
     pub lod_threshold: f32,
-    /// bound of every max-mip traversal (Exact, exact shadows, Prism(exact=True))
+    /// bound of every max-mip traversal (the method's and exact shadows)
     pub max_iterations: u32,
+}
+
+impl PartialEq for Spec {
+    fn eq(&self, other: &Self) -> bool {
+        format!("{self:?}") == format!("{other:?}")
+    }
 }
 
 impl Spec {
@@ -187,22 +369,22 @@ impl Spec {
             pass: Pass::Surface { march: Some(march) },
             defs: vec!["MARCH"],
             geometry: Geometry::Base,
-            frame_maps: false,
-            cone_map: None,
+            resources: None,
+            shadow_map_self: false,
             params: params.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
             pixel: pixel.clone(),
             lod_threshold: 0.0,
             max_iterations: 4096,
         }
     }
-    /// A surface-pass method without a march (Flat, Bump, Tessellated).
+    /// A surface-pass method without a march.
     pub fn shade_only(def: &'static str, pixel: PerPixel, geometry: Geometry) -> Self {
         Spec {
             pass: Pass::Surface { march: None },
             defs: vec![def],
             geometry,
-            frame_maps: false,
-            cone_map: None,
+            resources: None,
+            shadow_map_self: false,
             params: Vec::new(),
             pixel,
             lod_threshold: 0.0,
@@ -227,11 +409,4 @@ pub fn check_finite(name: &str, v: f32) -> Result<()> {
         ));
     }
     Ok(())
-}
-
-/// Which cones: conservative against the bilinear field, or relaxed (wider, refined).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Cones {
-    Conservative,
-    Relaxed,
 }

@@ -4,11 +4,9 @@
 //! and call [`render::Renderer::render`]. The `python` feature adds the pyo3 layer
 //! (`pomkit._core`), which only converts arrays and errors.
 
-pub mod conemap;
 pub mod contract;
 pub mod error;
 pub mod exact;
-pub mod geometry;
 pub mod gpu;
 pub mod heightmap;
 pub mod imageio;
@@ -17,7 +15,6 @@ pub mod methods;
 pub mod render;
 pub mod scene;
 pub mod shaders;
-pub mod texspace;
 
 #[cfg(feature = "python")]
 mod python;

@@ -4,10 +4,10 @@
 //!
 //! Shader defs: SHADOWS and FILTERING (values, always set), plus the method's flags (MARCH,
 //! LOD_BLEND, FLAT, BUMP, TESSELLATED). The method's parameters become the uniform block
-//! `params` (binding 10), generated here from its Rust parameter list, so the two sides agree by
+//! `params` (group 2, binding 0), generated here from its Rust parameter list, so the two sides agree by
 //! construction.
 
-use crate::contract::{Filtering, Pass, ShaderUnit, Spec};
+use crate::contract::{Composer as ComposerTrait, Filtering, Pass, ShaderUnit, Spec};
 use crate::error::{Error, Result};
 use naga_oil::compose::{
     ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderDefValue,
@@ -17,10 +17,6 @@ use std::sync::Mutex;
 
 /// The library modules, in dependency order (a module's imports come before it).
 pub const LIBRARY: &[(&str, &str)] = &[
-    (
-        "shaders/frame_map.wgsl",
-        include_str!("../shaders/frame_map.wgsl"),
-    ),
     (
         "shaders/globals.wgsl",
         include_str!("../shaders/globals.wgsl"),
@@ -65,8 +61,11 @@ pub const LIBRARY: &[(&str, &str)] = &[
 /// The surface pass (the top-level shader of every `Pass::Surface` method).
 pub const SURFACE: &str = include_str!("../shaders/surface.wgsl");
 pub const SURFACE_FILE: &str = "shaders/surface.wgsl";
-/// The binding of the method's `params` uniform block.
-pub const PARAMS_BINDING: u32 = 10;
+/// The bind group of the method (its `params` block and its own resources).
+pub const METHOD_GROUP: u32 = 2;
+/// The binding of the method's `params` uniform block in the method's group; the method's own
+/// resources follow from binding 1.
+pub const PARAMS_BINDING: u32 = 0;
 
 /// The WGSL declaration of a method's `params` block. Appended after the method's own source, so
 /// that the line numbers of compile errors are those of the file the user wrote.
@@ -81,7 +80,7 @@ pub fn params_block(params: &[(String, f32)]) -> String {
         s.push_str(&format!("    {k}: f32,\n"));
     }
     s.push_str(&format!(
-        "}}\n@group(0) @binding({PARAMS_BINDING}) var<uniform> params: Params;\n"
+        "}}\n@group({METHOD_GROUP}) @binding({PARAMS_BINDING}) var<uniform> params: Params;\n"
     ));
     s
 }
@@ -177,17 +176,25 @@ impl ShaderLib {
         })
     }
 
-    /// Register a method's `march` module (once per import path).
+    /// Register a method's module (once per import path), after the modules of its own it
+    /// imports.
     fn ensure(
         composer: &mut Composer,
         unit: &ShaderUnit,
-        params: &[(String, f32)],
+        params: Option<&[(String, f32)]>,
         arg: &str,
     ) -> Result<()> {
+        for d in &unit.deps {
+            Self::ensure(composer, d, None, arg)?;
+        }
         if composer.contains_module(&unit.path) {
             return Ok(());
         }
-        let source = format!("{}{}", unit.source, params_block(params));
+        // a method's march module carries its `params` block; a library module (None) does not
+        let source = match params {
+            Some(p) => format!("{}{}", unit.source, params_block(p)),
+            None => unit.source.to_string(),
+        };
         let declared = import_path(&unit.source);
         let as_name = if declared.is_some() {
             None
@@ -216,26 +223,13 @@ impl ShaderLib {
         r.map_err(|e| compose_error(composer, e, arg))
     }
 
-    /// A pass of pomkit's own that imports the library (the NCS bake, the mip builders).
+    /// A pass of pomkit's own that imports the library (the mip builders, a method's builders).
     pub fn compose_pass(&self, source: &str, file: &str) -> Result<naga::Module> {
-        let mut composer = self
-            .composer
-            .lock()
-            .map_err(|_| Error::Gpu("shader composer lock poisoned".into()))?;
-        composer
-            .make_naga_module(NagaModuleDescriptor {
-                source,
-                file_path: file,
-                ..Default::default()
-            })
-            .map_err(|e| {
-                Error::Gpu(format!(
-                    "{file} does not compile: {}",
-                    e.emit_to_string(&composer)
-                ))
-            })
+        ComposerTrait::compose_pass(self, source, file)
     }
+}
 
+impl ShaderLib {
     /// The composed naga module of a variant. `arg` names the Python argument a compile error
     /// is reported against ("wgsl" for a user's method).
     pub fn compose(
@@ -252,17 +246,22 @@ impl ShaderLib {
         let defs = defs(spec, filtering, frame);
         let (source, file) = match &spec.pass {
             Pass::Surface { march: Some(unit) } => {
-                Self::ensure(&mut composer, unit, &spec.params, arg)?;
+                Self::ensure(&mut composer, unit, Some(&spec.params), arg)?;
                 (
                     format!("#import {} as method\n{SURFACE}", unit.path),
                     SURFACE_FILE.to_string(),
                 )
             }
             Pass::Surface { march: None } => (SURFACE.to_string(), SURFACE_FILE.to_string()),
-            Pass::Own { shader, .. } => (
-                format!("{}{}", shader.source, params_block(&spec.params)),
-                shader.file.clone(),
-            ),
+            Pass::Own { shader, .. } => {
+                for d in &shader.deps {
+                    Self::ensure(&mut composer, d, None, arg)?;
+                }
+                (
+                    format!("{}{}", shader.source, params_block(&spec.params)),
+                    shader.file.clone(),
+                )
+            }
         };
         composer
             .make_naga_module(NagaModuleDescriptor {
@@ -272,6 +271,35 @@ impl ShaderLib {
                 ..Default::default()
             })
             .map_err(|e| compose_error(&composer, e, arg))
+    }
+}
+
+impl ComposerTrait for ShaderLib {
+    fn register(&self, unit: &ShaderUnit) -> Result<()> {
+        let mut composer = self
+            .composer
+            .lock()
+            .map_err(|_| Error::Gpu("shader composer lock poisoned".into()))?;
+        Self::ensure(&mut composer, unit, None, "method")
+    }
+
+    fn compose_pass(&self, source: &str, file: &str) -> Result<naga::Module> {
+        let mut composer = self
+            .composer
+            .lock()
+            .map_err(|_| Error::Gpu("shader composer lock poisoned".into()))?;
+        composer
+            .make_naga_module(NagaModuleDescriptor {
+                source,
+                file_path: file,
+                ..Default::default()
+            })
+            .map_err(|e| {
+                Error::Gpu(format!(
+                    "{file} does not compile: {}",
+                    e.emit_to_string(&composer)
+                ))
+            })
     }
 }
 

@@ -39,6 +39,7 @@ impl Unit for Custom {
             path: self.module_path(),
             file: format!("{}.wgsl", self.name),
             source: self.wgsl.clone().into(),
+            deps: Vec::new(),
         };
         let params: Vec<(&str, f32)> = self.params.iter().map(|(k, v)| (k.as_str(), *v)).collect();
         Spec::surface(unit, o, &params)

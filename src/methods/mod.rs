@@ -1,24 +1,26 @@
 //! The methods: one enum of typed parameter structs, and per method one `spec` that says
 //! everything the renderer needs to run it: its shader (a `march` module for the surface pass,
 //! or a pass of its own), its shader defs, its geometry, the resources it reads and its uniform
-//! block. Each method is one unit: `src/methods/<name>.rs` beside `src/methods/<name>.wgsl`,
-//! plus its Python dataclass (which holds the user-facing defaults and ranges) and one line in
-//! `Method` below.
+//! block. Each method is one unit: `src/methods/<name>.rs` beside `src/methods/<name>.wgsl`, or,
+//! for a method that brings its own data (geometry, resources and the passes that build them),
+//! the folder `src/methods/<name>/`; plus its Python dataclass (which holds the user-facing
+//! defaults and ranges) and one line in `Method` below. The renderer binds what a method's
+//! `Spec` declares (src/contract.rs) and knows no method by name.
 //!
 //! The core checks only what it needs for safety (bounded loops, memory): see `Method::validate`.
 
 mod bump;
-mod cone_step;
+pub mod cone_step;
 mod custom;
 mod exact;
 mod flat;
-mod ncs;
+pub mod ncs;
 mod parallax;
 mod pom;
-mod prism;
+pub mod prism;
 mod relief;
 mod steep;
-mod tessellated;
+pub mod tessellated;
 
 pub use bump::Bump;
 pub use cone_step::{ConeStep, Cones, Refine};
@@ -26,6 +28,7 @@ pub use custom::Custom;
 pub use exact::Exact;
 pub use flat::Flat;
 pub use ncs::Ncs;
+pub use ncs::MAP_SIZE as NCS_MAP_SIZE;
 pub use parallax::Parallax;
 pub use pom::Pom;
 pub use prism::Prism;

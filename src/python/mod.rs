@@ -240,7 +240,11 @@ fn tessellate<'py>(
         )
     })?;
     let t = py.detach(move || {
-        crate::geometry::tessellate::tessellate(&obj.mesh, &obj.material, texels_per_vertex)
+        crate::methods::tessellated::tessellate::tessellate(
+            &obj.mesh,
+            &obj.material,
+            texels_per_vertex,
+        )
     })?;
     let n = t.positions.len();
     let d = PyDict::new(py);
@@ -254,7 +258,7 @@ fn tessellate<'py>(
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
-    m.add("NCS_MAP_SIZE", crate::texspace::MAP_SIZE)?;
+    m.add("NCS_MAP_SIZE", crate::methods::NCS_MAP_SIZE)?;
     m.add_class::<PyRenderer>()?;
     m.add_class::<PyMeshData>()?;
     m.add_class::<PyHeightData>()?;

@@ -1,11 +1,16 @@
 //! Rendering: a method's pass over its geometry into two float32 targets (colour + steps, uv +
 //! distance + lod), and one readback of all AOVs.
 //!
-//! - `pipelines`: the bind-group layout and one pipeline per composed shader variant
-//! - `resources`: what stays resident (height maps, albedos, meshes, NCS maps), keyed by content
+//! - `pipelines`: the bind-group layouts (view, object, method) and one pipeline per composed
+//!   shader variant
+//! - `resources`: what stays resident (height maps, albedos, meshes, methods' own resources),
+//!   keyed by content
 //! - `targets`: render targets, readback and the `Frame`
-//! - `uniforms`: the `Globals` block (checked against the WGSL layout)
-//! - `shadow_map`: Tessellated's shadow-map pass
+//! - `uniforms`: the `View` and `Globals` blocks (checked against the WGSL layout)
+//! - `shadow_map`: the shadow-map pass
+//!
+//! The renderer binds what a method's `Spec` declares (src/contract.rs): its geometry, its
+//! `params` and its own resources. It names no method.
 
 pub mod pipelines;
 pub mod resources;
@@ -16,17 +21,15 @@ pub mod uniforms;
 pub use crate::heightmap::top_maxmip_level;
 pub use targets::{Aovs, Frame};
 
-use crate::conemap::{ConeBuilder, Cones};
-use crate::contract::{Filtering, Geometry, Spec};
+use crate::contract::{BuildInputs, Builders, Filtering, GpuMesh, Resident, Spec};
 use crate::error::{Error, Result};
 use crate::gpu::Context;
-use crate::heightmap::{GpuHeight, MipBuilder};
+use crate::heightmap::MipBuilder;
 use crate::methods::Method;
 use crate::scene::{HeightMap, Keyed, Scene};
 use crate::shaders::FrameDefs;
-use crate::texspace::{FrameMaps, TexSpace};
 use pipelines::Pipelines;
-use resources::{GpuMesh, Resources};
+use resources::Resources;
 use std::sync::{Arc, Mutex};
 use targets::Targets;
 
@@ -34,15 +37,12 @@ use targets::Targets;
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
-/// Samplers and the stand-ins bound where a pass has no shadow map, NCS maps or prisms.
+/// Samplers, and the stand-in bound where a frame has no shadow map.
 struct Fixed {
     height_sampler: wgpu::Sampler,
     albedo_sampler: wgpu::Sampler,
     shadow_sampler: wgpu::Sampler,
     no_shadow: wgpu::TextureView,
-    no_maps: FrameMaps,
-    no_prisms: wgpu::Buffer,
-    no_cones: wgpu::Buffer,
 }
 
 impl Fixed {
@@ -76,13 +76,6 @@ impl Fixed {
                 ctx.texture_2d(label, (1, 1), format, usage)
                     .create_view(&Default::default())
             };
-            let maps = |label| {
-                tex1(
-                    label,
-                    wgpu::TextureFormat::Rgba32Uint,
-                    wgpu::TextureUsages::TEXTURE_BINDING,
-                )
-            };
             Ok(Fixed {
                 height_sampler: repeat("height", filt, mfilt),
                 albedo_sampler: repeat(
@@ -102,35 +95,9 @@ impl Fixed {
                     DEPTH_FORMAT,
                     wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT,
                 ),
-                no_cones: dev.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("no cone map"),
-                    size: 8,
-                    usage: wgpu::BufferUsages::STORAGE,
-                    mapped_at_creation: false,
-                }),
-                no_maps: FrameMaps {
-                    map: maps("no frame map"),
-                },
-                no_prisms: dev.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("no prisms"),
-                    size: std::mem::size_of::<crate::geometry::prisms::PrismData>() as u64,
-                    usage: wgpu::BufferUsages::STORAGE,
-                    mapped_at_creation: false,
-                }),
             })
         })
     }
-}
-
-/// What one draw binds.
-struct Inputs<'a> {
-    globals: &'a wgpu::Buffer,
-    params: &'a wgpu::Buffer,
-    height: &'a GpuHeight,
-    albedo: &'a wgpu::TextureView,
-    maps: &'a FrameMaps,
-    mesh: &'a GpuMesh,
-    cones: &'a wgpu::Buffer,
 }
 
 pub struct Renderer {
@@ -138,8 +105,8 @@ pub struct Renderer {
     pipelines: Pipelines,
     fixed: Fixed,
     mips: MipBuilder,
-    texspace: TexSpace,
-    cone_builder: ConeBuilder,
+    /// methods' compiled builder pipelines (made by the methods on first use)
+    builders: Builders,
     resources: Mutex<Resources>,
     /// serialises GPU submissions so that error scopes and timings belong to one render
     submit: Mutex<()>,
@@ -160,8 +127,7 @@ impl Renderer {
         Ok(Self {
             fixed: Fixed::new(&ctx)?,
             mips: MipBuilder::new(&ctx, &pipelines.lib)?,
-            texspace: TexSpace::new(&ctx, &pipelines.lib)?,
-            cone_builder: ConeBuilder::new(&ctx, &pipelines.lib)?,
+            builders: Builders::default(),
             pipelines,
             resources: Mutex::new(Resources::new()),
             submit: Mutex::new(()),
@@ -199,14 +165,50 @@ impl Renderer {
         ))
     }
 
-    /// The cone map of a height map (tests): (base, w) per cell, row-major.
-    pub fn read_cone_map(&self, map: &Keyed<HeightMap>, cones: Cones) -> Result<Vec<[f32; 2]>> {
-        let m = {
-            let mut res = self.resources.lock().map_err(poisoned)?;
-            let g = res.height(&self.ctx, &self.mips, map)?;
-            res.cone_map(&self.ctx, &self.cone_builder, &g, map.key, cones)?
+    /// A method's own resources for object 0 of `scene` (tests and inspection: e.g. to read a
+    /// built table back), built as a render would build them.
+    pub fn method_resources(&self, scene: &Scene, method: &Method) -> Result<Vec<Resident>> {
+        let spec = method.spec();
+        let obj = scene
+            .objects
+            .first()
+            .ok_or_else(|| Error::arg("scene", "has no object"))?;
+        let mut res = self.resources.lock().map_err(poisoned)?;
+        let (_, _, own) = self.object_resources(&mut res, obj, &spec)?;
+        Ok(own.map(|o| o.to_vec()).unwrap_or_default())
+    }
+
+    /// What an object's draw binds, from the caches or built: its height map, its mesh (the
+    /// base mesh or the method's own geometry) and the method's own resources.
+    #[allow(clippy::type_complexity)]
+    fn object_resources(
+        &self,
+        res: &mut Resources,
+        obj: &crate::scene::Object,
+        spec: &Spec,
+    ) -> Result<(
+        Arc<crate::heightmap::GpuHeight>,
+        Arc<GpuMesh>,
+        Option<Arc<Vec<Resident>>>,
+    )> {
+        let height = res.height(&self.ctx, &self.mips, &obj.material.height)?;
+        let mesh = res.mesh(&self.ctx, obj, &spec.geometry)?;
+        let own = match &spec.resources {
+            Some(r) => {
+                let inputs = BuildInputs {
+                    ctx: &self.ctx,
+                    composer: &self.pipelines.lib,
+                    builders: &self.builders,
+                    object: obj,
+                    height_size: (height.width, height.height),
+                    height_max: &height.max_buf,
+                    mesh: &mesh,
+                };
+                Some(res.method(r.as_ref(), &inputs)?)
+            }
+            None => None,
         };
-        self.cone_builder.read_back(&self.ctx, &m)
+        Ok((height, mesh, own))
     }
 
     /// The filtering a method actually gets: exact where the adapter cannot filter float32.
@@ -234,10 +236,8 @@ impl Renderer {
         let _guard = self.submit.lock().map_err(poisoned)?;
         self.mips.update(&self.ctx, &g, new)?;
         self.ctx.wait()?;
-        // the cone maps of the old map are stale: they rebuild from the new pyramid on next use
-        for kind in [Cones::Conservative, Cones::Relaxed] {
-            res.cones.remove(resources::cone_key(old_key, kind));
-        }
+        // methods' resources are keyed by what they are built from: those of the new map build
+        // from the updated pyramid on their next use
         Ok(res.heights.rekey(old_key, new.key))
     }
 
@@ -344,8 +344,9 @@ impl Renderer {
                 .map(|s| self.shadow_target(s.size))
                 .transpose()?;
             let shadow_view = shadow_view.as_deref();
-            let draws = self.draws(scene, &spec, shadow.as_ref(), shadow_view)?;
-            let next = self.submit(scene, &variant, shadow_view, &draws, aovs, written)?;
+            let (binds, draws) =
+                self.draws(scene, &spec, &variant, shadow.as_ref(), shadow_view)?;
+            let next = self.submit(scene, &variant, shadow_view, &binds, &draws, aovs, written)?;
             if let Some(p) = pending.replace(next) {
                 frames.push(self.finish(p)?);
             }
@@ -399,99 +400,92 @@ impl Renderer {
         Ok(v)
     }
 
-    fn bind_group(&self, i: &Inputs<'_>, shadow: &wgpu::TextureView) -> wgpu::BindGroup {
+    /// Group 0 of a frame: the view block and the shadow map (or its stand-in).
+    fn view_bind_group(&self, view: &wgpu::Buffer, shadow: &wgpu::TextureView) -> wgpu::BindGroup {
         use wgpu::BindingResource as R;
-        let f = &self.fixed;
-        let prisms = i.mesh.prisms.as_ref().unwrap_or(&f.no_prisms);
-        let resources = [
-            i.globals.as_entire_binding(),
-            R::TextureView(&i.height.view),
-            R::Sampler(&f.height_sampler),
-            R::TextureView(i.albedo),
-            R::Sampler(&f.albedo_sampler),
-            R::TextureView(shadow),
-            R::Sampler(&f.shadow_sampler),
-            i.height.max_buf.as_entire_binding(),
-            R::TextureView(&i.maps.map),
-            prisms.as_entire_binding(),
-            i.params.as_entire_binding(),
-            i.cones.as_entire_binding(),
-        ];
-        self.ctx
-            .bind_group("surface", &self.pipelines.bgl, resources.into())
+        self.ctx.bind_group(
+            "view",
+            &self.pipelines.view_bgl,
+            vec![
+                view.as_entire_binding(),
+                R::TextureView(shadow),
+                R::Sampler(&self.fixed.shadow_sampler),
+            ],
+        )
     }
 
-    /// Every object's draw: its resources (made or found in the caches), its uniform block and
-    /// its bind groups.
+    /// The frame's view bind groups and every object's draw: its resources (made or found in
+    /// the caches), its uniform block and its object and method bind groups.
     fn draws(
         &self,
         scene: &Scene,
         spec: &Spec,
+        variant: &pipelines::Variant,
         shadow: Option<&shadow_map::ShadowSetup>,
         shadow_view: Option<&wgpu::TextureView>,
-    ) -> Result<Vec<Draw>> {
+    ) -> Result<(FrameBinds, Vec<Draw>)> {
+        use wgpu::BindingResource as R;
         let ctx = &self.ctx;
-        let params = ctx.scoped(|| {
-            Ok(ctx.upload(
+        let f = &self.fixed;
+        let (params, binds) = ctx.scoped(|| {
+            let params = ctx.upload(
                 "method params",
                 &crate::shaders::params_bytes(&spec.params),
                 wgpu::BufferUsages::UNIFORM,
-            ))
+            );
+            let view = ctx.upload(
+                "view",
+                bytemuck::bytes_of(&uniforms::view(scene, shadow)),
+                wgpu::BufferUsages::UNIFORM,
+            );
+            let binds = FrameBinds {
+                view: self.view_bind_group(&view, shadow_view.unwrap_or(&f.no_shadow)),
+                // the shadow-map pass cannot sample the map it writes
+                shadow: shadow_view.map(|_| self.view_bind_group(&view, &f.no_shadow)),
+            };
+            Ok((params, binds))
         })?;
         let mut draws = Vec::with_capacity(scene.objects.len());
         for (id, obj) in scene.objects.iter().enumerate() {
-            let (height, albedo, mesh, maps, cones) = {
+            let (height, albedo, mesh, own) = {
                 let mut res = self.resources.lock().map_err(poisoned)?;
-                let height = res.height(ctx, &self.mips, &obj.material.height)?;
-                let cones = match spec.cone_map {
-                    Some(kind) => Some(res.cone_map(
-                        ctx,
-                        &self.cone_builder,
-                        &height,
-                        obj.material.height.key,
-                        kind,
-                    )?),
-                    None => None,
-                };
                 let albedo = res.albedo(ctx, obj.material.albedo.as_deref())?;
-                let mesh = res.mesh(ctx, obj, spec.geometry)?;
-                let maps = if spec.frame_maps {
-                    debug_assert_eq!(spec.geometry, Geometry::Base);
-                    Some(res.frame_maps(ctx, &self.texspace, &mesh, obj.mesh.key)?)
-                } else {
-                    None
-                };
-                (height, albedo, mesh, maps, cones)
+                let (height, mesh, own) = self.object_resources(&mut res, obj, spec)?;
+                (height, albedo, mesh, own)
             };
-            let globals = uniforms::globals(scene, id, spec, shadow);
+            let globals = uniforms::globals(scene, id, spec);
             let d = ctx.scoped(|| {
-                let inputs = Inputs {
-                    globals: &ctx.upload(
-                        "globals",
-                        bytemuck::bytes_of(&globals),
-                        wgpu::BufferUsages::UNIFORM,
-                    ),
-                    params: &params,
-                    height: &height,
-                    albedo: &albedo,
-                    maps: maps.as_deref().unwrap_or(&self.fixed.no_maps),
-                    mesh: &mesh,
-                    cones: cones
-                        .as_ref()
-                        .map(|c| &c.buf)
-                        .unwrap_or(&self.fixed.no_cones),
-                };
+                let g = ctx.upload(
+                    "globals",
+                    bytemuck::bytes_of(&globals),
+                    wgpu::BufferUsages::UNIFORM,
+                );
+                let object = ctx.bind_group(
+                    "object",
+                    &self.pipelines.object_bgl,
+                    vec![
+                        g.as_entire_binding(),
+                        R::TextureView(&height.view),
+                        R::Sampler(&f.height_sampler),
+                        R::TextureView(&albedo),
+                        R::Sampler(&f.albedo_sampler),
+                        height.max_buf.as_entire_binding(),
+                    ],
+                );
+                let mut m = vec![params.as_entire_binding()];
+                if let Some(own) = &own {
+                    m.extend(own.iter().map(Resident::binding));
+                }
+                let method = ctx.bind_group("method", &variant.method.bgl, m);
                 Ok(Draw {
-                    bind: self.bind_group(&inputs, shadow_view.unwrap_or(&self.fixed.no_shadow)),
-                    // the shadow-map pass cannot sample the map it writes
-                    shadow_bind: shadow_view
-                        .map(|_| self.bind_group(&inputs, &self.fixed.no_shadow)),
+                    object,
+                    method,
                     mesh: mesh.clone(),
                 })
             })?;
             draws.push(d);
         }
-        Ok(draws)
+        Ok((binds, draws))
     }
 
     fn submit(
@@ -499,6 +493,7 @@ impl Renderer {
         scene: &Scene,
         variant: &pipelines::Variant,
         shadow_view: Option<&wgpu::TextureView>,
+        binds: &FrameBinds,
         draws: &[Draw],
         aovs: Aovs,
         written: Aovs,
@@ -512,7 +507,13 @@ impl Renderer {
                     label: Some("render"),
                 });
             if let (Some(v), Some(p)) = (shadow_view, &variant.shadow) {
-                shadow_map::encode(&mut enc, v, p, draws);
+                shadow_map::encode(
+                    &mut enc,
+                    v,
+                    p,
+                    binds.shadow.as_ref().unwrap_or(&binds.view),
+                    draws,
+                );
             }
             let tg = self.targets(w, h)?;
             {
@@ -538,8 +539,10 @@ impl Renderer {
                     multiview_mask: None,
                 });
                 pass.set_pipeline(&variant.main);
+                pass.set_bind_group(0, &binds.view, &[]);
                 for d in draws {
-                    pass.set_bind_group(0, &d.bind, &[]);
+                    pass.set_bind_group(1, &d.object, &[]);
+                    pass.set_bind_group(2, &d.method, &[]);
                     d.mesh.draw(&mut pass);
                 }
             }
@@ -556,12 +559,19 @@ impl Renderer {
     }
 }
 
-/// One object's draw in a frame: its mesh and its bind groups (uniform block, maps).
+/// A frame's view bind groups (group 0): with its shadow map, and (when it has one) without it
+/// for the shadow-map pass.
+pub struct FrameBinds {
+    pub view: wgpu::BindGroup,
+    pub shadow: Option<wgpu::BindGroup>,
+}
+
+/// One object's draw in a frame: its mesh, its object bind group (group 1) and its method bind
+/// group (group 2).
 pub struct Draw {
     pub mesh: Arc<GpuMesh>,
-    pub bind: wgpu::BindGroup,
-    /// the shadow-map pass's bind group (without the shadow map), when the frame has one
-    pub shadow_bind: Option<wgpu::BindGroup>,
+    pub object: wgpu::BindGroup,
+    pub method: wgpu::BindGroup,
 }
 
 /// A submitted frame: its targets, its submission and when it was submitted.

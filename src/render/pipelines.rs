@@ -1,10 +1,11 @@
-//! The mesh passes' pipelines: one bind-group layout for every variant, and one pipeline per
-//! composed shader variant (the method's module or pass, its shader defs, shadows, filtering).
+//! The mesh passes' pipelines. Bind groups by how often they change: group 0 the view and
+//! frame, group 1 the object and its material (both one layout for every pass), group 2 the
+//! method (its `params` and the resources it declares: one layout per declaration). One
+//! pipeline per composed shader variant, keyed on the composed shader defs themselves.
 
 use super::{COLOR_FORMAT, DEPTH_FORMAT};
-use crate::contract::{Filtering, Geometry, Pass, Spec};
+use crate::contract::{Filtering, Geometry, Pass, ResourceKind, Spec};
 use crate::error::{Error, Result};
-use crate::geometry::prisms::PrismVertex;
 use crate::gpu::{layout, Context};
 use crate::mesh::Vertex;
 use crate::shaders::{FrameDefs, ShaderLib};
@@ -23,20 +24,35 @@ pub fn depth_state() -> Option<wgpu::DepthStencilState> {
     })
 }
 
-/// A variant's pipelines: the pass, and (Tessellated with shadows) the shadow-map pass.
+/// A variant's pipelines: the pass, the shadow-map pass (when the frame has a shadow map), and
+/// the method's layout (its bind groups are made with it).
 pub struct Variant {
     pub main: wgpu::RenderPipeline,
     pub shadow: Option<wgpu::RenderPipeline>,
+    pub method: Arc<MethodLayout>,
 }
 
 pub struct Pipelines {
     pub lib: ShaderLib,
-    pub bgl: wgpu::BindGroupLayout,
-    layout: wgpu::PipelineLayout,
+    /// group 0: the view block, the shadow map and its comparison sampler
+    pub view_bgl: wgpu::BindGroupLayout,
+    /// group 1: the object block, the height map and its sampler, the albedo and its sampler,
+    /// the max pyramid
+    pub object_bgl: wgpu::BindGroupLayout,
+    /// group 2 per declaration of a method's resources, with the pipeline layout over all three
+    method_layouts: Mutex<HashMap<Vec<ResourceKind>, Arc<MethodLayout>>>,
     cache: Mutex<HashMap<u64, Arc<Variant>>>,
 }
 
-/// The key of a shader variant: everything that shapes the composed module.
+/// A method's bind-group layout (group 2) and the pipeline layout of groups 0-2.
+pub struct MethodLayout {
+    pub bgl: wgpu::BindGroupLayout,
+    pipeline: wgpu::PipelineLayout,
+}
+
+/// The key of a shader variant: the composed shader defs themselves (the same `shaders::defs`
+/// the composer takes), the module's identity and its `params` names (its source), the vertex
+/// layout of its geometry, its resources' layout, and the targets written.
 fn variant_key(
     spec: &Spec,
     filtering: Filtering,
@@ -44,22 +60,32 @@ fn variant_key(
     targets: (bool, bool, bool),
 ) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
+    let mut defs: Vec<(String, String)> = crate::shaders::defs(spec, filtering, frame)
+        .into_iter()
+        .map(|(k, v)| (k, format!("{v:?}")))
+        .collect();
+    defs.sort();
+    defs.hash(&mut h);
     targets.hash(&mut h);
-    frame.hash(&mut h);
     match &spec.pass {
         Pass::Surface { march } => {
             ("surface", march.as_ref().map(|m| m.path.as_str())).hash(&mut h)
         }
-        Pass::Own { shader, .. } => ("own", shader.path.as_str()).hash(&mut h),
+        Pass::Own { shader, vs, fs, .. } => ("own", shader.path.as_str(), vs, fs).hash(&mut h),
     }
-    spec.defs.hash(&mut h);
-    spec.pixel.shadows.hash(&mut h);
-    filtering.hash(&mut h);
-    // the params block is part of the module's source
     for (k, _) in &spec.params {
         k.hash(&mut h);
     }
+    format!("{:?}", vertex_layout(&spec.geometry)).hash(&mut h);
+    spec.resources.as_ref().map(|r| r.layout()).hash(&mut h);
     h.finish()
+}
+
+fn vertex_layout(g: &Geometry) -> wgpu::VertexBufferLayout<'static> {
+    match g {
+        Geometry::Base => Vertex::layout(),
+        Geometry::Own(g) => g.vertex_layout(),
+    }
 }
 
 impl Pipelines {
@@ -83,42 +109,82 @@ impl Pipelines {
                     },
                 )
             };
-            let uint = |b: u32| layout::texture(b, vf, wgpu::TextureSampleType::Uint);
-            let storage = |b: u32| {
-                layout::buffer(b, vf, wgpu::BufferBindingType::Storage { read_only: true })
-            };
             let uniform = |b: u32| layout::buffer(b, vf, wgpu::BufferBindingType::Uniform);
-            // the bindings of shaders/globals.wgsl, then NCS's frame map, the prisms, the params,
-            // the cone map
-            let bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("pomkit surface"),
+            let view_bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("pomkit view"),
+                entries: &[
+                    uniform(0),
+                    layout::texture(1, vf, wgpu::TextureSampleType::Depth),
+                    layout::sampler(2, vf, wgpu::SamplerBindingType::Comparison),
+                ],
+            });
+            let object_bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("pomkit object"),
                 entries: &[
                     uniform(0),
                     tex(1, filterable),
                     samp(2, filterable),
                     tex(3, true),
                     samp(4, true),
-                    layout::texture(5, vf, wgpu::TextureSampleType::Depth),
-                    layout::sampler(6, vf, wgpu::SamplerBindingType::Comparison),
-                    storage(7),
-                    uint(8),
-                    storage(9),
-                    uniform(crate::shaders::PARAMS_BINDING),
-                    storage(11),
+                    layout::buffer(5, vf, wgpu::BufferBindingType::Storage { read_only: true }),
                 ],
-            });
-            let layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("pomkit surface"),
-                bind_group_layouts: &[Some(&bgl)],
-                immediate_size: 0,
             });
             Ok(Self {
                 lib,
-                bgl,
-                layout,
+                view_bgl,
+                object_bgl,
+                method_layouts: Mutex::new(HashMap::new()),
                 cache: Mutex::new(HashMap::new()),
             })
         })
+    }
+
+    /// Group 2 of a method whose resources are `kinds` (binding 0: `params`), made once.
+    pub fn method_layout(
+        &self,
+        ctx: &Context,
+        kinds: &[ResourceKind],
+    ) -> Result<Arc<MethodLayout>> {
+        let mut g = self
+            .method_layouts
+            .lock()
+            .map_err(|_| Error::Gpu("pipeline cache lock poisoned".into()))?;
+        if let Some(l) = g.get(kinds) {
+            return Ok(l.clone());
+        }
+        let vf = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX;
+        let mut entries = vec![layout::buffer(
+            crate::shaders::PARAMS_BINDING,
+            vf,
+            wgpu::BufferBindingType::Uniform,
+        )];
+        for (i, k) in kinds.iter().enumerate() {
+            let b = i as u32 + 1;
+            entries.push(match k {
+                ResourceKind::Storage => {
+                    layout::buffer(b, vf, wgpu::BufferBindingType::Storage { read_only: true })
+                }
+                ResourceKind::TextureUint => layout::texture(b, vf, wgpu::TextureSampleType::Uint),
+            });
+        }
+        let l = ctx.scoped(|| {
+            let bgl = ctx
+                .device
+                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("pomkit method"),
+                    entries: &entries,
+                });
+            let pipeline = ctx
+                .device
+                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some("pomkit pass"),
+                    bind_group_layouts: &[Some(&self.view_bgl), Some(&self.object_bgl), Some(&bgl)],
+                    immediate_size: 0,
+                });
+            Ok(Arc::new(MethodLayout { bgl, pipeline }))
+        })?;
+        g.insert(kinds.to_vec(), l.clone());
+        Ok(l)
     }
 
     /// The variant's pipelines, composed and created on first use. A compile error in a user's
@@ -142,6 +208,12 @@ impl Pipelines {
             return Ok(v.clone());
         }
         let module = self.lib.compose(spec, filtering, frame, arg)?;
+        let kinds = spec
+            .resources
+            .as_ref()
+            .map(|r| r.layout())
+            .unwrap_or_default();
+        let layout = self.method_layout(ctx, &kinds)?;
         let v = ctx.scoped(|| {
             let dev = &ctx.device;
             let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -163,10 +235,7 @@ impl Pipelines {
                     ..
                 } => (*shadow_vs, Some(*shadow_fs)),
             };
-            let vertex_layout = match spec.geometry {
-                Geometry::Prisms { .. } => PrismVertex::layout(),
-                _ => Vertex::layout(),
-            };
+            let vertex_layout = vertex_layout(&spec.geometry);
             let target = Some(wgpu::ColorTargetState {
                 format: COLOR_FORMAT,
                 blend: None,
@@ -174,7 +243,7 @@ impl Pipelines {
             });
             let main = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("pomkit pass"),
-                layout: Some(&self.layout),
+                layout: Some(&layout.pipeline),
                 vertex: wgpu::VertexState {
                     module: &module,
                     entry_point: Some(vs),
@@ -210,7 +279,7 @@ impl Pipelines {
             let shadow = frame.shadow_map.then(|| {
                 dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                     label: Some("pomkit shadow map"),
-                    layout: Some(&self.layout),
+                    layout: Some(&layout.pipeline),
                     vertex: wgpu::VertexState {
                         module: &module,
                         entry_point: Some(shadow_vs),
@@ -219,10 +288,11 @@ impl Pipelines {
                     },
                     primitive: wgpu::PrimitiveState {
                         topology: wgpu::PrimitiveTopology::TriangleList,
-                        // a mesh casts from both sides (an open mesh lit from behind); the
-                        // prisms' walks start where the light enters the shell
-                        cull_mode: matches!(spec.geometry, Geometry::Prisms { .. })
-                            .then_some(wgpu::Face::Back),
+                        // a mesh casts from both sides (an open mesh lit from behind), unless
+                        // its geometry says otherwise
+                        cull_mode:
+                            matches!(&spec.geometry, Geometry::Own(g) if g.shadow_cull_back())
+                                .then_some(wgpu::Face::Back),
                         ..Default::default()
                     },
                     depth_stencil: depth_state(),
@@ -237,7 +307,11 @@ impl Pipelines {
                     cache: None,
                 })
             });
-            Ok(Arc::new(Variant { main, shadow }))
+            Ok(Arc::new(Variant {
+                main,
+                shadow,
+                method: layout.clone(),
+            }))
         })?;
         self.cache
             .lock()

@@ -1,22 +1,14 @@
 //! What stays resident on the GPU between renders, keyed by content: height maps (with their
-//! pyramids), albedos, meshes (base, tessellated, prisms) and NCS frame maps. Each cache is
-//! bounded (least recently used goes first) and can be re-keyed in place (`update_height`).
+//! pyramids), albedos, meshes (the base mesh, or a method's own geometry) and methods' own
+//! resources. Each cache is bounded (least recently used goes first) and can be re-keyed in
+//! place (`update_height`).
 
-use crate::conemap::{ConeBuilder, ConeMap, Cones};
-use crate::contract::Geometry;
-use crate::error::{Error, Result};
-use crate::geometry::{prisms, tessellate::tessellate};
+use crate::contract::{BuildInputs, Geometry, GpuMesh, MethodResources, Resident};
+use crate::error::Result;
 use crate::gpu::Context;
 use crate::heightmap::{mip_count, pyramid, GpuHeight, MipBuilder};
-use crate::mesh::Vertex;
-use crate::scene::{hash_bytes, Albedo, HeightMap, Keyed, Object};
-use crate::texspace::{FrameMaps, TexSpace};
+use crate::scene::{Albedo, HeightMap, Keyed, Object};
 use std::sync::Arc;
-
-/// The cone cache's key of a height map's cones.
-pub fn cone_key(height_key: u64, cones: Cones) -> u64 {
-    hash_bytes(&[&height_key.to_le_bytes(), &[cones as u8]])
-}
 
 /// A bounded cache, most recently used last.
 pub struct Cached<T> {
@@ -67,35 +59,12 @@ impl<T> Cached<T> {
     }
 }
 
-pub struct GpuMesh {
-    pub vbuf: wgpu::Buffer,
-    /// None: a non-indexed draw (prisms)
-    pub ibuf: Option<wgpu::Buffer>,
-    pub count: u32,
-    /// Prism: the per-prism data the fragment shader reads
-    pub prisms: Option<wgpu::Buffer>,
-}
-
-impl GpuMesh {
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
-        pass.set_vertex_buffer(0, self.vbuf.slice(..));
-        match &self.ibuf {
-            Some(ib) => {
-                pass.set_index_buffer(ib.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..self.count, 0, 0..1);
-            }
-            None => pass.draw(0..self.count, 0..1),
-        }
-    }
-}
-
 pub struct Resources {
     pub heights: Cached<GpuHeight>,
     pub albedos: Cached<wgpu::TextureView>,
     pub meshes: Cached<GpuMesh>,
-    pub frame_maps: Cached<FrameMaps>,
-    /// cone maps, keyed by the height map's key and the kind of cones
-    pub cones: Cached<ConeMap>,
+    /// methods' own resources, keyed as each method says
+    pub method: Cached<Vec<Resident>>,
 }
 
 impl Resources {
@@ -104,8 +73,7 @@ impl Resources {
             heights: Cached::new(8),
             albedos: Cached::new(8),
             meshes: Cached::new(8),
-            frame_maps: Cached::new(4),
-            cones: Cached::new(8),
+            method: Cached::new(8),
         }
     }
 
@@ -168,127 +136,30 @@ impl Resources {
         })
     }
 
-    /// The mesh a method's geometry asks for: the base mesh, the displaced mesh (with the base
-    /// frame per vertex) or the prisms.
+    /// The mesh a method's geometry asks for: the base mesh, or the method's own (built by it).
     pub fn mesh(
         &mut self,
         ctx: &Context,
         object: &Object,
-        geometry: Geometry,
+        geometry: &Geometry,
     ) -> Result<Arc<GpuMesh>> {
-        let (mesh, m) = (&object.mesh, &object.material);
-        let base_key = mesh.key;
         match geometry {
-            Geometry::Base => self.meshes.get_or(base_key, || {
-                upload_indexed(ctx, &mesh.vertices(), &mesh.indices)
+            Geometry::Base => self.meshes.get_or(object.mesh.key, || {
+                GpuMesh::upload_indexed(ctx, &object.mesh.vertices(), &object.mesh.indices, "mesh")
             }),
-            Geometry::Tessellated { texels_per_vertex } => {
-                let key = hash_bytes(&[
-                    &base_key.to_le_bytes(),
-                    &m.height.key.to_le_bytes(),
-                    &m.depth.to_le_bytes(),
-                    &m.tiling.to_le_bytes(),
-                    &texels_per_vertex.to_le_bytes(),
-                ]);
-                self.meshes.get_or(key, || {
-                    let t = tessellate(mesh, m, texels_per_vertex)?;
-                    // the base frame per vertex: Tessellated shades with the height field's normal
-                    let v = Vertex::interleave(
-                        &t.positions,
-                        &t.base_normals,
-                        &t.uvs,
-                        &t.tangents,
-                        &t.uv_scale,
-                    );
-                    upload_indexed(ctx, &v, &t.indices)
-                })
-            }
-            Geometry::Prisms { outward } => {
-                let key = hash_bytes(&[
-                    &base_key.to_le_bytes(),
-                    &m.height.key.to_le_bytes(),
-                    &m.depth.to_le_bytes(),
-                    &m.tiling.to_le_bytes(),
-                    &[outward as u8],
-                ]);
-                self.meshes.get_or(key, || {
-                    let prisms::Prisms { vertices: verts, data } = prisms::build(mesh, m.depth, outward, &m.height, m.tiling);
-                    let vbytes = std::mem::size_of_val(verts.as_slice()) as u64;
-                    if vbytes > ctx.limits.max_buffer_size || std::mem::size_of_val(data.as_slice()) as u64 > ctx.limits.max_storage_buffer_binding_size as u64 {
-                        return Err(Error::limit("mesh", format!("the prisms need {vbytes} bytes of vertices; over the device's buffer limits")));
-                    }
-                    ctx.scoped(|| {
-                        let vbuf = ctx.upload("prism vertices", bytemuck::cast_slice(&verts), wgpu::BufferUsages::VERTEX);
-                        let pbuf = ctx.upload("prisms", bytemuck::cast_slice(&data), wgpu::BufferUsages::STORAGE);
-                        Ok(GpuMesh { vbuf, ibuf: None, count: verts.len() as u32, prisms: Some(pbuf) })
-                    })
-                })
-            }
+            Geometry::Own(g) => self.meshes.get_or(g.key(object), || g.build(ctx, object)),
         }
     }
 
-    /// The cone map of a resident height map.
-    pub fn cone_map(
+    /// A method's own resources for one object, built by the method on first use.
+    pub fn method(
         &mut self,
-        ctx: &Context,
-        builder: &ConeBuilder,
-        height: &GpuHeight,
-        height_key: u64,
-        cones: Cones,
-    ) -> Result<Arc<ConeMap>> {
-        self.cones.get_or(cone_key(height_key, cones), || {
-            builder.build(ctx, height, cones)
-        })
+        resources: &dyn MethodResources,
+        inputs: &BuildInputs<'_>,
+    ) -> Result<Arc<Vec<Resident>>> {
+        self.method
+            .get_or(resources.key(inputs.object), || resources.build(inputs))
     }
-
-    /// NCS's frame maps of the base mesh (`mesh` must be the base mesh's upload).
-    pub fn frame_maps(
-        &mut self,
-        ctx: &Context,
-        texspace: &TexSpace,
-        mesh: &GpuMesh,
-        base_key: u64,
-    ) -> Result<Arc<FrameMaps>> {
-        self.frame_maps.get_or(base_key, || {
-            texspace.maps(
-                ctx,
-                &mesh.vbuf,
-                mesh.ibuf.as_ref().expect("indexed"),
-                mesh.count,
-            )
-        })
-    }
-}
-
-fn upload_indexed(ctx: &Context, verts: &[Vertex], indices: &[u32]) -> Result<GpuMesh> {
-    let vbytes = std::mem::size_of_val(verts) as u64;
-    if vbytes > ctx.limits.max_buffer_size {
-        return Err(Error::limit(
-            "texels_per_vertex",
-            format!(
-                "the mesh needs a {vbytes}-byte vertex buffer; the device's max_buffer_size is {}",
-                ctx.limits.max_buffer_size
-            ),
-        ));
-    }
-    ctx.scoped(|| {
-        let vbuf = ctx.upload(
-            "vertices",
-            bytemuck::cast_slice(verts),
-            wgpu::BufferUsages::VERTEX,
-        );
-        let ibuf = ctx.upload(
-            "indices",
-            bytemuck::cast_slice(indices),
-            wgpu::BufferUsages::INDEX,
-        );
-        Ok(GpuMesh {
-            vbuf,
-            ibuf: Some(ibuf),
-            count: indices.len() as u32,
-            prisms: None,
-        })
-    })
 }
 
 /// f32 -> IEEE half (round to nearest even), for the albedo texture.

@@ -1,8 +1,8 @@
-//! Tessellated's shadow map: the displaced mesh's depth seen from the first directional light
+//! The shadow map: the scene's displaced surfaces' depth seen from the first directional light
 //! (orthographic, fitted to the scene's bounding sphere), rendered before the surface pass.
 
 use super::DEPTH_FORMAT;
-use crate::contract::{Geometry, Shadows, Spec};
+use crate::contract::Spec;
 use crate::scene::{Light, Scene};
 use glam::DVec3;
 
@@ -19,8 +19,8 @@ pub struct ShadowSetup {
 }
 
 /// The shadow map a pass needs, if any: for the first directional light with `cast_shadows`
-/// (every method: objects shadow each other), or else, for Tessellated with shadows on, for the
-/// first directional light (its own shadows).
+/// (every method: objects shadow each other), or else, for a method whose self-shadowing is
+/// the shadow map of its own geometry (`Spec::shadow_map_self`), for the first directional light.
 pub fn setup(scene: &Scene, spec: &Spec, max_dim: u32) -> Option<ShadowSetup> {
     let directional = |cast_only: bool| {
         scene.lights.iter().enumerate().find_map(|(i, l)| match l {
@@ -35,10 +35,9 @@ pub fn setup(scene: &Scene, spec: &Spec, max_dim: u32) -> Option<ShadowSetup> {
             _ => None,
         })
     };
-    let tessellated_shadows = matches!(spec.geometry, Geometry::Tessellated { .. })
-        && spec.pixel.shadows != Shadows::None;
+    let own_shadows = spec.shadow_map_self;
     let (i, dir, size) = directional(true).or_else(|| {
-        if tessellated_shadows {
+        if own_shadows {
             directional(false)
         } else {
             None
@@ -90,18 +89,20 @@ pub fn target(ctx: &crate::gpu::Context, size: u32) -> crate::Result<wgpu::Textu
     })
 }
 
-/// Encode the shadow-map pass (depth only) of every object into `enc`, rendering into `view`.
+/// Encode the shadow-map pass (depth only) of every object into `enc`, rendering into `target`
+/// with `view_bind` (the frame's view bind group without the shadow map) at group 0.
 pub fn encode(
     enc: &mut wgpu::CommandEncoder,
-    view: &wgpu::TextureView,
+    target: &wgpu::TextureView,
     pipeline: &wgpu::RenderPipeline,
+    view_bind: &wgpu::BindGroup,
     draws: &[super::Draw],
 ) {
     let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("shadow map"),
         color_attachments: &[],
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view,
+            view: target,
             depth_ops: Some(wgpu::Operations {
                 load: wgpu::LoadOp::Clear(1.0),
                 store: wgpu::StoreOp::Store,
@@ -113,8 +114,10 @@ pub fn encode(
         multiview_mask: None,
     });
     pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, view_bind, &[]);
     for d in draws {
-        pass.set_bind_group(0, d.shadow_bind.as_ref().unwrap_or(&d.bind), &[]);
+        pass.set_bind_group(1, &d.object, &[]);
+        pass.set_bind_group(2, &d.method, &[]);
         d.mesh.draw(&mut pass);
     }
 }

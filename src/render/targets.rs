@@ -95,7 +95,8 @@ pub struct Frame {
     pub steps: Vec<u32>,
     /// mip level used, NaN where no hit
     pub lod: Vec<f32>,
-    /// bit 0: the march hit its iteration bound; bit 1: NCS early termination
+    /// bit 0: the march hit its iteration bound; bit 1: the march ended early, still inside the
+    /// shell (the curved-silhouette method's early termination)
     pub flags: Vec<u8>,
     /// the index of the object hit in the scene's objects, -1 where no hit
     pub object: Vec<i32>,

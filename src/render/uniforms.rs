@@ -1,6 +1,7 @@
-//! The frame's uniform block, `Globals` (shaders/globals.wgsl), filled from the scene and the
-//! method's spec. `uniform_layout` (a test) checks that every field has the same name and
-//! offset in Rust and in the composed WGSL.
+//! The uniform blocks of shaders/globals.wgsl, filled from the scene and the method's spec:
+//! `View` (bind group 0, per frame) and `Globals` (bind group 1, per object).
+//! `tests/uniform_layout.rs` checks that every field has the same name and offset in Rust and
+//! in the composed WGSL.
 
 use crate::contract::Spec;
 use crate::heightmap::{max_offset_table, mip_count, top_maxmip_level};
@@ -29,15 +30,28 @@ uniform_struct! {
 }
 
 uniform_struct! {
-    /// shaders/globals.wgsl's `Globals`: see the comments there.
-    pub struct Globals {
+    /// shaders/globals.wgsl's `View` (bind group 0): see the comments there.
+    pub struct View {
         pub view_proj: [[f32; 4]; 4],
         pub eye: [f32; 3],
         pub light_count: f32,
+        pub ambient: [f32; 3],
+        pub pad_v: f32,
+        pub lights: [LightU; MAX_LIGHTS],
+        pub shadow_vp: [[f32; 4]; 4],
+        pub shadow_light: f32,
+        pub shadow_texel: f32,
+        pub shadow_size: f32,
+        pub shadow_bias: f32,
+    }
+}
+
+uniform_struct! {
+    /// shaders/globals.wgsl's `Globals` (bind group 1, one per object): see the comments there.
+    pub struct Globals {
         pub map_size: [f32; 2],
         pub tiling: f32,
         pub depth: f32,
-        pub ambient: [f32; 3],
         pub mip_count: f32,
         pub shadow_steps: f32,
         pub lod_threshold: f32,
@@ -46,13 +60,6 @@ uniform_struct! {
         pub horizon_samples: f32,
         pub top_max_level: f32,
         pub max_iterations: f32,
-        pub pad_a: f32,
-        pub lights: [LightU; MAX_LIGHTS],
-        pub shadow_vp: [[f32; 4]; 4],
-        pub shadow_light: f32,
-        pub shadow_texel: f32,
-        pub shadow_size: f32,
-        pub shadow_bias: f32,
         pub max_offsets: [[u32; 4]; 4],
         pub model: [[f32; 4]; 4],
         pub normal_mat: [[f32; 4]; 4],
@@ -117,15 +124,9 @@ fn light_uniform(l: &Light) -> LightU {
     }
 }
 
-/// The uniform block for object `id` of `scene` drawn with `spec`; `shadow` is the shadow map's
-/// set-up (light index, view-projection, texel size, map size) when the pass has one.
-pub fn globals(
-    scene: &Scene,
-    id: usize,
-    spec: &Spec,
-    shadow: Option<&super::shadow_map::ShadowSetup>,
-) -> Globals {
-    let obj = &scene.objects[id];
+/// The view block of a frame; `shadow` is the shadow map's set-up (light index,
+/// view-projection, texel size, map size) when the pass has one.
+pub fn view(scene: &Scene, shadow: Option<&super::shadow_map::ShadowSetup>) -> View {
     let (c, r) = bounding_sphere(scene);
     let d = (DVec3::from(scene.camera.eye) - c).length();
     let far = (d + r) * 1.01 + 1e-3;
@@ -137,23 +138,37 @@ pub fn globals(
     for (i, l) in scene.lights.iter().enumerate() {
         lights[i] = light_uniform(l);
     }
+    let cam = &scene.camera;
+    View {
+        view_proj: cam.view_proj(near, far).to_cols_array_2d(),
+        eye: [cam.eye[0] as f32, cam.eye[1] as f32, cam.eye[2] as f32],
+        light_count: scene.lights.len() as f32,
+        ambient: scene.ambient,
+        pad_v: 0.0,
+        lights,
+        shadow_vp: shadow.map(|s| s.view_proj).unwrap_or([[0.0; 4]; 4]),
+        shadow_light: shadow.map(|s| s.light as f32).unwrap_or(-1.0),
+        shadow_texel: shadow.map(|s| s.texel).unwrap_or(0.0),
+        shadow_size: shadow.map(|s| s.size as f32).unwrap_or(1.0),
+        shadow_bias: shadow.map(|s| s.bias).unwrap_or(0.0),
+    }
+}
+
+/// The object block of object `id` of `scene` drawn with `spec`.
+pub fn globals(scene: &Scene, id: usize, spec: &Spec) -> Globals {
+    let obj = &scene.objects[id];
     let hm = &obj.material.height;
     let tr = &obj.transform;
     let inv = tr.m.inverse();
     let eye_o = inv.transform_point3(DVec3::from(scene.camera.eye));
     let m4 = |m: glam::DMat4| m.as_mat4().to_cols_array_2d();
-    let max_off = max_offset_table(hm.width, hm.height);
     let o = &spec.pixel;
     let flag = |b: bool| if b { 1.0 } else { 0.0 };
     let cam = &scene.camera;
     Globals {
-        view_proj: cam.view_proj(near, far).to_cols_array_2d(),
-        eye: [cam.eye[0] as f32, cam.eye[1] as f32, cam.eye[2] as f32],
-        light_count: scene.lights.len() as f32,
         map_size: [hm.width as f32, hm.height as f32],
         tiling: obj.material.tiling,
         depth: obj.material.depth,
-        ambient: scene.ambient,
         mip_count: mip_count(hm.width, hm.height) as f32,
         shadow_steps: o.shadow_steps as f32,
         lod_threshold: spec.lod_threshold,
@@ -162,14 +177,7 @@ pub fn globals(
         horizon_samples: o.horizon_samples as f32,
         top_max_level: top_maxmip_level(hm.width, hm.height) as f32,
         max_iterations: spec.max_iterations as f32,
-        pad_a: 0.0,
-        lights,
-        shadow_vp: shadow.map(|s| s.view_proj).unwrap_or([[0.0; 4]; 4]),
-        shadow_light: shadow.map(|s| s.light as f32).unwrap_or(-1.0),
-        shadow_texel: shadow.map(|s| s.texel).unwrap_or(0.0),
-        shadow_size: shadow.map(|s| s.size as f32).unwrap_or(1.0),
-        shadow_bias: shadow.map(|s| s.bias).unwrap_or(0.0),
-        max_offsets: max_off,
+        max_offsets: max_offset_table(hm.width, hm.height),
         model: m4(tr.m),
         normal_mat: m4(inv.transpose()),
         model_inv: m4(inv),
@@ -183,65 +191,5 @@ pub fn globals(
         pad_c: 0.0,
         pad_d: 0.0,
         pad_e: 0.0,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::methods::{Method, PerPixel};
-    use crate::shaders::ShaderLib;
-
-    /// The members (name, offset) of the composed module's struct `name`.
-    fn wgsl_members(module: &naga::Module, name: &str) -> Vec<(String, usize)> {
-        for (_, ty) in module.types.iter() {
-            let undecorated = ty
-                .name
-                .as_deref()
-                .map(|n| n.split("X_naga_oil").next().unwrap_or(n).to_string());
-            if undecorated.as_deref() == Some(name) {
-                if let naga::TypeInner::Struct { members, .. } = &ty.inner {
-                    return members
-                        .iter()
-                        .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
-                        .collect();
-                }
-            }
-        }
-        panic!("no struct {name} in the composed module");
-    }
-
-    #[test]
-    fn uniform_layout() {
-        let lib = ShaderLib::new().unwrap();
-        let spec = Method::pom(PerPixel::off()).spec();
-        let module = lib
-            .compose(
-                &spec,
-                crate::methods::Filtering::Hardware,
-                Default::default(),
-                "method",
-            )
-            .unwrap();
-        for (name, fields, size) in [
-            ("Globals", Globals::FIELDS, std::mem::size_of::<Globals>()),
-            ("Light", LightU::FIELDS, std::mem::size_of::<LightU>()),
-        ] {
-            let wgsl = wgsl_members(&module, name);
-            let rust: Vec<(String, usize)> =
-                fields.iter().map(|(n, o)| (n.to_string(), *o)).collect();
-            assert_eq!(wgsl, rust, "{name}: WGSL and Rust layouts differ");
-            let last = module
-                .types
-                .iter()
-                .find(|(_, t)| {
-                    t.name
-                        .as_deref()
-                        .map(|n| n.starts_with(name))
-                        .unwrap_or(false)
-                })
-                .map(|(_, t)| t.inner.size(module.to_ctx()));
-            assert_eq!(last, Some(size as u32), "{name}: size");
-        }
     }
 }

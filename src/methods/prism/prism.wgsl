@@ -20,7 +20,7 @@
 // (DISPLACED_DEPTH); with one, the entries' rasterised depth orders the fragments (a ray's later
 // entry lies behind its earlier one's whole walk), which keeps the early depth test.
 
-#import pomkit::globals::G
+#import pomkit::globals::{G, V}
 #import pomkit::vertex::{VertexIn, VertexOut, pass_through}
 #import pomkit::aov::{write_aovs, FLAG_BOUND}
 #import pomkit::frame::{Frame, make_frame}
@@ -47,7 +47,8 @@ const NONE: u32 = 0xffffffffu;
 // the most prisms one ray walks through (a grazing ray crosses a handful)
 const MAX_PRISMS: u32 = 64u;
 
-@group(0) @binding(9) var<storage, read> prisms: array<PrismData>;
+// the method's own resource (group 2, binding 1)
+@group(2) @binding(1) var<storage, read> prisms: array<PrismData>;
 
 // A boundary-face corner seen through `clip_from_world` (the camera's or the light's).
 fn prism_vertex(v: VertexIn, prism: u32, clip_from_world: mat4x4<f32>) -> VertexOut {
@@ -58,7 +59,7 @@ fn prism_vertex(v: VertexIn, prism: u32, clip_from_world: mat4x4<f32>) -> Vertex
 
 @vertex
 fn vs_prism(v: VertexIn, @location(5) prism: u32) -> VertexOut {
-    return prism_vertex(v, prism, G.view_proj);
+    return prism_vertex(v, prism, V.view_proj);
 }
 
 struct PrismFsOut {
@@ -314,7 +315,7 @@ fn fs_prism(in: VertexOut) -> PrismFsOut {
     let p_obj = in.world + view * ph.t;
     let p = to_world(p_obj);
     let sh = shade(ph.f, ph.s, ph.h, p, normal_to_world(height_normal(ph.f, ph.s, ph.hl)), ph.hl, true, px);
-    var dist = length(p - G.eye);
+    var dist = length(p - V.eye);
     if (G.transformed > 0.5) {
         dist = length(p_obj - G.eye_object) * stretch(view);
     }
@@ -333,7 +334,7 @@ fn fs_prism(in: VertexOut) -> PrismFsOut {
 // light's direction; the hit's depth in the light's projection.
 @vertex
 fn vs_prism_shadow(v: VertexIn, @location(5) prism: u32) -> VertexOut {
-    return prism_vertex(v, prism, G.shadow_vp);
+    return prism_vertex(v, prism, V.shadow_vp);
 }
 
 @fragment

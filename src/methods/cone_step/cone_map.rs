@@ -1,25 +1,18 @@
-//! Cone maps (ConeStep), built on the GPU from the max-mip pyramid by shaders/conemap.wgsl: one
-//! (base, w) pair of f32 per cell of the bilinear field, in a storage buffer (two channels of
-//! the map's size). See the shader for the bound.
+//! Cone maps, built on the GPU from the max-mip pyramid by cone_map.wgsl: one (base, w) pair of
+//! f32 per cell of the bilinear field, in a storage buffer (two channels of the map's size). See
+//! the shader for the bound.
 
+use super::Cones;
+use crate::contract::Composer;
 use crate::error::Result;
 use crate::gpu::{layout, Context};
-use crate::heightmap::{max_offset_table, top_maxmip_level, GpuHeight};
+use crate::heightmap::{max_offset_table, top_maxmip_level};
 
-pub const CONEMAP_SHADER: &str = include_str!("../shaders/conemap.wgsl");
-
-pub use crate::contract::Cones;
+pub const CONE_MAP_SHADER: &str = include_str!("cone_map.wgsl");
 
 pub struct ConeBuilder {
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
-}
-
-/// A built cone map: (base, w) per cell, row-major.
-pub struct ConeMap {
-    pub buf: wgpu::Buffer,
-    pub width: u32,
-    pub height: u32,
 }
 
 #[repr(C)]
@@ -32,8 +25,8 @@ struct ConeParams {
 }
 
 impl ConeBuilder {
-    pub fn new(ctx: &Context, lib: &crate::shaders::ShaderLib) -> Result<Self> {
-        let module = lib.compose_pass(CONEMAP_SHADER, "shaders/conemap.wgsl")?;
+    pub fn new(ctx: &Context, lib: &dyn Composer) -> Result<Self> {
+        let module = lib.compose_pass(CONE_MAP_SHADER, "src/methods/cone_step/cone_map.wgsl")?;
         ctx.scoped(|| {
             let dev = &ctx.device;
             let cs = wgpu::ShaderStages::COMPUTE;
@@ -55,19 +48,25 @@ impl ConeBuilder {
     }
 
     /// Build the cone map of a resident height map (its max pyramid must be current).
-    pub fn build(&self, ctx: &Context, g: &GpuHeight, cones: Cones) -> Result<ConeMap> {
+    pub fn build(
+        &self,
+        ctx: &Context,
+        max_buf: &wgpu::Buffer,
+        (w, h): (u32, u32),
+        cones: Cones,
+    ) -> Result<wgpu::Buffer> {
         ctx.scoped(|| {
             let buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("cone map"),
-                size: g.width as u64 * g.height as u64 * 8,
+                size: w as u64 * h as u64 * 8,
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             });
             let p = ConeParams {
-                size: [g.width, g.height],
-                top: top_maxmip_level(g.width, g.height),
+                size: [w, h],
+                top: top_maxmip_level(w, h),
                 relaxed: (cones == Cones::Relaxed) as u32,
-                offsets: max_offset_table(g.width, g.height),
+                offsets: max_offset_table(w, h),
             };
             let ubuf = ctx.upload(
                 "cone params",
@@ -78,43 +77,32 @@ impl ConeBuilder {
                 "cone map",
                 &self.layout,
                 vec![
-                    g.max_buf.as_entire_binding(),
+                    max_buf.as_entire_binding(),
                     ubuf.as_entire_binding(),
                     buf.as_entire_binding(),
                 ],
             );
             let mut enc = ctx.device.create_command_encoder(&Default::default());
-            Context::dispatch_8x8(
-                &mut enc,
-                "cone map",
-                &self.pipeline,
-                0,
-                &bg,
-                (g.width, g.height),
-            );
+            Context::dispatch_8x8(&mut enc, "cone map", &self.pipeline, 0, &bg, (w, h));
             ctx.queue.submit([enc.finish()]);
-            Ok(ConeMap {
-                buf,
-                width: g.width,
-                height: g.height,
-            })
+            Ok(buf)
         })
     }
+}
 
-    /// Read a cone map back (tests): (base, w) per cell, row-major.
-    pub fn read_back(&self, ctx: &Context, m: &ConeMap) -> Result<Vec<[f32; 2]>> {
-        let size = m.width as u64 * m.height as u64 * 8;
-        let buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("cone readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut enc = ctx.device.create_command_encoder(&Default::default());
-        enc.copy_buffer_to_buffer(&m.buf, 0, &buf, 0, size);
-        ctx.queue.submit([enc.finish()]);
-        ctx.map_read(&buf, |raw| {
-            bytemuck::cast_slice::<u8, [f32; 2]>(raw).to_vec()
-        })
-    }
+/// Read a cone map back (tests): (base, w) per cell, row-major.
+pub fn read_cone_map(ctx: &Context, cone_buf: &wgpu::Buffer) -> Result<Vec<[f32; 2]>> {
+    let size = cone_buf.size();
+    let buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("cone readback"),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    enc.copy_buffer_to_buffer(cone_buf, 0, &buf, 0, size);
+    ctx.queue.submit([enc.finish()]);
+    ctx.map_read(&buf, |raw| {
+        bytemuck::cast_slice::<u8, [f32; 2]>(raw).to_vec()
+    })
 }

@@ -15,11 +15,15 @@
 // flagged (FLAG_BOUND).
 #define_import_path pomkit::methods::cone_step
 
-#import pomkit::globals::{G, cone_buf}
+#import pomkit::globals::G
 #import pomkit::aov::FLAG_BOUND
 #import pomkit::march::{Ray, Hit, planar_hit}
 #import pomkit::maxmip::{cell_intersect, maxmip_traverse, positive_start}
 #import pomkit::height::{height_at, wrap_i}
+
+// the method's own resource (group 2, binding 1): the cone map, (base, w) per cell, row-major
+// (cone_map.wgsl)
+@group(2) @binding(1) var<storage, read> cone_buf: array<vec2<f32>>;
 
 // the cell the ray at p travels through next (on a boundary: the one ahead along dir)
 fn cell_ahead(p: vec2<f32>, dir: vec2<f32>) -> vec2<i32> {

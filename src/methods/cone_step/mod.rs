@@ -1,9 +1,52 @@
 //! Cone step mapping (Dummer 2006; relaxed cones: Policarpo & Oliveira 2007; conservative under
-//! bilinear interpolation: Ban & Valasek 2024): cone_step.wgsl, over a cone map built on the GPU
-//! from the max-mip pyramid (conemap.rs).
+//! bilinear interpolation: Ban & Valasek 2024): cone_step.wgsl, over a cone map the method builds
+//! on the GPU from the max-mip pyramid (cone_map.rs, cone_map.wgsl) and binds as its own resource.
+mod cone_map;
+
 use super::{check_range, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
-pub use crate::conemap::Cones;
+use crate::contract::{BuildInputs, MethodResources, Resident, ResourceKind};
 use crate::error::{Error, Result};
+use crate::scene::{hash_bytes, Object};
+use std::sync::Arc;
+
+pub use cone_map::{read_cone_map, CONE_MAP_SHADER};
+
+/// Which cones: conservative against the bilinear field, or relaxed (wider, refined).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Cones {
+    Conservative,
+    Relaxed,
+}
+
+/// The cone map of an object's height map: one (base, w) pair of f32 per cell, a storage buffer
+/// at group 2, binding 1 (`cone_buf` in cone_step.wgsl). Keyed by the map's content and the
+/// kind of cones, so a height update (a new key) builds it anew.
+#[derive(Debug)]
+pub struct ConeMapResource(pub Cones);
+
+impl MethodResources for ConeMapResource {
+    fn layout(&self) -> Vec<ResourceKind> {
+        vec![ResourceKind::Storage]
+    }
+    fn key(&self, object: &Object) -> u64 {
+        hash_bytes(&[
+            b"cone map",
+            &object.material.height.key.to_le_bytes(),
+            &[self.0 as u8],
+        ])
+    }
+    fn build(&self, inputs: &BuildInputs<'_>) -> Result<Vec<Resident>> {
+        let b = inputs.builders.get("cone map", || {
+            cone_map::ConeBuilder::new(inputs.ctx, inputs.composer)
+        })?;
+        Ok(vec![Resident::Buffer(b.build(
+            inputs.ctx,
+            inputs.height_max,
+            inputs.height_size,
+            self.0,
+        )?)])
+    }
+}
 
 /// How the march ends.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -60,7 +103,7 @@ impl Unit for ConeStep {
     fn spec(&self, o: &PerPixel) -> Spec {
         let wgsl = ShaderUnit::builtin(
             "pomkit::methods::cone_step",
-            "src/methods/cone_step.wgsl",
+            "src/methods/cone_step/cone_step.wgsl",
             include_str!("cone_step.wgsl"),
         );
         let mut s = Spec::surface(
@@ -76,7 +119,7 @@ impl Unit for ConeStep {
             Refine::Binary => "REFINE_BINARY",
             Refine::None => "REFINE_NONE",
         });
-        s.cone_map = Some(self.cones);
+        s.resources = Some(Arc::new(ConeMapResource(self.cones)));
         s.max_iterations = self.max_iterations;
         s
     }

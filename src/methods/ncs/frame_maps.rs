@@ -1,21 +1,17 @@
 //! Texture-space maps of the base mesh's frame for NCS (Chen & Chang 2008, Algorithm 1),
 //! rendered on the GPU once per mesh and dilated past the chart borders.
 
+use crate::contract::Composer;
 use crate::error::Result;
 use crate::gpu::{layout, Context};
 use crate::mesh::Vertex;
 
-pub const TEXSPACE_SHADER: &str = include_str!("../shaders/texspace.wgsl");
+pub const TEXSPACE_SHADER: &str = include_str!("texspace.wgsl");
 
 /// Size of the maps (texels per side).
 pub const MAP_SIZE: u32 = 512;
 /// Dilation passes: each extends the charts by one texel.
 pub const DILATE_PASSES: u32 = 8;
-
-/// The packed frame map NCS reads (shaders/frame_map.wgsl): 16 bytes per texel.
-pub struct FrameMaps {
-    pub map: wgpu::TextureView,
-}
 
 pub struct TexSpace {
     bake: wgpu::RenderPipeline,
@@ -28,9 +24,10 @@ pub struct TexSpace {
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 
 impl TexSpace {
-    pub fn new(ctx: &Context, lib: &crate::shaders::ShaderLib) -> Result<Self> {
+    pub fn new(ctx: &Context, lib: &dyn Composer) -> Result<Self> {
         let dev = &ctx.device;
-        let naga_module = lib.compose_pass(TEXSPACE_SHADER, "shaders/texspace.wgsl")?;
+        lib.register(&super::frame_map_unit())?;
+        let naga_module = lib.compose_pass(TEXSPACE_SHADER, "src/methods/ncs/texspace.wgsl")?;
         ctx.scoped(|| {
             let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("pomkit texspace"),
@@ -94,14 +91,14 @@ impl TexSpace {
         })
     }
 
-    /// Bake and dilate the maps of a mesh.
+    /// Bake, dilate and pack the frame map of a mesh (16 bytes per texel, frame_map.wgsl).
     pub fn maps(
         &self,
         ctx: &Context,
         vbuf: &wgpu::Buffer,
         ibuf: &wgpu::Buffer,
         count: u32,
-    ) -> Result<FrameMaps> {
+    ) -> Result<wgpu::TextureView> {
         let dev = &ctx.device;
         ctx.scoped(|| {
             let make = |label| {
@@ -186,7 +183,7 @@ impl TexSpace {
             );
             Context::dispatch_8x8(&mut enc, "pack", &self.pack, 0, &bg, (MAP_SIZE, MAP_SIZE));
             ctx.queue.submit([enc.finish()]);
-            Ok(FrameMaps { map: pv })
+            Ok(pv)
         })
     }
 }

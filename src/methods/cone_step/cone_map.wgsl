@@ -1,4 +1,4 @@
-// conemap.wgsl: the cone map of a height map, built on the GPU from its max-mip pyramid
+// cone_map.wgsl: the cone map of a height map, built on the GPU from its max-mip pyramid
 // (the idea of "quick cone maps": box maxima from the pyramid instead of a search over every
 // texel pair). One texel per cell of the bilinear field (cell (i, j) spans texel centres
 // i..i+1, j..j+1, as in maxmip.wgsl): (base, w).

@@ -19,7 +19,8 @@
 #import pomkit::march::{Ray, Hit, pom_sample_count}
 #import pomkit::frame_map::{FrameTexel, unpack_frame}
 
-@group(0) @binding(8) var frame_map: texture_2d<u32>;
+// the method's own resource (src/methods/ncs: group 2, binding 1)
+@group(2) @binding(1) var frame_map: texture_2d<u32>;
 
 fn frame_texel(x: i32, y: i32) -> FrameTexel {
     return unpack_frame(textureLoad(frame_map, vec2<i32>(x, y), 0));

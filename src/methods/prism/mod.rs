@@ -1,0 +1,154 @@
+//! Prism POM (Dachsbacher & Tatarchuk 2007): a pass of its own (prism.wgsl) over the prisms
+//! the method extrudes from the base mesh (prisms.rs): its own geometry (the shell's boundary
+//! faces) and its own resource (the per-prism data the walk reads, group 2, binding 1).
+pub mod prisms;
+
+use super::{check_range, flag, Geometry, Pass, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
+use crate::contract::{
+    BuildInputs, GpuMesh, MethodGeometry, MethodResources, Resident, ResourceKind,
+};
+use crate::error::{Error, Result};
+use crate::gpu::Context;
+use crate::scene::{hash_bytes, Object};
+use std::sync::Arc;
+
+/// The prisms of an object's base mesh, inward or outward: the boundary faces to draw, with the
+/// per-prism data built beside them (`GpuMesh::extra[0]`).
+#[derive(Debug)]
+pub struct PrismShell {
+    pub outward: bool,
+}
+
+impl MethodGeometry for PrismShell {
+    fn key(&self, object: &Object) -> u64 {
+        let m = &object.material;
+        hash_bytes(&[
+            b"prisms",
+            &object.mesh.key.to_le_bytes(),
+            &m.height.key.to_le_bytes(),
+            &m.depth.to_le_bytes(),
+            &m.tiling.to_le_bytes(),
+            &[self.outward as u8],
+        ])
+    }
+    fn build(&self, ctx: &Context, object: &Object) -> Result<GpuMesh> {
+        let (mesh, m) = (&object.mesh, &object.material);
+        let prisms::Prisms {
+            vertices: verts,
+            data,
+        } = prisms::build(mesh, m.depth, self.outward, &m.height, m.tiling);
+        let vbytes = std::mem::size_of_val(verts.as_slice()) as u64;
+        if vbytes > ctx.limits.max_buffer_size
+            || std::mem::size_of_val(data.as_slice()) as u64
+                > ctx.limits.max_storage_buffer_binding_size as u64
+        {
+            return Err(Error::limit(
+                "mesh",
+                format!(
+                    "the prisms need {vbytes} bytes of vertices; over the device's buffer limits"
+                ),
+            ));
+        }
+        ctx.scoped(|| {
+            let vbuf = ctx.upload(
+                "prism vertices",
+                bytemuck::cast_slice(&verts),
+                wgpu::BufferUsages::VERTEX,
+            );
+            let pbuf = ctx.upload(
+                "prisms",
+                bytemuck::cast_slice(&data),
+                wgpu::BufferUsages::STORAGE,
+            );
+            Ok(GpuMesh {
+                vbuf,
+                ibuf: None,
+                count: verts.len() as u32,
+                extra: vec![pbuf],
+            })
+        })
+    }
+    fn vertex_layout(&self) -> wgpu::VertexBufferLayout<'static> {
+        prisms::PrismVertex::layout()
+    }
+    fn shadow_cull_back(&self) -> bool {
+        // the prisms' walks start where the light enters the shell
+        true
+    }
+}
+
+/// The per-prism data (`prisms` in prism.wgsl), made with the geometry.
+#[derive(Debug)]
+pub struct PrismData {
+    pub outward: bool,
+}
+
+impl MethodResources for PrismData {
+    fn layout(&self) -> Vec<ResourceKind> {
+        vec![ResourceKind::Storage]
+    }
+    fn key(&self, object: &Object) -> u64 {
+        // the geometry's upload holds the buffer: no second copy, keyed as the geometry is
+        let shell = PrismShell {
+            outward: self.outward,
+        };
+        hash_bytes(&[b"prism data", &shell.key(object).to_le_bytes()])
+    }
+    fn build(&self, inputs: &BuildInputs<'_>) -> Result<Vec<Resident>> {
+        let buf = inputs
+            .mesh
+            .extra
+            .first()
+            .ok_or_else(|| Error::Gpu("the prism data was not built with the prisms".into()))?;
+        Ok(vec![Resident::Buffer(buf.clone())])
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
+pub struct Prism {
+    pub min_steps: u32,
+    pub max_steps: u32,
+    /// the shell above the base mesh (the paper's set-up) instead of below it
+    pub outward: bool,
+    /// march each segment with the max-mip traversal
+    pub exact: bool,
+}
+
+impl Unit for Prism {
+    fn spec(&self, o: &PerPixel) -> Spec {
+        let shader = ShaderUnit::builtin(
+            "pomkit::methods::prism",
+            "src/methods/prism/prism.wgsl",
+            include_str!("prism.wgsl"),
+        );
+        let mut s = Spec::surface(
+            shader.clone(),
+            o,
+            &[
+                ("min_steps", self.min_steps as f32),
+                ("max_steps", self.max_steps as f32),
+                ("exact", flag(self.exact)),
+            ],
+        );
+        s.pass = Pass::Own {
+            shader,
+            vs: "vs_prism",
+            fs: "fs_prism",
+            shadow_vs: "vs_prism_shadow",
+            shadow_fs: "fs_prism_shadow",
+        };
+        s.defs.clear();
+        s.geometry = Geometry::Own(Arc::new(PrismShell {
+            outward: self.outward,
+        }));
+        s.resources = Some(Arc::new(PrismData {
+            outward: self.outward,
+        }));
+        s
+    }
+    fn validate(&self) -> Result<()> {
+        check_range("min_steps", self.min_steps, 1, MAX_STEPS_LIMIT)?;
+        check_range("max_steps", self.max_steps, 1, MAX_STEPS_LIMIT)
+    }
+}

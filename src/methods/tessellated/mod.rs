@@ -1,0 +1,86 @@
+//! The displaced mesh itself (Chen & Chang 2008's "ground truth model"), rasterised by the
+//! surface pass and shaded the same way; shadows from a shadow map of itself. Its geometry is
+//! its own: the tessellation of the displaced surface (tessellate.rs), built on the CPU.
+pub mod tessellate;
+
+use super::{Geometry, PerPixel, Shadows, Spec, Unit};
+use crate::contract::{GpuMesh, MethodGeometry};
+use crate::error::{Error, Result};
+use crate::gpu::Context;
+use crate::mesh::Vertex;
+use crate::scene::{hash_bytes, Object};
+use std::sync::Arc;
+
+/// The displaced mesh on a lattice `texels_per_vertex` texels apart, with the base frame per
+/// vertex (Tessellated shades with the height field's normal).
+#[derive(Debug)]
+pub struct DisplacedMesh {
+    pub texels_per_vertex: f64,
+}
+
+impl MethodGeometry for DisplacedMesh {
+    fn key(&self, object: &Object) -> u64 {
+        let m = &object.material;
+        hash_bytes(&[
+            &object.mesh.key.to_le_bytes(),
+            &m.height.key.to_le_bytes(),
+            &m.depth.to_le_bytes(),
+            &m.tiling.to_le_bytes(),
+            &self.texels_per_vertex.to_le_bytes(),
+        ])
+    }
+    fn build(&self, ctx: &Context, object: &Object) -> Result<GpuMesh> {
+        let t = tessellate::tessellate(&object.mesh, &object.material, self.texels_per_vertex)?;
+        let v = Vertex::interleave(
+            &t.positions,
+            &t.base_normals,
+            &t.uvs,
+            &t.tangents,
+            &t.uv_scale,
+        );
+        GpuMesh::upload_indexed(ctx, &v, &t.indices, "texels_per_vertex")
+    }
+    fn vertex_layout(&self) -> wgpu::VertexBufferLayout<'static> {
+        Vertex::layout()
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
+pub struct Tessellated {
+    pub texels_per_vertex: f64,
+    /// None or Hard (the shadow map)
+    pub shadows: Shadows,
+}
+
+impl Unit for Tessellated {
+    const PER_PIXEL: bool = false;
+    fn spec(&self, _: &PerPixel) -> Spec {
+        let mut s = Spec::shade_only(
+            "TESSELLATED",
+            PerPixel::off().with_shadows(self.shadows),
+            Geometry::Own(Arc::new(DisplacedMesh {
+                texels_per_vertex: self.texels_per_vertex,
+            })),
+        );
+        s.shadow_map_self = self.shadows != Shadows::None;
+        s
+    }
+    fn validate(&self) -> Result<()> {
+        if !(self.texels_per_vertex.is_finite()
+            && (1.0 / 64.0..=1024.0).contains(&self.texels_per_vertex))
+        {
+            return Err(Error::arg(
+                "texels_per_vertex",
+                format!("must lie in [1/64, 1024], got {}", self.texels_per_vertex),
+            ));
+        }
+        if !matches!(self.shadows, Shadows::None | Shadows::Hard) {
+            return Err(Error::arg(
+                "shadows",
+                "Tessellated has 'none' or 'hard' (a shadow map of the displaced mesh)",
+            ));
+        }
+        Ok(())
+    }
+}
