@@ -2,7 +2,8 @@
 #define_import_path pomkit::globals
 
 const PI: f32 = 3.14159265358979;
-const MAX_LIGHTS: u32 = 4u;
+// the size of the light array: src/scene.rs's MAX_LIGHTS, a shader def of this module
+const MAX_LIGHTS: u32 = #{MAX_LIGHTS}u;
 
 struct Light {
     // xyz: direction of travel (directional) or position (sphere); w: 0 directional, 1 sphere

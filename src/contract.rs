@@ -13,14 +13,48 @@ use std::sync::{Arc, Mutex};
 /// Loops a shader may run per pixel: more would risk the driver's watchdog.
 pub const MAX_STEPS_LIMIT: u32 = 4096;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Shadows {
-    None,
-    Hard,
-    Soft,
-    Horizon,
-    Exact,
+/// An option of string values: the enum, its values as `NAMES` (exported to Python as the one
+/// source of the `Literal`s), and `parse` with an error that names the argument and the values.
+#[macro_export]
+macro_rules! option_enum {
+    ($(#[$m:meta])* $name:ident, $arg:literal, { $($variant:ident = $value:literal,)* }) => {
+        $(#[$m])*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum $name {
+            $($variant,)*
+        }
+
+        impl $name {
+            /// The values a user passes, in declaration order.
+            pub const NAMES: &'static [&'static str] = &[$($value,)*];
+            pub fn parse(s: &str) -> $crate::error::Result<Self> {
+                match s {
+                    $($value => Ok($name::$variant),)*
+                    o => Err($crate::error::Error::arg(
+                        $arg,
+                        format!("must be one of {}, got {o:?}", Self::NAMES.iter().map(|n| format!("'{n}'")).collect::<Vec<_>>().join(", ")),
+                    )),
+                }
+            }
+            pub fn name(self) -> &'static str {
+                match self {
+                    $($name::$variant => $value,)*
+                }
+            }
+        }
+    };
 }
+
+option_enum!(
+    /// Self-shadowing of the per-pixel methods.
+    Shadows, "shadows", {
+        None = "none",
+        Hard = "hard",
+        Soft = "soft",
+        Horizon = "horizon",
+        Exact = "exact",
+    }
+);
 
 impl Shadows {
     /// The value of the SHADOWS shader def.
@@ -33,41 +67,15 @@ impl Shadows {
             Shadows::Exact => 4,
         }
     }
-    pub fn parse(s: &str) -> Result<Self> {
-        Ok(match s {
-            "none" => Shadows::None,
-            "hard" => Shadows::Hard,
-            "soft" => Shadows::Soft,
-            "horizon" => Shadows::Horizon,
-            "exact" => Shadows::Exact,
-            o => {
-                return Err(Error::arg(
-                    "shadows",
-                    format!("must be 'none', 'hard', 'soft', 'horizon' or 'exact', got {o:?}"),
-                ))
-            }
-        })
-    }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Filtering {
-    Hardware,
-    Exact,
-}
-
-impl Filtering {
-    pub fn parse(s: &str) -> Result<Self> {
-        match s {
-            "hardware" => Ok(Filtering::Hardware),
-            "exact" => Ok(Filtering::Exact),
-            o => Err(Error::arg(
-                "filtering",
-                format!("must be 'hardware' or 'exact', got {o:?}"),
-            )),
-        }
+option_enum!(
+    /// Height sampling: the sampler's bilinear filter, or four loads and a float32 lerp.
+    Filtering, "filtering", {
+        Hardware = "hardware",
+        Exact = "exact",
     }
-}
+);
 
 /// The options every per-pixel method shares (shadows, filtering, AO).
 #[derive(Clone, Debug, PartialEq)]

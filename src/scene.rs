@@ -415,6 +415,8 @@ impl Light {
     }
 }
 
+/// The most lights a scene takes: the one source of the shaders' light array (the MAX_LIGHTS
+/// shader def) and of Python's `pomkit._core.MAX_LIGHTS`.
 pub const MAX_LIGHTS: usize = 4;
 
 /// An object-to-world transform: an affine 4x4 matrix (it may scale non-uniformly). Positions

@@ -156,11 +156,18 @@ fn compose_error(composer: &Composer, e: naga_oil::compose::ComposerError, arg: 
 impl ShaderLib {
     pub fn new() -> Result<Self> {
         let mut composer = Composer::default();
+        // the library's constants that the core owns
+        let constants: HashMap<String, ShaderDefValue> = [(
+            "MAX_LIGHTS".to_string(),
+            ShaderDefValue::UInt(crate::scene::MAX_LIGHTS as u32),
+        )]
+        .into();
         for (file, source) in LIBRARY {
             let r = composer
                 .add_composable_module(ComposableModuleDescriptor {
                     source,
                     file_path: file,
+                    shader_defs: constants.clone(),
                     ..Default::default()
                 })
                 .map(|_| ());

@@ -8,10 +8,18 @@ import numpy as np
 
 from ._methods import Method
 
-__all__ = ["AlbedoData", "DeviceLostError", "GpuError", "HeightData", "MeshData", "NCS_MAP_SIZE", "NoAdapterError", "Renderer",
+__all__ = ["AOV_NAMES", "AlbedoData", "CONE_KINDS", "DeviceLostError", "FILTERING_KINDS", "GpuError", "HeightData", "MAX_LIGHTS",
+           "MAX_STEPS_LIMIT", "MeshData", "NCS_MAP_SIZE", "NoAdapterError", "REFINE_KINDS", "Renderer", "SHADOW_KINDS",
            "__version__", "adapters", "exact_uv", "load_image", "mesh_from_arrays", "mesh_generate", "tessellate"]
 __version__: str
 NCS_MAP_SIZE: int
+MAX_LIGHTS: int
+AOV_NAMES: list[str]
+SHADOW_KINDS: list[str]
+FILTERING_KINDS: list[str]
+CONE_KINDS: list[str]
+REFINE_KINDS: list[str]
+MAX_STEPS_LIMIT: int
 
 class GpuError(RuntimeError): ...
 class DeviceLostError(GpuError): ...

@@ -22,16 +22,19 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import ClassVar, Literal, get_args
 
+from . import _core
 from . import _validate as _v
 
 __all__ = ["Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "ConeStep", "NCS", "Prism", "Tessellated",
            "Custom"]
 
-#: the option values, as types (Literal) and as tuples for the checks
+#: the option values: the checks take them from the core (`_core.SHADOW_KINDS`, ...), the one
+#: source; the Literals type them for mypy and editors, and tests/test_contracts.py holds the two
+#: equal
 ShadowKind = Literal["none", "hard", "soft", "horizon", "exact"]
 FilteringKind = Literal["hardware", "exact"]
-_SHADOWS: tuple[str, ...] = get_args(ShadowKind)
-_FILTERING: tuple[str, ...] = get_args(FilteringKind)
+_SHADOWS: tuple[str, ...] = tuple(_core.SHADOW_KINDS)
+_FILTERING: tuple[str, ...] = tuple(_core.FILTERING_KINDS)
 
 
 def _set(obj, name: str, value) -> None:
@@ -243,8 +246,8 @@ class ConeStep(_PerPixel):
     _kind = "ConeStep"
 
     def _validate(self):
-        _choice(self, "cones", get_args(ConeKind))
-        _choice(self, "refine", get_args(RefineKind))
+        _choice(self, "cones", tuple(_core.CONE_KINDS))
+        _choice(self, "refine", tuple(_core.REFINE_KINDS))
         _int_field(self, "max_steps")
         _int_field(self, "binary_steps", 0, 64)
         _int_field(self, "max_iterations", 1, 1 << 24)

@@ -380,7 +380,8 @@ class SphereLight:
         return dict(kind="sphere", position=self.position, radius=self.radius, intensity=self.intensity)
 
 
-MAX_LIGHTS = 4
+#: the most lights a scene takes (the core's; the shaders' light array has this size)
+MAX_LIGHTS: int = _core.MAX_LIGHTS
 
 
 def _transform(t: Any) -> Optional[np.ndarray]:

@@ -259,6 +259,14 @@ fn tessellate<'py>(
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("NCS_MAP_SIZE", crate::methods::NCS_MAP_SIZE)?;
+    // the contracts Python derives its checks and Literals from (one source: the core)
+    m.add("MAX_LIGHTS", crate::scene::MAX_LIGHTS)?;
+    m.add("AOV_NAMES", crate::render::Aovs::NAMES.to_vec())?;
+    m.add("SHADOW_KINDS", crate::methods::Shadows::NAMES.to_vec())?;
+    m.add("FILTERING_KINDS", crate::methods::Filtering::NAMES.to_vec())?;
+    m.add("CONE_KINDS", crate::methods::Cones::NAMES.to_vec())?;
+    m.add("REFINE_KINDS", crate::methods::Refine::NAMES.to_vec())?;
+    m.add("MAX_STEPS_LIMIT", crate::methods::MAX_STEPS_LIMIT)?;
     m.add_class::<PyRenderer>()?;
     m.add_class::<PyMeshData>()?;
     m.add_class::<PyHeightData>()?;

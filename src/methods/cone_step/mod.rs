@@ -5,18 +5,30 @@ mod cone_map;
 
 use super::{check_range, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::contract::{BuildInputs, MethodResources, Resident, ResourceKind};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::scene::{hash_bytes, Object};
 use std::sync::Arc;
 
 pub use cone_map::{read_cone_map, CONE_MAP_SHADER};
 
-/// Which cones: conservative against the bilinear field, or relaxed (wider, refined).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Cones {
-    Conservative,
-    Relaxed,
-}
+crate::option_enum!(
+    /// Which cones: conservative against the bilinear field, or relaxed (wider, refined).
+    Cones, "cones", {
+        Conservative = "conservative",
+        Relaxed = "relaxed",
+    }
+);
+
+crate::option_enum!(
+    /// How the march ends: the max-mip walk with the exact patch intersection from where the
+    /// cones stop, a binary search between the last point above and the first below the
+    /// surface, or the raw cone march.
+    Refine, "refine", {
+        Exact = "exact",
+        Binary = "binary",
+        None = "none",
+    }
+);
 
 /// The cone map of an object's height map: one (base, w) pair of f32 per cell, a storage buffer
 /// at group 2, binding 1 (`cone_buf` in cone_step.wgsl). Keyed by the map's content and the
@@ -45,44 +57,6 @@ impl MethodResources for ConeMapResource {
             inputs.height_size,
             self.0,
         )?)])
-    }
-}
-
-/// How the march ends.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Refine {
-    /// the max-mip walk with the exact patch intersection, from where the cones stop
-    Exact,
-    /// a binary search between the last point above and the first below the surface
-    Binary,
-    /// the raw cone march
-    None,
-}
-
-impl Cones {
-    pub fn parse(s: &str) -> Result<Self> {
-        match s {
-            "conservative" => Ok(Cones::Conservative),
-            "relaxed" => Ok(Cones::Relaxed),
-            o => Err(Error::arg(
-                "cones",
-                format!("must be 'conservative' or 'relaxed', got {o:?}"),
-            )),
-        }
-    }
-}
-
-impl Refine {
-    pub fn parse(s: &str) -> Result<Self> {
-        match s {
-            "exact" => Ok(Refine::Exact),
-            "binary" => Ok(Refine::Binary),
-            "none" => Ok(Refine::None),
-            o => Err(Error::arg(
-                "refine",
-                format!("must be 'exact', 'binary' or 'none', got {o:?}"),
-            )),
-        }
     }
 }
 
