@@ -28,6 +28,8 @@ struct Ray {
     v_ts: vec3<f32>,
     // the base frame at the entry
     f: Frame,
+    // the method's per-vertex attribute at the entry (its geometry's, with VERTEX_EXTRA; else 0)
+    extra: vec4<f32>,
 }
 
 // What a method returns. `planar_hit` fills every field from (s, h) for methods that march in

@@ -35,8 +35,11 @@ fn vs_shadow(v: VertexIn) -> VertexOut {
 }
 
 // The ray of a fragment along `view` (object space, unit) in its tangent frame.
-fn make_ray(f: Frame, s0: vec2<f32>, lod: f32, view: vec3<f32>, uv: vec2<f32>) -> Ray {
+fn make_ray(in: VertexOut, f: Frame, s0: vec2<f32>, lod: f32, view: vec3<f32>, uv: vec2<f32>) -> Ray {
     var r: Ray;
+#ifdef VERTEX_EXTRA
+    r.extra = in.extra;
+#endif
     r.v_ts = to_texture_space(f, view);
     r.s = s0;
     r.dsdh = r.v_ts.xy / max(-r.v_ts.z, 1e-6);
@@ -59,7 +62,7 @@ fn fs_shadow(in: VertexOut) -> @builtin(frag_depth) f32 {
         // a face the light reaches from behind (open meshes): its base surface casts
         return in.clip.z;
     }
-    let hit = method::march(make_ray(f, s0, lod, view, in.uv));
+    let hit = method::march(make_ray(in, f, s0, lod, view, in.uv));
     if (hit.exited) {
         discard;
     }
@@ -118,7 +121,7 @@ fn fs_main(in: VertexOut) -> FsOut {
 #endif
     var c_march = vec3<f32>(0.0);
     if (w_bump < 1.0) {
-        let hit = method::march(make_ray(f, s0, lod, view, in.uv));
+        let hit = method::march(make_ray(in, f, s0, lod, view, in.uv));
         if (hit.exited) {
             discard;
         }

@@ -1,6 +1,8 @@
 // vertex.wgsl: the one vertex interface of every mesh pass (surface, prisms, shadow map, NCS
-// bake). The Rust side is `mesh::Vertex` (locations 0-4) and `geometry::prisms::PrismVertex`
-// (adds location 5, the prism's index).
+// bake). The Rust side is `mesh::Vertex` (locations 0-4). A method's own geometry may add one
+// attribute at location 5: the prisms' index (their own pass), or, in the surface pass with
+// the shader def VERTEX_EXTRA, a vec4 of the method's that the march reads as `Ray::extra`
+// (interpolated across the triangle).
 #define_import_path pomkit::vertex
 
 struct VertexIn {
@@ -10,6 +12,9 @@ struct VertexIn {
     @location(3) tangent: vec4<f32>,
     // world length per unit of u and of v (S_tangent, S_binormal of Chen & Chang)
     @location(4) uv_scale: vec2<f32>,
+#ifdef VERTEX_EXTRA
+    @location(5) extra: vec4<f32>,
+#endif
 }
 
 struct VertexOut {
@@ -21,6 +26,9 @@ struct VertexOut {
     @location(4) uv_scale: vec2<f32>,
     // prisms: the index of the prism
     @location(5) @interpolate(flat) prism: u32,
+#ifdef VERTEX_EXTRA
+    @location(6) extra: vec4<f32>,
+#endif
 }
 
 // The vertex at clip position `clip`, passing the attributes through.
@@ -33,5 +41,8 @@ fn pass_through(v: VertexIn, clip: vec4<f32>) -> VertexOut {
     o.tangent = v.tangent;
     o.uv_scale = v.uv_scale;
     o.prism = 0u;
+#ifdef VERTEX_EXTRA
+    o.extra = v.extra;
+#endif
     return o;
 }

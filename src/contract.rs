@@ -347,7 +347,9 @@ impl Builders {
 #[derive(Clone, Debug)]
 pub struct Spec {
     pub pass: Pass,
-    /// boolean shader defs (MARCH, LOD_BLEND, FLAT, BUMP, ... and the method's own)
+    /// boolean shader defs (MARCH, LOD_BLEND, FLAT, BUMP, ... and the method's own).
+    /// VERTEX_EXTRA: the method's geometry adds a vec4 attribute at location 5, which the
+    /// surface pass interpolates and hands to its march as `Ray::extra`.
     pub defs: Vec<&'static str>,
     pub geometry: Geometry,
     /// the method's own GPU data (bind group 2, from binding 1)
