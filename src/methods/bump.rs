@@ -8,6 +8,16 @@ pub struct Bump {
 }
 
 impl Unit for Bump {
+    fn examples() -> Vec<Self> {
+        vec![
+            Bump {
+                filtering: Filtering::Hardware,
+            },
+            Bump {
+                filtering: Filtering::Exact,
+            },
+        ]
+    }
     const PER_PIXEL: bool = false;
     fn spec(&self, _: &PerPixel) -> Spec {
         Spec::shade_only(

@@ -9,6 +9,11 @@ pub struct Exact {
 }
 
 impl Unit for Exact {
+    fn examples() -> Vec<Self> {
+        vec![Exact {
+            max_iterations: 4096,
+        }]
+    }
     fn spec(&self, o: &PerPixel) -> Spec {
         let wgsl = ShaderUnit::builtin(
             "pomkit::methods::exact",

@@ -5,6 +5,9 @@ use super::{Geometry, PerPixel, Spec, Unit};
 pub struct Flat {}
 
 impl Unit for Flat {
+    fn examples() -> Vec<Self> {
+        vec![Flat {}]
+    }
     const PER_PIXEL: bool = false;
     fn spec(&self, _: &PerPixel) -> Spec {
         Spec::shade_only("FLAT", PerPixel::off(), Geometry::Base)

@@ -48,6 +48,14 @@ pub trait Unit {
     /// Whether the method takes the per-pixel options (shadows, filtering, AO): the Python
     /// dataclass then derives from `_PerPixel`. Otherwise the options are `PerPixel::off()`.
     const PER_PIXEL: bool = true;
+    /// Parameter sets whose shader variants the tests compose, translate and check
+    /// (`builtin_variants`): each once per shadow mode and filtering for a per-pixel method.
+    fn examples() -> Vec<Self>
+    where
+        Self: Sized,
+    {
+        Vec::new()
+    }
     fn spec(&self, o: &PerPixel) -> Spec;
     fn validate(&self) -> Result<()> {
         Ok(())
@@ -81,6 +89,31 @@ macro_rules! registry {
                     $(Method::$variant(..) => $kind,)*
                 }
             }
+        }
+
+        /// Every registered method's examples (`Unit::examples`), each per-pixel one in every
+        /// shadow mode and filtering (with AO): the shader variants the tests compose,
+        /// translate to every backend and check against the backends' limits.
+        pub fn builtin_variants() -> Vec<Method> {
+            let mut out = Vec::new();
+            $(for m in <$ty as Unit>::examples() {
+                if <$ty as Unit>::PER_PIXEL {
+                    for s in Shadows::NAMES {
+                        for f in Filtering::NAMES {
+                            let o = PerPixel {
+                                shadows: Shadows::parse(s).expect("a listed value"),
+                                filtering: Filtering::parse(f).expect("a listed value"),
+                                ao_directions: 4,
+                                ..PerPixel::off()
+                            };
+                            out.push(Method::$variant(m.clone(), o));
+                        }
+                    }
+                } else {
+                    out.push(Method::$variant(m, PerPixel::off()));
+                }
+            })*
+            out
         }
 
         /// The Python dataclass whose `_kind` is `kind`, extracted field by field into its
@@ -137,120 +170,4 @@ impl Method {
             pixel,
         )
     }
-}
-
-/// Every built-in method in every shadow kind and filtering it takes, for the validation test.
-pub fn builtin_variants() -> Vec<Method> {
-    let mut out = vec![
-        Method::Flat(Flat {}, PerPixel::off()),
-        Method::Bump(
-            Bump {
-                filtering: Filtering::Hardware,
-            },
-            PerPixel::off(),
-        ),
-        Method::Bump(
-            Bump {
-                filtering: Filtering::Exact,
-            },
-            PerPixel::off(),
-        ),
-        Method::Tessellated(
-            Tessellated {
-                texels_per_vertex: 1.0,
-                shadows: Shadows::None,
-            },
-            PerPixel::off(),
-        ),
-        Method::Tessellated(
-            Tessellated {
-                texels_per_vertex: 1.0,
-                shadows: Shadows::Hard,
-            },
-            PerPixel::off(),
-        ),
-    ];
-    for shadows in [
-        Shadows::None,
-        Shadows::Hard,
-        Shadows::Soft,
-        Shadows::Horizon,
-        Shadows::Exact,
-    ] {
-        for filtering in [Filtering::Hardware, Filtering::Exact] {
-            let o = PerPixel {
-                shadows,
-                filtering,
-                ao_directions: 4,
-                ..PerPixel::off()
-            };
-            out.push(Method::Parallax(
-                Parallax {
-                    offset_limiting: true,
-                    scale: 1.0,
-                    bias: 0.0,
-                },
-                o.clone(),
-            ));
-            out.push(Method::SteepParallax(
-                SteepParallax { steps: 32 },
-                o.clone(),
-            ));
-            out.push(Method::pom(o.clone()));
-            out.push(Method::Relief(
-                Relief {
-                    linear_steps: 16,
-                    binary_steps: 6,
-                    depth_bias: false,
-                },
-                o.clone(),
-            ));
-            for (cones, refine) in [
-                (Cones::Conservative, Refine::Exact),
-                (Cones::Relaxed, Refine::Binary),
-                (Cones::Conservative, Refine::None),
-            ] {
-                out.push(Method::ConeStep(
-                    ConeStep {
-                        cones,
-                        refine,
-                        max_steps: 64,
-                        binary_steps: 8,
-                        max_iterations: 4096,
-                    },
-                    o.clone(),
-                ));
-            }
-            out.push(Method::Exact(
-                Exact {
-                    max_iterations: 4096,
-                },
-                o.clone(),
-            ));
-            out.push(Method::Ncs(
-                Ncs {
-                    step_scale: 2.5,
-                    max_steps: 64,
-                    adaptive: true,
-                },
-                o.clone(),
-            ));
-            out.push(Method::Prism(
-                Prism {
-                    min_steps: 8,
-                    max_steps: 50,
-                    outward: false,
-                    exact: false,
-                },
-                o.clone(),
-            ));
-        }
-    }
-    out.push(Method::Exact(
-        Exact {
-            max_iterations: 4096,
-        },
-        PerPixel::off().with_shadows(Shadows::Exact),
-    ));
-    out
 }

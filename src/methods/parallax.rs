@@ -11,6 +11,13 @@ pub struct Parallax {
 }
 
 impl Unit for Parallax {
+    fn examples() -> Vec<Self> {
+        vec![Parallax {
+            offset_limiting: true,
+            scale: 1.0,
+            bias: 0.0,
+        }]
+    }
     fn spec(&self, o: &PerPixel) -> Spec {
         let wgsl = ShaderUnit::builtin(
             "pomkit::methods::parallax",

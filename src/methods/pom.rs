@@ -14,6 +14,14 @@ pub struct Pom {
 }
 
 impl Unit for Pom {
+    fn examples() -> Vec<Self> {
+        vec![Pom {
+            min_steps: 8,
+            max_steps: 50,
+            lod_threshold: 4.0,
+            adaptive: true,
+        }]
+    }
     fn spec(&self, o: &PerPixel) -> Spec {
         let wgsl = ShaderUnit::builtin(
             "pomkit::methods::pom",

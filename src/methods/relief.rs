@@ -11,6 +11,13 @@ pub struct Relief {
 }
 
 impl Unit for Relief {
+    fn examples() -> Vec<Self> {
+        vec![Relief {
+            linear_steps: 16,
+            binary_steps: 6,
+            depth_bias: false,
+        }]
+    }
     fn spec(&self, o: &PerPixel) -> Spec {
         let wgsl = ShaderUnit::builtin(
             "pomkit::methods::relief",

@@ -9,6 +9,9 @@ pub struct SteepParallax {
 }
 
 impl Unit for SteepParallax {
+    fn examples() -> Vec<Self> {
+        vec![SteepParallax { steps: 32 }]
+    }
     fn spec(&self, o: &PerPixel) -> Spec {
         let wgsl = ShaderUnit::builtin(
             "pomkit::methods::steep",

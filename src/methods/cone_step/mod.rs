@@ -74,6 +74,22 @@ pub struct ConeStep {
 }
 
 impl Unit for ConeStep {
+    fn examples() -> Vec<Self> {
+        [
+            (Cones::Conservative, Refine::Exact),
+            (Cones::Relaxed, Refine::Binary),
+            (Cones::Conservative, Refine::None),
+        ]
+        .into_iter()
+        .map(|(cones, refine)| ConeStep {
+            cones,
+            refine,
+            max_steps: 64,
+            binary_steps: 8,
+            max_iterations: 4096,
+        })
+        .collect()
+    }
     fn spec(&self, o: &PerPixel) -> Spec {
         let wgsl = ShaderUnit::builtin(
             "pomkit::methods::cone_step",

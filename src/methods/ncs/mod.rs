@@ -59,6 +59,13 @@ pub struct Ncs {
 }
 
 impl Unit for Ncs {
+    fn examples() -> Vec<Self> {
+        vec![Ncs {
+            step_scale: 2.5,
+            max_steps: 64,
+            adaptive: true,
+        }]
+    }
     fn spec(&self, o: &PerPixel) -> Spec {
         let wgsl = ShaderUnit::builtin(
             "pomkit::methods::ncs",

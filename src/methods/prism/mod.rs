@@ -116,6 +116,14 @@ pub struct Prism {
 }
 
 impl Unit for Prism {
+    fn examples() -> Vec<Self> {
+        vec![Prism {
+            min_steps: 8,
+            max_steps: 50,
+            outward: false,
+            exact: false,
+        }]
+    }
     fn spec(&self, o: &PerPixel) -> Spec {
         let shader = ShaderUnit::builtin(
             "pomkit::methods::prism",

@@ -54,6 +54,18 @@ pub struct Tessellated {
 }
 
 impl Unit for Tessellated {
+    fn examples() -> Vec<Self> {
+        vec![
+            Tessellated {
+                texels_per_vertex: 1.0,
+                shadows: Shadows::None,
+            },
+            Tessellated {
+                texels_per_vertex: 1.0,
+                shadows: Shadows::Hard,
+            },
+        ]
+    }
     const PER_PIXEL: bool = false;
     fn spec(&self, _: &PerPixel) -> Spec {
         let mut s = Spec::shade_only(
