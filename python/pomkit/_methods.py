@@ -26,7 +26,7 @@ from . import _core
 from . import _validate as _v
 
 __all__ = ["Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "ConeStep", "NCS", "Prism", "Tessellated",
-           "Custom"]
+           "Custom", "CurvedRelief"]
 
 #: the option values: the checks take them from the core (`_core.SHADOW_KINDS`, ...), the one
 #: source; the Literals type them for mypy and editors, and tests/test_contracts.py holds the two
@@ -327,6 +327,28 @@ class Prism(_PerPixel):
 
 
 @dataclass(frozen=True)
+class CurvedRelief(_PerPixel):
+    """Curved relief mapping (Oliveira & Policarpo 2005), a baseline of the NCS paper (Chen &
+    Chang 2008): relief mapping against the quadric z = a x² + b y² that approximates the base
+    mesh around the fragment (a, b fitted per vertex on the CPU from its neighbours, and
+    interpolated), instead of the tangent plane. The ray's depth below the curved base grows as
+    q t² + c t along it; a ray that leaves the shell through its top without a hit is discarded:
+    the silhouette, with no prisms. `linear_steps` fixed steps over the ray's span in the shell,
+    then `binary_steps` bisections. Shaded in the entry's frame. Fails, as the paper shows, where
+    a quadric does not describe the surface: saddles (a and b of opposite sign), changing
+    curvature, thin parts. Level 0 by default (`mip_filtering=False`)."""
+
+    linear_steps: int = 32
+    binary_steps: int = 6
+    mip_filtering: bool = field(default=False, kw_only=True)
+    _kind = "CurvedRelief"
+
+    def _validate(self):
+        _int_field(self, "linear_steps")
+        _int_field(self, "binary_steps", 0, 64)
+
+
+@dataclass(frozen=True)
 class Tessellated(Method):
     """The displaced mesh itself (Chen & Chang 2008's "ground truth model"), rasterised by the
     same pipeline and shaded the same way: vertices on a lattice through the texel centres,
@@ -386,4 +408,4 @@ class Custom(_PerPixel):
 
 
 #: every built-in method class, for sweeps
-ALL_METHODS = (Flat, Bump, Parallax, SteepParallax, POM, Relief, Exact, ConeStep, NCS, Prism, Tessellated)
+ALL_METHODS = (Flat, Bump, Parallax, SteepParallax, POM, Relief, Exact, ConeStep, NCS, Prism, Tessellated, CurvedRelief)

@@ -11,6 +11,7 @@
 
 mod bump;
 pub mod cone_step;
+pub mod curved_relief;
 mod custom;
 mod exact;
 mod flat;
@@ -24,6 +25,7 @@ pub mod tessellated;
 
 pub use bump::Bump;
 pub use cone_step::{ConeStep, Cones, Refine};
+pub use curved_relief::CurvedRelief;
 pub use custom::Custom;
 pub use exact::Exact;
 pub use flat::Flat;
@@ -148,6 +150,7 @@ registry! {
     Prism(Prism) = "Prism",
     Tessellated(Tessellated) = "Tessellated",
     Custom(Custom) = "Custom",
+    CurvedRelief(CurvedRelief) = "CurvedRelief",
 }
 
 impl Method {

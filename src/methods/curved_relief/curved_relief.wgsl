@@ -1,0 +1,91 @@
+// Curved relief mapping (Oliveira & Policarpo 2005): relief mapping whose reference surface is
+// not the tangent plane but the quadric that approximates the base mesh around the fragment,
+// z = a x² + b y² in its frame (a, b per vertex, fitted on the CPU, interpolated: Ray::extra).
+// Along the view ray the base surface falls away by q t² (q = a vx² + b vy²), so the ray's depth
+// below the curved base at world distance t is d(t) = q t² + c t (c = -V.N): the search runs in
+// [0, t_end], t_end where d reaches the shell's depth (the floor) or, where the surface curves
+// away faster than the ray descends, where d returns to 0: the ray leaves the shell through its
+// top without a hit and the fragment is discarded (the silhouette). A linear search of
+// `linear_steps`, then `binary_steps` bisections. The hit is shaded in the entry's frame.
+#define_import_path pomkit::methods::curved_relief
+
+#import pomkit::globals::G
+#import pomkit::march::{Ray, Hit}
+#import pomkit::height::height_at
+
+// the ray's height in the shell (1 at the curved base, 0 at the floor) at world distance t
+fn ray_h(q: f32, c: f32, depth: f32, t: f32) -> f32 {
+    return 1.0 - (q * t * t + c * t) / depth;
+}
+
+fn march(r: Ray) -> Hit {
+    var hit: Hit;
+    hit.f = r.f;
+    hit.lod = r.lod;
+    hit.flags = 0u;
+    hit.exited = false;
+    let depth = max(G.depth, 1e-12);
+    let vx = dot(r.view, r.f.t);
+    let vy = dot(r.view, r.f.b);
+    let c = -dot(r.view, r.f.n);
+    let q = r.extra.x * vx * vx + r.extra.y * vy * vy;
+    // the smallest positive root of q t² + c t = depth (the floor), rationalised so that q -> 0
+    // gives depth / c; none where the surface falls away too fast: the ray leaves at t = c / -q
+    let disc = c * c + 4.0 * q * depth;
+    var t_end = 0.0;
+    var exits = false;
+    if (c <= 0.0) {
+        hit.exited = true;
+        return hit;
+    }
+    if (disc >= 0.0) {
+        t_end = 2.0 * depth / (c + sqrt(disc));
+    } else {
+        t_end = c / (-q);
+        exits = true;
+    }
+    let n = max(params.linear_steps, 1.0);
+    let dt = t_end / n;
+    var t_prev = 0.0;
+    var t_cur = 0.0;
+    var found = false;
+    var steps = 0.0;
+    let ni = i32(n);
+    for (var i = 1; i <= ni; i = i + 1) {
+        t_cur = dt * f32(i);
+        let hs = height_at(r.s + r.v_ts.xy * t_cur, r.lod);
+        steps = steps + 1.0;
+        if (ray_h(q, c, depth, t_cur) <= hs) {
+            found = true;
+            break;
+        }
+        t_prev = t_cur;
+    }
+    if (!found) {
+        // only a ray that leaves through the top gets here (at the floor h_ray = 0 <= any height)
+        hit.exited = exits;
+        hit.steps = steps;
+        hit.s = r.s + r.v_ts.xy * t_end;
+        hit.h = 0.0;
+        hit.len = t_end;
+        return hit;
+    }
+    var lo = t_prev;
+    var hi = t_cur;
+    let nb = i32(params.binary_steps);
+    for (var k = 0; k < nb; k = k + 1) {
+        let mid = 0.5 * (lo + hi);
+        let hs = height_at(r.s + r.v_ts.xy * mid, r.lod);
+        steps = steps + 1.0;
+        if (ray_h(q, c, depth, mid) <= hs) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hit.s = r.s + r.v_ts.xy * hi;
+    hit.h = clamp(ray_h(q, c, depth, hi), 0.0, 1.0);
+    hit.len = hi;
+    hit.steps = steps;
+    return hit;
+}
