@@ -50,6 +50,7 @@ PLANAR = {
     "Parallax": pk.Parallax, "SteepParallax": pk.SteepParallax, "POM": pk.POM, "Relief": pk.Relief,
     "Exact": pk.Exact, "ConeStep": pk.ConeStep,
     "ConeStep-relaxed": lambda **k: pk.ConeStep(cones="relaxed", refine="binary", **k),
+    "CurvedRelief": pk.CurvedRelief,
 }
 SHELL = {"NCS": pk.NCS, "Prism": pk.Prism, "Prism-exact": lambda **k: pk.Prism(exact=True, **k)}
 METHODS = {**PLANAR, **SHELL}

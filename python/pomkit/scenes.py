@@ -10,7 +10,7 @@ import numpy as np
 from . import textures
 from ._scene import Camera, DirectionalLight, Material, Mesh, Object, Scene
 
-__all__ = ["translate", "rotate", "scale", "sunk_sphere"]
+__all__ = ["translate", "rotate", "scale", "sunk_sphere", "wavy_cylinder"]
 
 
 def translate(x: float, y: float, z: float) -> np.ndarray:
@@ -51,3 +51,31 @@ def sunk_sphere(size: int = 256, *, sink: float = 0.3, floor_map: int = 128, sph
     cam = Camera.look_at(eye=(0.2, 1.6, 2.6), target=(0.0, 0.15, 0.0), fov_y=40, width=size, height=size)
     return Scene(objects=[floor, ball] if with_sphere else [floor], camera=cam,
                  lights=[DirectionalLight((0.8, -1.0, -0.5), 3.0, cast_shadows=cast_shadows)], ambient=0.05)
+
+
+def wavy_cylinder(radius: float = 0.5, amplitude: float = 0.15, waves: float = 1.5, height: float = 1.5,
+                  segments: int = 64, rings: int = 48) -> Mesh:
+    """A surface of revolution about +Y whose profile r(y) = radius + amplitude cos(2 pi waves y /
+    height) changes the sign of its curvature along y: bulges (convex both ways) alternate with
+    necks (saddles, the curvatures along and around of opposite sign). Open at both ends. u runs
+    around (u = angle / 2 pi, from +X toward +Z... as the cylinder's), v along +Y from the bottom
+    (v = 0 at y = -height / 2): a seam at u = 0. The test case for methods that approximate the
+    base surface by a quadric (curved relief mapping fails at saddles)."""
+    th = np.linspace(0.0, 2.0 * np.pi, segments + 1)
+    y = np.linspace(-0.5 * height, 0.5 * height, rings + 1)
+    T, Y = np.meshgrid(th, y)
+    k = 2.0 * np.pi * waves / height
+    r = radius + amplitude * np.cos(k * Y)
+    dr = -amplitude * k * np.sin(k * Y)
+    pos = np.stack([r * np.cos(T), Y, r * np.sin(T)], -1).reshape(-1, 3)
+    nrm = np.stack([np.cos(T), -dr, np.sin(T)], -1)
+    nrm = (nrm / np.linalg.norm(nrm, axis=-1, keepdims=True)).reshape(-1, 3)
+    uv = np.stack([T / (2.0 * np.pi), (Y + 0.5 * height) / height], -1).reshape(-1, 2)
+    idx = []
+    w = segments + 1
+    for j in range(rings):
+        for i in range(segments):
+            a, b, c, d = j * w + i, j * w + i + 1, (j + 1) * w + i, (j + 1) * w + i + 1
+            # counter-clockwise seen from outside (the outward normal)
+            idx += [a, c, b, b, c, d]
+    return Mesh.from_arrays(pos, nrm, uv, np.asarray(idx, np.uint32))
