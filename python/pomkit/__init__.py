@@ -10,7 +10,7 @@ from . import _core
 from ._core import DeviceLostError, GpuError, NoAdapterError
 from ._files import load_albedo, load_height
 from ._frame import AOV_NAMES, AovName, Frame
-from ._methods import ALL_METHODS, NCS, POM, Prism, Bump, ConeStep, Custom, CurvedRelief, Exact, Flat, Method, Parallax, Relief, SteepParallax, Tessellated
+from ._methods import ALL_METHODS, NCS, POM, Prism, Bump, ConeStep, Custom, CurvedRelief, DistanceMapping, Exact, Flat, Method, Parallax, Relief, SteepParallax, Tessellated
 from ._render import Renderer, adapters, exact_uv
 from ._info import info
 from ._scene import Camera, DirectionalLight, Material, Mesh, Object, Scene, SphereLight, linear_to_srgb, srgb_to_linear
@@ -20,7 +20,7 @@ __version__ = _core.__version__
 
 __all__ = [
     "__version__", "Renderer", "adapters", "exact_uv", "info", "Frame", "AOV_NAMES", "AovName", "load_height", "load_albedo", "Scene", "Object", "Mesh", "Material", "Camera",
-    "DirectionalLight", "SphereLight", "Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "ConeStep", "NCS", "Prism", "Tessellated", "Custom", "CurvedRelief", "ALL_METHODS", "textures",
+    "DirectionalLight", "SphereLight", "Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "ConeStep", "NCS", "Prism", "Tessellated", "Custom", "CurvedRelief", "DistanceMapping", "ALL_METHODS", "textures",
     "metrics", "presets", "scenes", "bench", "reference", "testing", "GpuError", "DeviceLostError", "NoAdapterError", "linear_to_srgb", "srgb_to_linear",
 ]
 

@@ -26,7 +26,7 @@ from . import _core
 from . import _validate as _v
 
 __all__ = ["Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "ConeStep", "NCS", "Prism", "Tessellated",
-           "Custom", "CurvedRelief"]
+           "Custom", "CurvedRelief", "DistanceMapping"]
 
 #: the option values: the checks take them from the core (`_core.SHADOW_KINDS`, ...), the one
 #: source; the Literals type them for mypy and editors, and tests/test_contracts.py holds the two
@@ -349,6 +349,32 @@ class CurvedRelief(_PerPixel):
 
 
 @dataclass(frozen=True)
+class DistanceMapping(_PerPixel):
+    """Distance mapping (Donnelly 2005, GPU Gems 2 ch. 8), the space-leaping baseline of the NCS
+    paper (Chen & Chang 2008, fig. 1g): sphere tracing through a 3-D distance texture over the
+    shell. The volume (`slices` over the shell's height, at most 128 voxels a side: finer maps are
+    read at the max-pyramid level that fits) is built on the GPU from the max pyramid, cached
+    with the height map and rebuilt after `update_height`: each voxel holds the distance to the
+    nearest column box bounding the surface (within 8 voxels). From the entry the ray advances by
+    the voxel's distance less its half diagonal; within about a voxel of the bounding columns it
+    tests the height field itself in half-texel steps; the first sample below the surface is
+    refined by `binary_steps` bisections. `max_steps` bounds the walk (`Frame.flags & 1`).
+    Memory: (4 + W' H' slices) floats, e.g. 1 MiB for a 256² map (4x the map's float32 level 0).
+    Level 0 by default (`mip_filtering=False`)."""
+
+    max_steps: int = 64
+    binary_steps: int = 6
+    slices: int = 16
+    mip_filtering: bool = field(default=False, kw_only=True)
+    _kind = "DistanceMapping"
+
+    def _validate(self):
+        _int_field(self, "max_steps")
+        _int_field(self, "binary_steps", 0, 64)
+        _int_field(self, "slices", 2, 256)
+
+
+@dataclass(frozen=True)
 class Tessellated(Method):
     """The displaced mesh itself (Chen & Chang 2008's "ground truth model"), rasterised by the
     same pipeline and shaded the same way: vertices on a lattice through the texel centres,
@@ -408,4 +434,4 @@ class Custom(_PerPixel):
 
 
 #: every built-in method class, for sweeps
-ALL_METHODS = (Flat, Bump, Parallax, SteepParallax, POM, Relief, Exact, ConeStep, NCS, Prism, Tessellated, CurvedRelief)
+ALL_METHODS = (Flat, Bump, Parallax, SteepParallax, POM, Relief, Exact, ConeStep, NCS, Prism, Tessellated, CurvedRelief, DistanceMapping)

@@ -13,6 +13,7 @@ mod bump;
 pub mod cone_step;
 pub mod curved_relief;
 mod custom;
+pub mod distance_mapping;
 mod exact;
 mod flat;
 pub mod ncs;
@@ -27,6 +28,7 @@ pub use bump::Bump;
 pub use cone_step::{ConeStep, Cones, Refine};
 pub use curved_relief::CurvedRelief;
 pub use custom::Custom;
+pub use distance_mapping::DistanceMapping;
 pub use exact::Exact;
 pub use flat::Flat;
 pub use ncs::Ncs;
@@ -151,6 +153,7 @@ registry! {
     Tessellated(Tessellated) = "Tessellated",
     Custom(Custom) = "Custom",
     CurvedRelief(CurvedRelief) = "CurvedRelief",
+    DistanceMapping(DistanceMapping) = "DistanceMapping",
 }
 
 impl Method {

@@ -1,0 +1,163 @@
+//! The distance volume's builder: one compute pass over the max pyramid (distance_volume.wgsl).
+
+use crate::contract::Composer;
+use crate::error::Result;
+use crate::gpu::{layout, Context};
+use crate::heightmap::{level_size, max_offsets, top_maxmip_level};
+
+pub const VOLUME_SHADER: &str = include_str!("distance_volume.wgsl");
+
+/// How a map's volume is laid out: the max-pyramid level its voxels span, its size in voxels
+/// and slices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Layout {
+    pub level: u32,
+    pub size: (u32, u32),
+    pub slices: u32,
+}
+
+impl Layout {
+    /// The coarsest level at or below `max_voxels` a side whose nodes tile the map.
+    pub fn of(w: u32, h: u32, slices: u32, max_voxels: u32) -> Layout {
+        let top = top_maxmip_level(w, h);
+        let mut level = 0;
+        while level < top
+            && (level_size(w, h, level).0 > max_voxels || level_size(w, h, level).1 > max_voxels)
+        {
+            level += 1;
+        }
+        Layout {
+            level,
+            size: level_size(w, h, level),
+            slices,
+        }
+    }
+    /// Bytes of the volume (its header included).
+    pub fn bytes(&self) -> u64 {
+        4 * (4 + self.size.0 as u64 * self.size.1 as u64 * self.slices as u64)
+    }
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct VolumeParams {
+    size: [u32; 2],
+    slices: u32,
+    radius: i32,
+    offset: u32,
+    pad: [u32; 3],
+}
+
+pub struct VolumeBuilder {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+impl VolumeBuilder {
+    pub fn new(ctx: &Context, lib: &dyn Composer) -> Result<Self> {
+        let module = lib.compose_pass(
+            VOLUME_SHADER,
+            "src/methods/distance_mapping/distance_volume.wgsl",
+        )?;
+        ctx.scoped(|| {
+            let dev = &ctx.device;
+            let cs = wgpu::ShaderStages::COMPUTE;
+            let layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("distance volume"),
+                entries: &[
+                    layout::buffer(0, cs, wgpu::BufferBindingType::Storage { read_only: true }),
+                    layout::buffer(1, cs, wgpu::BufferBindingType::Uniform),
+                    layout::buffer(2, cs, wgpu::BufferBindingType::Storage { read_only: false }),
+                ],
+            });
+            let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("pomkit distance volume"),
+                source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
+            });
+            let pipeline = ctx.compute_pipeline("distance volume", &module, "build", &layout);
+            Ok(VolumeBuilder { pipeline, layout })
+        })
+    }
+
+    /// The volume of a resident height map (its max pyramid must be current).
+    pub fn build(
+        &self,
+        ctx: &Context,
+        max_buf: &wgpu::Buffer,
+        (w, h): (u32, u32),
+        l: Layout,
+        radius: u32,
+    ) -> Result<wgpu::Buffer> {
+        ctx.scoped(|| {
+            let header = [
+                l.size.0 as f32,
+                l.size.1 as f32,
+                l.slices as f32,
+                l.level as f32,
+            ];
+            let buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("distance volume"),
+                size: l.bytes(),
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_DST
+                    | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            ctx.queue
+                .write_buffer(&buf, 0, bytemuck::cast_slice(&header));
+            let p = VolumeParams {
+                size: [l.size.0, l.size.1],
+                slices: l.slices,
+                radius: radius as i32,
+                offset: max_offsets(w, h).0[l.level as usize],
+                pad: [0; 3],
+            };
+            let ubuf = ctx.upload(
+                "distance volume params",
+                bytemuck::bytes_of(&p),
+                wgpu::BufferUsages::UNIFORM,
+            );
+            let bg = ctx.bind_group(
+                "distance volume",
+                &self.layout,
+                vec![
+                    max_buf.as_entire_binding(),
+                    ubuf.as_entire_binding(),
+                    buf.as_entire_binding(),
+                ],
+            );
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            Context::dispatch_8x8(
+                &mut enc,
+                "distance volume",
+                &self.pipeline,
+                0,
+                &bg,
+                (l.size.0, l.size.1 * l.slices),
+            );
+            ctx.queue.submit([enc.finish()]);
+            Ok(buf)
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Layout;
+
+    #[test]
+    fn layout_and_memory() {
+        // a 256^2 map at 16 slices: level 1, 128^2 voxels, 1 MiB (4x the map's float32 level 0)
+        let l = Layout::of(256, 256, 16, 128);
+        assert_eq!((l.level, l.size), (1, (128, 128)));
+        assert_eq!(l.bytes(), 4 * (4 + 128 * 128 * 16));
+        assert_eq!(
+            l.bytes() as f64 / (256.0 * 256.0 * 4.0),
+            4.0 + 16.0 / (256.0 * 256.0 * 4.0)
+        );
+        // an odd size: no coarser level tiles it, the volume is at the map's resolution
+        assert_eq!(Layout::of(63, 40, 8, 128).size, (63, 40));
+        // a small map stays at level 0
+        assert_eq!(Layout::of(64, 64, 16, 128).level, 0);
+    }
+}
