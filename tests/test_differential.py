@@ -51,6 +51,7 @@ PLANAR = {
     "Exact": pk.Exact, "ConeStep": pk.ConeStep,
     "ConeStep-relaxed": lambda **k: pk.ConeStep(cones="relaxed", refine="binary", **k),
     "CurvedRelief": pk.CurvedRelief,
+    "DistanceMapping": pk.DistanceMapping,
 }
 SHELL = {"NCS": pk.NCS, "Prism": pk.Prism, "Prism-exact": lambda **k: pk.Prism(exact=True, **k)}
 METHODS = {**PLANAR, **SHELL}
