@@ -10,7 +10,7 @@ import numpy as np
 from . import textures
 from ._scene import Camera, DirectionalLight, Material, Mesh, Object, Scene
 
-__all__ = ["translate", "rotate", "scale", "sunk_sphere", "wavy_cylinder"]
+__all__ = ["translate", "rotate", "scale", "sunk_sphere", "wavy_cylinder", "wavy_sphere"]
 
 
 def translate(x: float, y: float, z: float) -> np.ndarray:
@@ -53,6 +53,42 @@ def sunk_sphere(size: int = 256, *, sink: float = 0.3, floor_map: int = 128, sph
                  lights=[DirectionalLight((0.8, -1.0, -0.5), 3.0, cast_shadows=cast_shadows)], ambient=0.05)
 
 
+def wavy_sphere(radius: float = 0.8, amplitude: float = 0.1, waves: int = 3, segments: int = 64,
+                rings: int = 64) -> Mesh:
+    """A closed surface of revolution about +Y, a sphere whose radius ripples with the polar angle:
+    rho(phi) = radius + amplitude cos(2 waves phi). Bulges (convex both ways) alternate with
+    necks where the profile is concave: saddles (the curvatures along and around of opposite
+    sign). Closed, with poles and a seam like `Mesh.sphere` (u = angle around / 2 pi, v = phi /
+    pi from the top). The test case for methods that approximate the base surface by a quadric
+    (curved relief mapping fails at saddles)."""
+    th = np.linspace(0.0, 2.0 * np.pi, segments + 1)
+    ph = np.linspace(0.0, np.pi, rings + 1)
+    T, P = np.meshgrid(th, ph)
+    rho = radius + amplitude * np.cos(2.0 * waves * P)
+    drho = -2.0 * waves * amplitude * np.sin(2.0 * waves * P)
+    d = np.stack([np.sin(P) * np.cos(T), np.cos(P), np.sin(P) * np.sin(T)], -1)
+    e_phi = np.stack([np.cos(P) * np.cos(T), -np.sin(P), np.cos(P) * np.sin(T)], -1)
+    pos = (rho[..., None] * d).reshape(-1, 3)
+    nrm = rho[..., None] * d - drho[..., None] * e_phi
+    nrm = (nrm / np.linalg.norm(nrm, axis=-1, keepdims=True)).reshape(-1, 3)
+    uv = np.stack([T / (2.0 * np.pi), P / np.pi], -1).reshape(-1, 2)
+    idx = []
+    w = segments + 1
+    for j in range(rings):
+        for i in range(segments):
+            a, b, c, e = j * w + i, j * w + i + 1, (j + 1) * w + i, (j + 1) * w + i + 1
+            if j > 0:
+                idx += [a, b, c]
+            if j < rings - 1:
+                idx += [b, e, c]
+    idx_a = np.asarray(idx, np.int64).reshape(-1, 3)
+    # wound counter-clockwise seen from outside
+    fn = np.cross(pos[idx_a[:, 1]] - pos[idx_a[:, 0]], pos[idx_a[:, 2]] - pos[idx_a[:, 0]])
+    if (np.einsum("ij,ij->i", fn, nrm[idx_a[:, 0]]) < 0).mean() > 0.5:
+        idx_a = idx_a[:, [0, 2, 1]]
+    return Mesh.from_arrays(pos, nrm, uv, idx_a.astype(np.uint32))
+
+
 def wavy_cylinder(radius: float = 0.5, amplitude: float = 0.15, waves: float = 1.5, height: float = 1.5,
                   segments: int = 64, rings: int = 48) -> Mesh:
     """A surface of revolution about +Y whose profile r(y) = radius + amplitude cos(2 pi waves y /
@@ -60,7 +96,8 @@ def wavy_cylinder(radius: float = 0.5, amplitude: float = 0.15, waves: float = 1
     necks (saddles, the curvatures along and around of opposite sign). Open at both ends. u runs
     around (u = angle / 2 pi, from +X toward +Z... as the cylinder's), v along +Y from the bottom
     (v = 0 at y = -height / 2): a seam at u = 0. The test case for methods that approximate the
-    base surface by a quadric (curved relief mapping fails at saddles)."""
+    base surface by a quadric (curved relief mapping fails at saddles). Its open ends are the
+    shell's boundary for Prism, a rim no reference surface has: `wavy_sphere` is closed."""
     th = np.linspace(0.0, 2.0 * np.pi, segments + 1)
     y = np.linspace(-0.5 * height, 0.5 * height, rings + 1)
     T, Y = np.meshgrid(th, y)
