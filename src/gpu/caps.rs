@@ -1,0 +1,135 @@
+//! What the adapter can do that pomkit uses, detected once per device, with the fallback for
+//! each missing feature: the one place these decisions live.
+
+/// The wgpu release pomkit is built against (Cargo.lock's; a test holds the two equal), for
+/// `python -m pomkit info` and the bench's records.
+pub const WGPU_VERSION: &str = "30.0.1";
+
+/// Read-only storage buffers the surface pass binds per stage (the max pyramid, prisms, cone
+/// steps: render/pipelines.rs).
+pub const STORAGE_BUFFERS_PER_STAGE: u32 = 3;
+
+/// What the adapter can do that pomkit uses, detected once per device, and the fallback taken
+/// for each missing feature. The one place these decisions live: the renderer reads them from
+/// here, `python -m pomkit info` prints them (docs/platforms.md).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Capabilities {
+    /// TIMESTAMP_QUERY: GPU time around the render pass. Fallback: `gpu_ms` is None and the
+    /// bench times submit-and-wait (`wall_ms`).
+    pub timestamps: bool,
+    /// TIMESTAMP_QUERY_INSIDE_PASSES (reported; pomkit times whole passes only)
+    pub timestamps_inside_passes: bool,
+    /// FLOAT32_FILTERABLE: the R32Float height map through a linear sampler. Fallback: every
+    /// height sample takes `filtering="exact"` (four loads and a float32 lerp), and the
+    /// mip-filtered march lerps between levels in the shader.
+    pub float32_filterable: bool,
+    /// storage buffers in fragment shaders (the max pyramid, prisms, cone data): required;
+    /// without them pomkit reports no usable adapter rather than rendering wrongly
+    pub fragment_storage: bool,
+    /// textureGather on R32Float (the max-mip walk's cell corners): WebGPU core on every
+    /// native backend; reported
+    pub gather: bool,
+    /// SHADER_F64 (reported: the float64 oracle runs on the CPU, no shader needs f64)
+    pub shader_f64: bool,
+    /// Compute writes to a mip level through a single-level storage view land in that level.
+    /// Not on wgpu's GL backend (measured: Mesa GL 4.5 left levels >= 1 at zero, so every
+    /// mip-filtered march read a flat field). Fallback: each level is reduced into a
+    /// single-level texture and copied into its mip level (heightmap.rs).
+    pub storage_mip_views: bool,
+    /// A render pass may leave gaps in its colour attachments (write the geo target without the
+    /// colour target). Not on wgpu's GL backend (measured: with only the geo target attached,
+    /// at location 1, its clear did not happen and a new target read as hits everywhere).
+    /// Fallback: every target up to the last requested one is written and cleared (not read).
+    pub sparse_attachments: bool,
+}
+
+impl Capabilities {
+    pub(super) fn detect(adapter: &wgpu::Adapter) -> Self {
+        let f = adapter.features();
+        let d = adapter.get_downlevel_capabilities();
+        let gl = adapter.get_info().backend == wgpu::Backend::Gl;
+        Capabilities {
+            timestamps: f.contains(wgpu::Features::TIMESTAMP_QUERY),
+            timestamps_inside_passes: f.contains(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES),
+            float32_filterable: f.contains(wgpu::Features::FLOAT32_FILTERABLE),
+            fragment_storage: d.flags.contains(wgpu::DownlevelFlags::FRAGMENT_STORAGE)
+                && adapter.limits().max_storage_buffers_per_shader_stage
+                    >= STORAGE_BUFFERS_PER_STAGE,
+            gather: d.flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS),
+            shader_f64: f.contains(wgpu::Features::SHADER_F64),
+            storage_mip_views: !gl,
+            sparse_attachments: !gl,
+        }
+    }
+
+    /// The features pomkit asks the device for (those it uses, where present).
+    pub(super) fn required(&self) -> wgpu::Features {
+        let mut f = wgpu::Features::empty();
+        if self.timestamps {
+            f |= wgpu::Features::TIMESTAMP_QUERY;
+        }
+        if self.float32_filterable {
+            f |= wgpu::Features::FLOAT32_FILTERABLE;
+        }
+        f
+    }
+
+    /// (feature, present, what pomkit does without it), for `python -m pomkit info`.
+    pub fn report(&self) -> Vec<(&'static str, bool, &'static str)> {
+        vec![
+            (
+                "timestamp queries (around passes)",
+                self.timestamps,
+                "gpu_ms is None; the bench times submit-and-wait",
+            ),
+            (
+                "timestamp queries (inside passes)",
+                self.timestamps_inside_passes,
+                "not used: pomkit times whole passes",
+            ),
+            (
+                "float32 filtering",
+                self.float32_filterable,
+                "filtering=\"exact\" everywhere (four loads, float32 lerp)",
+            ),
+            (
+                "storage buffers in fragment shaders",
+                self.fragment_storage,
+                "required: no usable adapter",
+            ),
+            (
+                "textureGather on R32Float",
+                self.gather,
+                "required: no usable adapter",
+            ),
+            (
+                "shader f64",
+                self.shader_f64,
+                "not used: the float64 oracle runs on the CPU",
+            ),
+            (
+                "compute writes to mip-level views",
+                self.storage_mip_views,
+                "each mip level reduced into its own texture and copied",
+            ),
+            (
+                "colour attachments with gaps",
+                self.sparse_attachments,
+                "the targets before the last requested one are written too (not read)",
+            ),
+        ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn wgpu_version_is_the_locked_one() {
+        let lock = include_str!("../../Cargo.lock");
+        let i = lock
+            .find("name = \"wgpu\"\nversion = \"")
+            .expect("wgpu in Cargo.lock");
+        let rest = &lock[i + "name = \"wgpu\"\nversion = \"".len()..];
+        assert_eq!(&rest[..rest.find('"').unwrap()], super::WGPU_VERSION);
+    }
+}
