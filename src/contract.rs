@@ -13,6 +13,71 @@ use std::sync::{Arc, Mutex};
 /// Loops a shader may run per pixel: more would risk the driver's watchdog.
 pub const MAX_STEPS_LIMIT: u32 = 4096;
 
+/// Where a method's parameters come from, field by field: the pyo3 layer reads a Python
+/// dataclass through it. The core names the fields and types them; a binding layer only
+/// converts values (and names the field in its errors).
+pub trait Fields {
+    fn u32(&self, name: &str) -> Result<u32>;
+    fn f32(&self, name: &str) -> Result<f32>;
+    fn f64(&self, name: &str) -> Result<f64>;
+    fn bool(&self, name: &str) -> Result<bool>;
+    fn str(&self, name: &str) -> Result<String>;
+    /// a mapping of names to numbers, in its order (a custom method's `params`)
+    fn f32_map(&self, name: &str) -> Result<Vec<(String, f32)>>;
+}
+
+/// A parameter's type, read from `Fields` by name.
+pub trait FieldValue: Sized {
+    fn get(f: &dyn Fields, name: &str) -> Result<Self>;
+}
+
+impl FieldValue for u32 {
+    fn get(f: &dyn Fields, name: &str) -> Result<Self> {
+        f.u32(name)
+    }
+}
+impl FieldValue for f32 {
+    fn get(f: &dyn Fields, name: &str) -> Result<Self> {
+        f.f32(name)
+    }
+}
+impl FieldValue for f64 {
+    fn get(f: &dyn Fields, name: &str) -> Result<Self> {
+        f.f64(name)
+    }
+}
+impl FieldValue for bool {
+    fn get(f: &dyn Fields, name: &str) -> Result<Self> {
+        f.bool(name)
+    }
+}
+
+/// A method's parameters, read from `Fields`.
+pub trait FromFields: Sized {
+    fn from_fields(f: &dyn Fields) -> Result<Self>;
+}
+
+/// A parameter struct whose fields are read from `Fields` by their names (the dataclass's).
+#[macro_export]
+macro_rules! params {
+    ($(#[$m:meta])* pub struct $name:ident { $($(#[$fm:meta])* pub $f:ident : $t:ty,)* }) => {
+        $(#[$m])*
+        #[derive(Clone, Debug, PartialEq)]
+        pub struct $name {
+            $($(#[$fm])* pub $f: $t,)*
+        }
+
+        impl $crate::contract::FromFields for $name {
+            #[allow(unused_variables)]
+            fn from_fields(src: &dyn $crate::contract::Fields) -> $crate::error::Result<Self> {
+                Ok($name {
+                    $($f: <$t as $crate::contract::FieldValue>::get(src, stringify!($f))?,)*
+                })
+            }
+        }
+    };
+}
+
 /// An option of string values: the enum, its values as `NAMES` (exported to Python as the one
 /// source of the `Literal`s), and `parse` with an error that names the argument and the values.
 #[macro_export]
@@ -22,6 +87,12 @@ macro_rules! option_enum {
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
         pub enum $name {
             $($variant,)*
+        }
+
+        impl $crate::contract::FieldValue for $name {
+            fn get(f: &dyn $crate::contract::Fields, name: &str) -> $crate::error::Result<Self> {
+                Self::parse(&f.str(name)?)
+            }
         }
 
         impl $name {
@@ -77,19 +148,19 @@ option_enum!(
     }
 );
 
-/// The options every per-pixel method shares (shadows, filtering, AO).
-#[derive(Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
-pub struct PerPixel {
-    pub shadows: Shadows,
-    pub shadow_steps: u32,
-    pub filtering: Filtering,
-    /// sample the footprint's mip level (Tatarchuk's tex2Dgrad); false: level 0
-    pub mip_filtering: bool,
-    /// horizon AO directions (0 = off)
-    pub ao_directions: u32,
-    /// horizon samples at 2^k texels, k < horizon_samples ("horizon" shadows and AO)
-    pub horizon_samples: u32,
+params! {
+    /// The options every per-pixel method shares (shadows, filtering, AO).
+    pub struct PerPixel {
+        pub shadows: Shadows,
+        pub shadow_steps: u32,
+        pub filtering: Filtering,
+        /// sample the footprint's mip level (Tatarchuk's tex2Dgrad); false: level 0
+        pub mip_filtering: bool,
+        /// horizon AO directions (0 = off)
+        pub ao_directions: u32,
+        /// horizon samples at 2^k texels, k < horizon_samples ("horizon" shadows and AO)
+        pub horizon_samples: u32,
+    }
 }
 
 impl PerPixel {

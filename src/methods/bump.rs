@@ -1,10 +1,10 @@
 //! Bump mapping (Blinn 1978): the shading normal from the height field, the uv unchanged.
 use super::{Filtering, Geometry, PerPixel, Spec, Unit};
 
-#[derive(Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
-pub struct Bump {
-    pub filtering: Filtering,
+crate::params! {
+    pub struct Bump {
+        pub filtering: Filtering,
+    }
 }
 
 impl Unit for Bump {

@@ -13,6 +13,16 @@ pub struct Custom {
     pub params: Vec<(String, f32)>,
 }
 
+impl crate::contract::FromFields for Custom {
+    fn from_fields(f: &dyn crate::contract::Fields) -> Result<Self> {
+        Ok(Custom {
+            name: f.str("name")?,
+            wgsl: f.str("wgsl")?,
+            params: f.f32_map("params")?,
+        })
+    }
+}
+
 fn is_ident(s: &str) -> bool {
     let mut c = s.chars();
     matches!(c.next(), Some(ch) if ch.is_ascii_alphabetic() || ch == '_')

@@ -2,10 +2,10 @@
 use super::{check_range, PerPixel, ShaderUnit, Spec, Unit};
 use crate::error::Result;
 
-#[derive(Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
-pub struct Exact {
-    pub max_iterations: u32,
+crate::params! {
+    pub struct Exact {
+        pub max_iterations: u32,
+    }
 }
 
 impl Unit for Exact {

@@ -1,8 +1,9 @@
 //! Flat: the texture at the rasterised uv, the base normal, no displacement.
 use super::{Geometry, PerPixel, Spec, Unit};
 
-#[derive(Clone, Debug, PartialEq, Default)]
-pub struct Flat {}
+crate::params! {
+    pub struct Flat {}
+}
 
 impl Unit for Flat {
     fn examples() -> Vec<Self> {

@@ -41,8 +41,8 @@ pub use steep::SteepParallax;
 pub use tessellated::Tessellated;
 
 pub use crate::contract::{
-    check_finite, check_range, flag, Filtering, Geometry, Pass, PerPixel, ShaderUnit, Shadows,
-    Spec, MAX_STEPS_LIMIT,
+    check_finite, check_range, flag, Fields, Filtering, FromFields, Geometry, Pass, PerPixel,
+    ShaderUnit, Shadows, Spec, MAX_STEPS_LIMIT,
 };
 use crate::error::Result;
 
@@ -67,7 +67,7 @@ pub trait Unit {
 }
 
 /// The registry: one line per method, `Variant(ParamStruct) = "python _kind"`. It generates the
-/// `Method` enum, its dispatch and the Python extraction (`python/methods.rs`).
+/// `Method` enum, its dispatch and its reading from `Fields` (the pyo3 layer's dataclasses).
 macro_rules! registry {
     ($($variant:ident($ty:ty) = $kind:literal,)*) => {
         /// A method with its parameters and the per-pixel options (shadows, AO, filtering).
@@ -120,18 +120,14 @@ macro_rules! registry {
             out
         }
 
-        /// The Python dataclass whose `_kind` is `kind`, extracted field by field into its
-        /// parameter struct (and its per-pixel options when it takes them). None: unknown kind.
-        #[cfg(feature = "python")]
-        pub(crate) fn from_python(
-            kind: &str,
-            ob: &pyo3::Bound<'_, pyo3::PyAny>,
-        ) -> Option<pyo3::PyResult<Method>> {
-            use pyo3::types::PyAnyMethods;
+        /// The method whose (Python dataclass's) `_kind` is `kind`, its parameters read field
+        /// by field from `fields` (and its per-pixel options when it takes them). None: unknown
+        /// kind.
+        pub fn from_fields(kind: &str, fields: &dyn Fields) -> Option<Result<Method>> {
             match kind {
                 $($kind => Some((|| {
-                    let o = if <$ty as Unit>::PER_PIXEL { ob.extract::<PerPixel>()? } else { PerPixel::off() };
-                    Ok(Method::$variant(ob.extract::<$ty>()?, o))
+                    let o = if <$ty as Unit>::PER_PIXEL { PerPixel::from_fields(fields)? } else { PerPixel::off() };
+                    Ok(Method::$variant(<$ty as FromFields>::from_fields(fields)?, o))
                 })()),)*
                 _ => None,
             }
@@ -175,5 +171,74 @@ impl Method {
             },
             pixel,
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::error::Error;
+    use std::collections::HashMap;
+
+    /// Fields from a map of strings: the core reads methods with no binding layer.
+    struct MapFields(HashMap<&'static str, &'static str>);
+
+    impl Fields for MapFields {
+        fn u32(&self, n: &str) -> Result<u32> {
+            self.str(n)?
+                .parse()
+                .map_err(|_| Error::arg(n, "not an integer"))
+        }
+        fn f32(&self, n: &str) -> Result<f32> {
+            self.str(n)?
+                .parse()
+                .map_err(|_| Error::arg(n, "not a number"))
+        }
+        fn f64(&self, n: &str) -> Result<f64> {
+            self.str(n)?
+                .parse()
+                .map_err(|_| Error::arg(n, "not a number"))
+        }
+        fn bool(&self, n: &str) -> Result<bool> {
+            self.str(n)?
+                .parse()
+                .map_err(|_| Error::arg(n, "not a bool"))
+        }
+        fn str(&self, n: &str) -> Result<String> {
+            self.0
+                .get(n)
+                .map(|s| s.to_string())
+                .ok_or_else(|| Error::arg(n, "missing"))
+        }
+        fn f32_map(&self, _: &str) -> Result<Vec<(String, f32)>> {
+            Ok(Vec::new())
+        }
+    }
+
+    #[test]
+    fn methods_read_from_fields() {
+        let per_pixel = [
+            ("shadows", "exact"),
+            ("shadow_steps", "8"),
+            ("filtering", "hardware"),
+            ("mip_filtering", "false"),
+            ("ao_directions", "0"),
+            ("horizon_samples", "8"),
+        ];
+        let mut f: HashMap<&str, &str> = per_pixel.into();
+        f.extend([("linear_steps", "32"), ("binary_steps", "6")]);
+        let m = from_fields("CurvedRelief", &MapFields(f.clone()))
+            .unwrap()
+            .unwrap();
+        assert_eq!(m.kind(), "CurvedRelief");
+        assert_eq!(m.spec().pixel.shadows, Shadows::Exact);
+        assert!(from_fields("NoSuchMethod", &MapFields(f.clone())).is_none());
+        // a missing or bad field is an error that names it
+        f.insert("shadows", "bogus");
+        let e = from_fields("CurvedRelief", &MapFields(f))
+            .unwrap()
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("shadows:"), "{e}");
     }
 }

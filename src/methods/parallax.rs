@@ -2,12 +2,12 @@
 use super::{flag, PerPixel, ShaderUnit, Spec, Unit};
 use crate::error::Result;
 
-#[derive(Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
-pub struct Parallax {
-    pub offset_limiting: bool,
-    pub scale: f32,
-    pub bias: f32,
+crate::params! {
+    pub struct Parallax {
+        pub offset_limiting: bool,
+        pub scale: f32,
+        pub bias: f32,
+    }
 }
 
 impl Unit for Parallax {

@@ -3,14 +3,14 @@
 use super::{check_range, flag, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::error::Result;
 
-#[derive(Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
-pub struct Pom {
-    pub min_steps: u32,
-    pub max_steps: u32,
-    pub lod_threshold: f32,
-    /// the sample count moves with N.V (Tatarchuk 2006); false: always max_steps
-    pub adaptive: bool,
+crate::params! {
+    pub struct Pom {
+        pub min_steps: u32,
+        pub max_steps: u32,
+        pub lod_threshold: f32,
+        /// the sample count moves with N.V (Tatarchuk 2006); false: always max_steps
+        pub adaptive: bool,
+    }
 }
 
 impl Unit for Pom {

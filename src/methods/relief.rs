@@ -2,12 +2,12 @@
 use super::{check_range, flag, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::error::Result;
 
-#[derive(Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
-pub struct Relief {
-    pub linear_steps: u32,
-    pub binary_steps: u32,
-    pub depth_bias: bool,
+crate::params! {
+    pub struct Relief {
+        pub linear_steps: u32,
+        pub binary_steps: u32,
+        pub depth_bias: bool,
+    }
 }
 
 impl Unit for Relief {

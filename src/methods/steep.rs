@@ -2,10 +2,10 @@
 use super::{check_range, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::error::Result;
 
-#[derive(Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
-pub struct SteepParallax {
-    pub steps: u32,
+crate::params! {
+    pub struct SteepParallax {
+        pub steps: u32,
+    }
 }
 
 impl Unit for SteepParallax {

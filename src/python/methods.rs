@@ -1,45 +1,63 @@
-//! Method dataclasses (pomkit/_methods.py) extracted straight into the core's typed `Method`:
-//! each field read by name, no flattening and no re-parsing of defaults. The class attribute
-//! `_kind` picks the variant.
+//! Method dataclasses (pomkit/_methods.py) read into the core's typed `Method`: the core names
+//! and types each field (`contract::Fields`, `params!`), this layer only reads attributes and
+//! converts them. The class attribute `_kind` picks the variant.
 
-use crate::methods::*;
+use crate::contract::Fields;
+use crate::error::{Error, Result};
+use crate::methods::{from_fields, Method};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 
-/// The string options, parsed by the core (which names the argument in its errors).
-macro_rules! from_str_option {
-    ($($t:ty),*) => {$(
-        impl<'a, 'py> FromPyObject<'a, 'py> for $t {
-            type Error = PyErr;
-            fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
-                Ok(<$t>::parse(&ob.extract::<String>()?)?)
-            }
-        }
-    )*};
-}
+/// A dataclass's attributes as `Fields`.
+struct PyFields<'py>(Bound<'py, PyAny>);
 
-from_str_option!(Shadows, Filtering, Cones, Refine);
-
-impl<'a, 'py> FromPyObject<'a, 'py> for Flat {
-    type Error = PyErr;
-    fn extract(_: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
-        Ok(Flat {})
+impl PyFields<'_> {
+    fn get<T: for<'a> FromPyObjectOwned<'a>>(&self, name: &str, what: &str) -> Result<T> {
+        let v = self
+            .0
+            .getattr(name)
+            .map_err(|_| Error::arg(name, "missing: expected a pomkit method dataclass"))?;
+        v.extract::<T>()
+            .map_err(|_| Error::arg(name, format!("expected {what}, got {v}")))
     }
 }
 
-impl<'a, 'py> FromPyObject<'a, 'py> for Custom {
-    type Error = PyErr;
-    fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
-        let mut params = Vec::new();
-        for item in ob.getattr("params")?.call_method0("items")?.try_iter()? {
-            let (k, v): (String, f64) = item?.extract()?;
-            params.push((k, v as f32));
-        }
-        Ok(Custom {
-            name: ob.getattr("name")?.extract()?,
-            wgsl: ob.getattr("wgsl")?.extract()?,
-            params,
-        })
+impl Fields for PyFields<'_> {
+    fn u32(&self, name: &str) -> Result<u32> {
+        self.get(name, "a non-negative integer")
+    }
+    fn f32(&self, name: &str) -> Result<f32> {
+        self.get(name, "a number")
+    }
+    fn f64(&self, name: &str) -> Result<f64> {
+        self.get(name, "a number")
+    }
+    fn bool(&self, name: &str) -> Result<bool> {
+        self.get(name, "True or False")
+    }
+    fn str(&self, name: &str) -> Result<String> {
+        self.get(name, "a string")
+    }
+    fn f32_map(&self, name: &str) -> Result<Vec<(String, f32)>> {
+        let v = self
+            .0
+            .getattr(name)
+            .map_err(|_| Error::arg(name, "missing: expected a pomkit method dataclass"))?;
+        let d = v
+            .cast::<PyDict>()
+            .map_err(|_| Error::arg(name, "expected a dict of name -> number"))?;
+        d.iter()
+            .map(|(k, v)| {
+                Ok((
+                    k.extract::<String>()
+                        .map_err(|_| Error::arg(name, "names must be strings"))?,
+                    v.extract::<f64>()
+                        .map_err(|_| Error::arg(name, "values must be numbers"))?
+                        as f32,
+                ))
+            })
+            .collect()
     }
 }
 
@@ -53,10 +71,11 @@ impl<'a, 'py> FromPyObject<'a, 'py> for Method {
                 PyValueError::new_err("method: expected a pomkit method such as pomkit.POM()")
             })?
             .extract()?;
-        from_python(&kind, &ob).unwrap_or_else(|| {
-            Err(PyValueError::new_err(format!(
+        match from_fields(&kind, &PyFields(ob)) {
+            Some(m) => Ok(m?),
+            None => Err(PyValueError::new_err(format!(
                 "method: unknown method kind {kind:?}"
-            )))
-        })
+            ))),
+        }
     }
 }

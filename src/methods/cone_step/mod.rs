@@ -60,17 +60,17 @@ impl MethodResources for ConeMapResource {
     }
 }
 
-#[derive(Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
-pub struct ConeStep {
-    pub cones: Cones,
-    pub refine: Refine,
-    /// cone steps before the refinement takes over (or the march stops, flagged)
-    pub max_steps: u32,
-    /// bisections of `refine = Binary`
-    pub binary_steps: u32,
-    /// bound of the max-mip walk of `refine = Exact`
-    pub max_iterations: u32,
+crate::params! {
+    pub struct ConeStep {
+        pub cones: Cones,
+        pub refine: Refine,
+        /// cone steps before the refinement takes over (or the march stops, flagged)
+        pub max_steps: u32,
+        /// bisections of `refine = Binary`
+        pub binary_steps: u32,
+        /// bound of the max-mip walk of `refine = Exact`
+        pub max_iterations: u32,
+    }
 }
 
 impl Unit for ConeStep {

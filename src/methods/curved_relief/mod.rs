@@ -13,11 +13,11 @@ use std::sync::Arc;
 
 pub use quadrics::fit as fit_quadrics;
 
-#[derive(Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
-pub struct CurvedRelief {
-    pub linear_steps: u32,
-    pub binary_steps: u32,
+crate::params! {
+    pub struct CurvedRelief {
+        pub linear_steps: u32,
+        pub binary_steps: u32,
+    }
 }
 
 /// The base mesh with its quadric coefficients (a, b, 0, 0) at location 5.

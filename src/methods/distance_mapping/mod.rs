@@ -19,13 +19,13 @@ pub const MAX_VOXELS: u32 = 128;
 /// this (an underestimate, so still a safe step).
 pub const RADIUS: u32 = 8;
 
-#[derive(Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
-pub struct DistanceMapping {
-    pub max_steps: u32,
-    pub binary_steps: u32,
-    /// the volume's slices over the shell's height
-    pub slices: u32,
+crate::params! {
+    pub struct DistanceMapping {
+        pub max_steps: u32,
+        pub binary_steps: u32,
+        /// the volume's slices over the shell's height
+        pub slices: u32,
+    }
 }
 
 /// The distance volume of an object's height map (a storage buffer: a 4-float header, then the

@@ -48,14 +48,14 @@ impl MethodResources for FrameMapResource {
     }
 }
 
-#[derive(Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
-pub struct Ncs {
-    /// c of P_{i+1} = P_i + c * delta * S * TBN * V (the paper's 2.5)
-    pub step_scale: f32,
-    pub max_steps: u32,
-    /// steps of at least POM's layer density (by the local N.V), up to one shell depth long
-    pub adaptive: bool,
+crate::params! {
+    pub struct Ncs {
+        /// c of P_{i+1} = P_i + c * delta * S * TBN * V (the paper's 2.5)
+        pub step_scale: f32,
+        pub max_steps: u32,
+        /// steps of at least POM's layer density (by the local N.V), up to one shell depth long
+        pub adaptive: bool,
+    }
 }
 
 impl Unit for Ncs {

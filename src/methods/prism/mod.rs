@@ -104,15 +104,15 @@ impl MethodResources for PrismData {
     }
 }
 
-#[derive(Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
-pub struct Prism {
-    pub min_steps: u32,
-    pub max_steps: u32,
-    /// the shell above the base mesh (the paper's set-up) instead of below it
-    pub outward: bool,
-    /// march each segment with the max-mip traversal
-    pub exact: bool,
+crate::params! {
+    pub struct Prism {
+        pub min_steps: u32,
+        pub max_steps: u32,
+        /// the shell above the base mesh (the paper's set-up) instead of below it
+        pub outward: bool,
+        /// march each segment with the max-mip traversal
+        pub exact: bool,
+    }
 }
 
 impl Unit for Prism {

@@ -45,12 +45,12 @@ impl MethodGeometry for DisplacedMesh {
     }
 }
 
-#[derive(Clone, Debug, PartialEq)]
-#[cfg_attr(feature = "python", derive(pyo3::FromPyObject))]
-pub struct Tessellated {
-    pub texels_per_vertex: f64,
-    /// None or Hard (the shadow map)
-    pub shadows: Shadows,
+crate::params! {
+    pub struct Tessellated {
+        pub texels_per_vertex: f64,
+        /// None or Hard (the shadow map)
+        pub shadows: Shadows,
+    }
 }
 
 impl Unit for Tessellated {
