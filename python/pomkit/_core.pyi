@@ -2,7 +2,7 @@
 as the dict `pomkit.Scene._describe()` returns, methods as the dataclasses of pomkit._methods
 (extracted field by field into the core's typed `Method`)."""
 
-from typing import Any, Literal, Optional, Sequence, final
+from typing import Any, Literal, Optional, Sequence, TypedDict, final, type_check_only
 
 import numpy as np
 
@@ -47,19 +47,61 @@ class AlbedoData:
     @property
     def key(self) -> int: ...
 
+@type_check_only
+class FrameDict(TypedDict):
+    """A render's arrays as the core returns them (None for the AOVs not asked for): what
+    `pomkit.Frame` wraps. Keys: `AOV_NAMES`, then the timings."""
+    color: Optional[np.ndarray]   # (H, W, 3) float32
+    uv: Optional[np.ndarray]      # (H, W, 2) float32, NaN where no hit
+    depth: Optional[np.ndarray]   # (H, W) float32, NaN where no hit
+    mask: Optional[np.ndarray]    # (H, W) bool
+    steps: Optional[np.ndarray]   # (H, W) uint32
+    lod: Optional[np.ndarray]     # (H, W) float32
+    flags: Optional[np.ndarray]   # (H, W) uint8
+    object: Optional[np.ndarray]  # (H, W) int32, -1 where no hit
+    gpu_ms: Optional[float]
+    wall_ms: float
+
+
+@type_check_only
+class OracleDict(TypedDict):
+    """The CPU oracle's arrays (`exact_uv`)."""
+    uv: np.ndarray           # (H, W, 2) float64
+    depth: np.ndarray        # (H, W) float64
+    mask: np.ndarray         # (H, W) bool
+    cells: np.ndarray        # (H, W) uint32
+    visibility: np.ndarray   # (H, W) float64
+
+
+@type_check_only
+class RendererInfo(TypedDict):
+    name: str
+    backend: str
+    device_type: str
+    driver: str
+    timestamps: bool
+    float32_filterable: bool
+    max_texture_dimension_2d: int
+    max_buffer_size: int
+    max_storage_buffer_binding_size: int
+    max_storage_buffers_per_shader_stage: int
+    features: list[tuple[str, bool, str]]
+    wgpu_version: str
+
+
 @final
 class Renderer:
     def __new__(cls, adapter: Optional[str] = None) -> "Renderer": ...
-    def render(self, scene: dict[str, Any], method: Method, aovs: Optional[Sequence[str]] = None) -> dict[str, Any]: ...
+    def render(self, scene: dict[str, Any], method: Method, aovs: Optional[Sequence[str]] = None) -> FrameDict: ...
     def render_many(self, scenes: Sequence[dict[str, Any]], method: Method,
-                    aovs: Optional[Sequence[str]] = None) -> list[dict[str, Any]]: ...
+                    aovs: Optional[Sequence[str]] = None) -> list[FrameDict]: ...
     def update_height(self, old: HeightData, new: HeightData) -> bool: ...
-    def info(self) -> dict[str, Any]: ...
+    def info(self) -> RendererInfo: ...
     def _provoke_validation_error(self) -> None: ...
     def _destroy_device(self) -> None: ...
 
 def adapters() -> list[dict[str, str]]: ...
-def exact_uv(scene: dict[str, Any], light_bias: float = 0.0) -> dict[str, np.ndarray]: ...
+def exact_uv(scene: dict[str, Any], light_bias: float = 0.0) -> OracleDict: ...
 def tessellate(scene: dict[str, Any], texels_per_vertex: float, object: int = 0) -> dict[str, np.ndarray]: ...
 def mesh_from_arrays(positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray, indices: np.ndarray,
                      tangents: Optional[np.ndarray] = None) -> tuple[Any, ...]: ...

@@ -19,14 +19,15 @@ def info(adapter: Optional[str | int] = None) -> dict[str, Any]:
     from . import __version__
     from ._render import Renderer, adapters
     r = Renderer(adapter)
-    i = dict(r.info)
+    i = r.info
     return dict(
-        pomkit=__version__, wgpu=i.pop("wgpu_version"), python=sys.version.split()[0], numpy=np.__version__,
+        pomkit=__version__, wgpu=i["wgpu_version"], python=sys.version.split()[0], numpy=np.__version__,
         os=f"{platform.system()} {platform.release()} {platform.machine()}",
         adapters=adapters(), adapter=i["name"], backend=i["backend"], device_type=i["device_type"],
         driver=i["driver"], features=[dict(feature=f, present=p, fallback=fb) for f, p, fb in i["features"]],
-        limits={k: i[k] for k in ("max_texture_dimension_2d", "max_buffer_size", "max_storage_buffer_binding_size",
-                                  "max_storage_buffers_per_shader_stage")},
+        limits=dict(max_texture_dimension_2d=i["max_texture_dimension_2d"], max_buffer_size=i["max_buffer_size"],
+                    max_storage_buffer_binding_size=i["max_storage_buffer_binding_size"],
+                    max_storage_buffers_per_shader_stage=i["max_storage_buffers_per_shader_stage"]),
     )
 
 

@@ -35,7 +35,7 @@ class Renderer:
         if adapter is not None and not isinstance(adapter, (str, int)):
             raise TypeError(f"adapter: expected a name or an index, got {type(adapter).__name__}")
         self._r = _core.Renderer(None if adapter is None else str(adapter))
-        self.info = dict(self._r.info())
+        self.info: _core.RendererInfo = self._r.info()
 
     def __repr__(self) -> str:
         i = self.info
@@ -153,7 +153,7 @@ def _check(scene: Any, method: Any) -> None:
         raise TypeError(f"method: expected a pomkit method such as pomkit.POM(), got {type(method).__name__}")
 
 
-def _frame(d: dict, method: Method) -> Frame:
+def _frame(d: "_core.FrameDict", method: Method) -> Frame:
     return Frame(color=d["color"], uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["steps"], lod=d["lod"],
                  flags=d["flags"], object=d["object"], gpu_ms=d["gpu_ms"], wall_ms=d["wall_ms"], method=repr(method))
 
