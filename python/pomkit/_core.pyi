@@ -48,6 +48,55 @@ class AlbedoData:
     def key(self) -> int: ...
 
 @type_check_only
+class CameraDict(TypedDict):
+    eye: tuple[float, float, float]
+    target: tuple[float, float, float]
+    up: tuple[float, float, float]
+    fov_y: float
+    width: int
+    height: int
+
+
+@type_check_only
+class DirectionalLightDict(TypedDict):
+    kind: Literal["directional"]
+    direction: tuple[float, float, float]
+    irradiance: tuple[float, float, float]
+    angular_diameter: float
+    cast_shadows: bool
+    shadow_map_size: int
+
+
+@type_check_only
+class SphereLightDict(TypedDict):
+    kind: Literal["sphere"]
+    position: tuple[float, float, float]
+    radius: float
+    intensity: tuple[float, float, float]
+
+
+@type_check_only
+class ObjectDict(TypedDict):
+    mesh: MeshData
+    height: HeightData
+    albedo: Optional[AlbedoData]
+    depth: float
+    tiling: float
+    # row-major 4x4 object-to-world, None for the identity
+    transform: Optional[list[float]]
+
+
+@type_check_only
+class SceneDict(TypedDict):
+    """What a scene crosses into the core as (`pomkit.Scene._describe`): typed here, read key
+    by key by src/python/scene.rs."""
+    objects: list[ObjectDict]
+    camera: CameraDict
+    lights: list[DirectionalLightDict | SphereLightDict]
+    ambient: tuple[float, float, float]
+
+
+@type_check_only
 class FrameDict(TypedDict):
     """A render's arrays as the core returns them (None for the AOVs not asked for): what
     `pomkit.Frame` wraps. Keys: `AOV_NAMES`, then the timings."""
@@ -92,8 +141,8 @@ class RendererInfo(TypedDict):
 @final
 class Renderer:
     def __new__(cls, adapter: Optional[str] = None) -> "Renderer": ...
-    def render(self, scene: dict[str, Any], method: Method, aovs: Optional[Sequence[str]] = None) -> FrameDict: ...
-    def render_many(self, scenes: Sequence[dict[str, Any]], method: Method,
+    def render(self, scene: SceneDict, method: Method, aovs: Optional[Sequence[str]] = None) -> FrameDict: ...
+    def render_many(self, scenes: Sequence[SceneDict], method: Method,
                     aovs: Optional[Sequence[str]] = None) -> list[FrameDict]: ...
     def update_height(self, old: HeightData, new: HeightData) -> bool: ...
     def info(self) -> RendererInfo: ...
@@ -101,8 +150,8 @@ class Renderer:
     def _destroy_device(self) -> None: ...
 
 def adapters() -> list[dict[str, str]]: ...
-def exact_uv(scene: dict[str, Any], light_bias: float = 0.0) -> OracleDict: ...
-def tessellate(scene: dict[str, Any], texels_per_vertex: float, object: int = 0) -> dict[str, np.ndarray]: ...
+def exact_uv(scene: SceneDict, light_bias: float = 0.0) -> OracleDict: ...
+def tessellate(scene: SceneDict, texels_per_vertex: float, object: int = 0) -> dict[str, np.ndarray]: ...
 def mesh_from_arrays(positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray, indices: np.ndarray,
                      tangents: Optional[np.ndarray] = None) -> tuple[Any, ...]: ...
 def mesh_generate(kind: Literal["plane", "sphere", "torus", "cylinder", "cube"], a: float, b: float, n1: int,

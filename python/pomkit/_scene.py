@@ -319,7 +319,7 @@ class Camera:
         d = f[None, None, :] + x[None, :, None] * r[None, None, :] + y[:, None, None] * u[None, None, :]
         return d / np.linalg.norm(d, axis=-1, keepdims=True)
 
-    def _describe(self) -> dict:
+    def _describe(self) -> "_core.CameraDict":
         return dict(eye=self.eye, target=self.target, up=self.up, fov_y=self.fov_y, width=self.width, height=self.height)
 
 
@@ -355,7 +355,7 @@ class DirectionalLight:
         object.__setattr__(self, "irradiance", _rgb("irradiance", self.irradiance))
         object.__setattr__(self, "angular_diameter", _v.number("angular_diameter", self.angular_diameter, 0.0, 179.999))
 
-    def _describe(self) -> dict:
+    def _describe(self) -> "_core.DirectionalLightDict":
         return dict(kind="directional", direction=self.direction, irradiance=self.irradiance,
                     angular_diameter=self.angular_diameter, cast_shadows=self.cast_shadows,
                     shadow_map_size=self.shadow_map_size)
@@ -376,7 +376,7 @@ class SphereLight:
         object.__setattr__(self, "radius", _v.number("radius", self.radius, 0.0))
         object.__setattr__(self, "intensity", _rgb("intensity", self.intensity))
 
-    def _describe(self) -> dict:
+    def _describe(self) -> "_core.SphereLightDict":
         return dict(kind="sphere", position=self.position, radius=self.radius, intensity=self.intensity)
 
 
@@ -435,7 +435,7 @@ class Object:
     def is_identity(self) -> bool:
         return bool(np.array_equal(self.transform, np.eye(4)))
 
-    def _describe(self) -> dict:
+    def _describe(self) -> "_core.ObjectDict":
         m = self.material
         return dict(
             mesh=self.mesh._describe(),
@@ -528,7 +528,7 @@ class Scene:
             changes.update(objects=self.objects, mesh=None, material=None)
         return dataclasses.replace(self, **changes)
 
-    def _describe(self) -> dict:
+    def _describe(self) -> "_core.SceneDict":
         return dict(
             objects=[o._describe() for o in self.objects],
             camera=self.camera._describe(),
