@@ -48,11 +48,12 @@ def _curved(mesh):
 def planar_methods():
     return {
         "flat": pk.Flat(), "bump": pk.Bump(), "bump_exactf": pk.Bump(filtering="exact"),
-        "parallax": pk.Parallax(), "parallax_nolimit": pk.Parallax(offset_limiting=False, scale=0.8, bias=0.01),
-        "steep": pk.SteepParallax(), "steep_hard": pk.SteepParallax(steps=12, shadows="hard"),
+        # the mip-filtered field these were saved with (level 0 became the default with issue 26)
+        "parallax": pk.Parallax(mip_filtering=True), "parallax_nolimit": pk.Parallax(offset_limiting=False, scale=0.8, bias=0.01, mip_filtering=True),
+        "steep": pk.SteepParallax(mip_filtering=True), "steep_hard": pk.SteepParallax(steps=12, shadows="hard", mip_filtering=True),
         "pom": pk.POM(mip_filtering=True), "pom_none": pk.POM(shadows="none", mip_filtering=True), "pom_fixed": pk.POM(adaptive=False, min_steps=8, max_steps=8, shadows="hard", mip_filtering=True),
         "pom_level0": pk.POM(mip_filtering=False, shadows="horizon", ao_directions=4), "pom_exactf": pk.POM(filtering="exact", mip_filtering=True),
-        "relief": pk.Relief(), "relief_bias": pk.Relief(depth_bias=True, shadows="soft"),
+        "relief": pk.Relief(mip_filtering=True), "relief_bias": pk.Relief(depth_bias=True, shadows="soft", mip_filtering=True),
         "exact": pk.Exact(), "exact_shadow": pk.Exact(shadows="exact", ao_directions=8),
         "tess": pk.Tessellated(), "tess_none": pk.Tessellated(shadows="none"),
         "prism": pk.Prism(), "prism_exact": pk.Prism(exact=True, shadows="none"),

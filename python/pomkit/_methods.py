@@ -161,6 +161,9 @@ class Parallax(_PerPixel):
     offset_limiting: bool = True
     scale: float = 1.0
     bias: float = 0.0
+    # level 0, as every per-pixel method: the search, not the filtering, is what tables compare
+    # (bricks, cobblestones, spikes at 30/60/80 deg against the oracle, docs/methods.md)
+    mip_filtering: bool = field(default=False, kw_only=True)
     _kind = "Parallax"
 
     def _validate(self):
@@ -175,6 +178,9 @@ class SteepParallax(_PerPixel):
     sample below the surface is the hit, no refinement (stair-steps expected)."""
 
     steps: int = 32
+    # level 0, as every per-pixel method: the search, not the filtering, is what tables compare
+    # (bricks, cobblestones, spikes at 30/60/80 deg against the oracle, docs/methods.md)
+    mip_filtering: bool = field(default=False, kw_only=True)
     _kind = "SteepParallax"
 
     def _validate(self):
@@ -190,6 +196,9 @@ class Relief(_PerPixel):
     linear_steps: int = 16
     binary_steps: int = 6
     depth_bias: bool = False
+    # level 0, as every per-pixel method: the search, not the filtering, is what tables compare
+    # (bricks, cobblestones, spikes at 30/60/80 deg against the oracle, docs/methods.md)
+    mip_filtering: bool = field(default=False, kw_only=True)
     _kind = "Relief"
 
     def _validate(self):
