@@ -18,10 +18,14 @@ ENGINE = (EXAMPLES / "engine_pom.wgsl").read_text()
 def test_custom_steep_matches_the_builtin_bit_for_bit(renderer, theta, shadows):
     scene = plane_scene(pk.textures.bricks(128), theta_deg=theta, size=64,
                         lights=[pk.DirectionalLight((-0.4, -1, -0.3), 3.0, 2.0)], ambient=0.1)
-    a = renderer.render(scene, pk.SteepParallax(steps=24, shadows=shadows))
-    b = renderer.render(scene, pk.Custom(wgsl=STEEP, name="steep_custom", params={"steps": 24.0}, shadows=shadows))
-    for aov in ("color", "uv", "depth", "mask", "steps", "lod", "flags"):
-        assert np.array_equal(getattr(a, aov), getattr(b, aov), equal_nan=True), aov
+    # the same field for both (SteepParallax marches level 0 by default, a Custom method the
+    # footprint's level unless told)
+    for mip in (False, True):
+        a = renderer.render(scene, pk.SteepParallax(steps=24, shadows=shadows, mip_filtering=mip))
+        b = renderer.render(scene, pk.Custom(wgsl=STEEP, name="steep_custom", params={"steps": 24.0}, shadows=shadows,
+                                             mip_filtering=mip))
+        for aov in ("color", "uv", "depth", "mask", "steps", "lod", "flags"):
+            assert np.array_equal(getattr(a, aov), getattr(b, aov), equal_nan=True), (aov, mip)
 
 
 def test_engine_style_pom_converges_toward_the_oracle(renderer):
