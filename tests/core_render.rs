@@ -59,10 +59,11 @@ fn pom_matches_the_oracle_on_a_constant_height() {
     let f = r.render(&s, &m).unwrap();
     let o = exact_hits(&s, 0.0).unwrap();
     let mut n = 0;
+    let (mask, uv) = (f.mask(), f.f32s("uv"));
     for i in 0..(64 * 64) {
-        if f.mask[i] && o.mask[i] {
-            let du = (f.uv[i * 2] as f64 - o.uv[i * 2]).abs() * 32.0;
-            let dv = (f.uv[i * 2 + 1] as f64 - o.uv[i * 2 + 1]).abs() * 32.0;
+        if mask[i] && o.mask[i] {
+            let du = (uv[i * 2] as f64 - o.uv[i * 2]).abs() * 32.0;
+            let dv = (uv[i * 2 + 1] as f64 - o.uv[i * 2 + 1]).abs() * 32.0;
             // the edge pixels of the plane may rasterise differently: only count inner ones
             let u = o.uv[i * 2];
             if u > 0.02 && u < 0.98 {

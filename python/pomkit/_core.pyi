@@ -8,7 +8,7 @@ import numpy as np
 
 from ._methods import Method
 
-__all__ = ["AOV_NAMES", "AlbedoData", "CONE_KINDS", "DeviceLostError", "FILTERING_KINDS", "GpuError", "HeightData", "MAX_LIGHTS",
+__all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "CONE_KINDS", "DeviceLostError", "FILTERING_KINDS", "GpuError", "HeightData", "MAX_LIGHTS",
            "MAX_STEPS_LIMIT", "MeshData", "NCS_MAP_SIZE", "NoAdapterError", "REFINE_KINDS", "Renderer", "SHADOW_KINDS",
            "__version__", "adapters", "exact_uv", "load_image", "mesh_from_arrays", "mesh_generate", "tessellate"]
 __version__: str
@@ -20,6 +20,7 @@ FILTERING_KINDS: list[str]
 CONE_KINDS: list[str]
 REFINE_KINDS: list[str]
 MAX_STEPS_LIMIT: int
+AOV_DOCS: dict[str, str]
 
 class GpuError(RuntimeError): ...
 class DeviceLostError(GpuError): ...
@@ -96,20 +97,9 @@ class SceneDict(TypedDict):
     ambient: tuple[float, float, float]
 
 
-@type_check_only
-class FrameDict(TypedDict):
-    """A render's arrays as the core returns them (None for the AOVs not asked for): what
-    `pomkit.Frame` wraps. Keys: `AOV_NAMES`, then the timings."""
-    color: Optional[np.ndarray]   # (H, W, 3) float32
-    uv: Optional[np.ndarray]      # (H, W, 2) float32, NaN where no hit
-    depth: Optional[np.ndarray]   # (H, W) float32, NaN where no hit
-    mask: Optional[np.ndarray]    # (H, W) bool
-    steps: Optional[np.ndarray]   # (H, W) uint32
-    lod: Optional[np.ndarray]     # (H, W) float32
-    flags: Optional[np.ndarray]   # (H, W) uint8
-    object: Optional[np.ndarray]  # (H, W) int32, -1 where no hit
-    gpu_ms: Optional[float]
-    wall_ms: float
+# A render: (the arrays by AOV name, None for those not asked for; gpu_ms; wall_ms). The names
+# are AOV_NAMES (the core's table, src/render/aovs.rs), their meaning AOV_DOCS.
+_FrameTuple = tuple[dict[str, Optional[np.ndarray]], Optional[float], float]
 
 
 @type_check_only
@@ -141,9 +131,9 @@ class RendererInfo(TypedDict):
 @final
 class Renderer:
     def __new__(cls, adapter: Optional[str] = None) -> "Renderer": ...
-    def render(self, scene: SceneDict, method: Method, aovs: Optional[Sequence[str]] = None) -> FrameDict: ...
+    def render(self, scene: SceneDict, method: Method, aovs: Optional[Sequence[str]] = None) -> _FrameTuple: ...
     def render_many(self, scenes: Sequence[SceneDict], method: Method,
-                    aovs: Optional[Sequence[str]] = None) -> list[FrameDict]: ...
+                    aovs: Optional[Sequence[str]] = None) -> list[_FrameTuple]: ...
     def update_height(self, old: HeightData, new: HeightData) -> bool: ...
     def info(self) -> RendererInfo: ...
     def _provoke_validation_error(self) -> None: ...

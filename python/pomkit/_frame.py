@@ -24,14 +24,8 @@ DERIVED_NAMES: tuple[str, ...] = ("visibility",)
 class Frame:
     """Arrays are (H, W, ...) with row 0 at the top of the image.
 
-    color: (H, W, 3) float32 linear RGB
-    uv:    (H, W, 2) hit texture coordinate in the mesh's uv space (not wrapped), NaN where no hit
-    depth: (H, W) distance from the eye to the hit point, NaN where no hit
-    mask:  (H, W) bool, the pixel shows the surface
-    steps: (H, W) uint32 height-map samples taken (view ray + shadow rays)
-    lod:   (H, W) float32 mip level the LOD system used, NaN where no hit
-    flags: (H, W) uint8, bit 0: the march hit its iteration bound (Exact)
-    object: (H, W) int32 index of the object hit in `scene.objects`, -1 where no hit
+    The AOVs (`AOV_NAMES`, the core's table, src/render/aovs.rs) are attributes:
+    {aov_docs}
     visibility: (H, W) float32, the first directional light's visibility at the hit (1 lit,
            0 shadowed, between in a penumbra), NaN where there is no hit or the light is behind
            the shading normal. Not a render target: `pk.exact_uv` (the exact oracle) and
@@ -56,6 +50,17 @@ class Frame:
         self.wall_ms = wall_ms
         self.timing = timing if timing is not None else ("gpu" if gpu_ms is not None else "wall")
 
+    @classmethod
+    def _of(cls, arrays: dict[str, Optional[np.ndarray]], *, method: str = "", gpu_ms: Optional[float] = None,
+            wall_ms: Optional[float] = None) -> "Frame":
+        """A frame of the core's arrays by AOV name (None: not rendered)."""
+        f = cls(method=method, gpu_ms=gpu_ms, wall_ms=wall_ms)
+        unknown = set(arrays) - set(AOV_NAMES)
+        if unknown:
+            raise TypeError(f"Frame: unknown AOVs {sorted(unknown)}; known: {AOV_NAMES}")
+        f._arrays = {k: v for k, v in arrays.items() if v is not None}
+        return f
+
     @property
     def aovs(self) -> tuple[str, ...]:
         """The AOVs this frame holds, in the order of `AOV_NAMES`."""
@@ -72,14 +77,11 @@ class Frame:
                 f"{name}: this frame holds only {', '.join(self.aovs) or 'no AOVs'}; "
                 f"render with aovs=(..., {name!r}) (or aovs='all') to get it") from None
 
-    color = property(lambda self: self._get("color"), doc="(H, W, 3) float32 linear RGB")
-    uv = property(lambda self: self._get("uv"), doc="(H, W, 2) hit uv, NaN where no hit")
-    depth = property(lambda self: self._get("depth"), doc="(H, W) eye-to-hit distance, NaN where no hit")
-    mask = property(lambda self: self._get("mask"), doc="(H, W) bool, the pixel shows the surface")
-    steps = property(lambda self: self._get("steps"), doc="(H, W) uint32 height-map samples taken")
-    lod = property(lambda self: self._get("lod"), doc="(H, W) float32 mip level, NaN where no hit")
-    flags = property(lambda self: self._get("flags"), doc="(H, W) uint8, bit 0: iteration bound hit")
-    object = property(lambda self: self._get("object"), doc="(H, W) int32 object index, -1 where no hit")
+    def __getattr__(self, name: str) -> np.ndarray:
+        # the AOVs, by the core's table (attributes set in __init__ are found before this)
+        if name in AOV_NAMES:
+            return self._get(name)
+        raise AttributeError(f"'Frame' object has no attribute {name!r}")
 
     @property
     def visibility(self) -> np.ndarray:
@@ -120,3 +122,7 @@ class Frame:
             from PIL import Image
             Image.fromarray(self.to_srgb8()).save(path)
         return path
+
+
+Frame.__doc__ = (Frame.__doc__ or "").replace(
+    "{aov_docs}", "\n    ".join(f"{n}: {_core.AOV_DOCS[n]}" for n in AOV_NAMES))

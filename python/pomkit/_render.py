@@ -153,9 +153,9 @@ def _check(scene: Any, method: Any) -> None:
         raise TypeError(f"method: expected a pomkit method such as pomkit.POM(), got {type(method).__name__}")
 
 
-def _frame(d: "_core.FrameDict", method: Method) -> Frame:
-    return Frame(color=d["color"], uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["steps"], lod=d["lod"],
-                 flags=d["flags"], object=d["object"], gpu_ms=d["gpu_ms"], wall_ms=d["wall_ms"], method=repr(method))
+def _frame(r: "_core._FrameTuple", method: Method) -> Frame:
+    arrays, gpu_ms, wall_ms = r
+    return Frame._of(arrays, gpu_ms=gpu_ms, wall_ms=wall_ms, method=repr(method))
 
 
 def exact_uv(scene: Scene, *, light_bias: float = 0.0) -> Frame:

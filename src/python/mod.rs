@@ -16,7 +16,7 @@ use numpy::IntoPyArray;
 use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyDict, PyList, PyTuple};
 use scene::{scene_from_py, PyAlbedoData, PyHeightData, PyMeshData};
 use std::sync::Arc;
 
@@ -90,7 +90,7 @@ impl PyRenderer {
         scene: &Bound<'py, PyDict>,
         method: Method,
         aovs: Option<&Bound<'py, PyAny>>,
-    ) -> PyResult<Bound<'py, PyDict>> {
+    ) -> PyResult<Bound<'py, PyTuple>> {
         let aovs = aovs_from_py(aovs)?;
         let scene = scene_from_py(scene)?;
         let r = self.inner.clone();
@@ -107,7 +107,7 @@ impl PyRenderer {
         scenes: Vec<Bound<'py, PyDict>>,
         method: Method,
         aovs: Option<&Bound<'py, PyAny>>,
-    ) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    ) -> PyResult<Vec<Bound<'py, PyTuple>>> {
         let aovs = aovs_from_py(aovs)?;
         let scenes = scenes
             .iter()
@@ -262,6 +262,11 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // the contracts Python derives its checks and Literals from (one source: the core)
     m.add("MAX_LIGHTS", crate::scene::MAX_LIGHTS)?;
     m.add("AOV_NAMES", crate::render::Aovs::NAMES.to_vec())?;
+    let docs = PyDict::new(m.py());
+    for a in crate::render::aovs::AOVS {
+        docs.set_item(a.name, a.doc)?;
+    }
+    m.add("AOV_DOCS", docs)?;
     m.add("SHADOW_KINDS", crate::methods::Shadows::NAMES.to_vec())?;
     m.add("FILTERING_KINDS", crate::methods::Filtering::NAMES.to_vec())?;
     m.add("CONE_KINDS", crate::methods::Cones::NAMES.to_vec())?;

@@ -12,6 +12,7 @@
 //! The renderer binds what a method's `Spec` declares (src/contract.rs): its geometry, its
 //! `params` and its own resources. It names no method.
 
+pub mod aovs;
 pub mod pipelines;
 pub mod resources;
 pub mod shadow_map;

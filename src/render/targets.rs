@@ -1,110 +1,12 @@
-//! The frame's render targets, their readback, and the `Frame` unpacked from them. Targets hold
-//! float32 bits in Rgba32Uint (exact on every backend; GL cannot render to Rgba32Float):
-//! colour + steps|flags, and uv + distance + lod.
+//! The frame's render targets and their readback; the `Frame` is decoded from them as the AOV
+//! table says (aovs.rs). Targets hold float32 bits in Rgba32Uint (exact on every backend; GL
+//! cannot render to Rgba32Float): colour + steps|flags, uv + distance + lod, and the object id.
 
 use super::{COLOR_FORMAT, DEPTH_FORMAT};
-use crate::error::{Error, Result};
 use crate::gpu::Context;
 
-/// The AOVs a render returns, as a set. Targets that no requested AOV needs are neither written
-/// nor read back: the colour target holds color, steps and flags; the geo target holds uv,
-/// depth, lod and the mask (which steps and flags need too, to blank the pixels without a hit).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct Aovs(u8);
-
-impl Aovs {
-    pub const NAMES: [&'static str; 8] = [
-        "color", "uv", "depth", "mask", "steps", "lod", "flags", "object",
-    ];
-    pub const ALL: Aovs = Aovs(0xff);
-
-    fn bit(name: &str) -> Option<u8> {
-        Self::NAMES.iter().position(|n| *n == name).map(|i| 1 << i)
-    }
-    /// The set of the named AOVs; at least one.
-    pub fn parse<S: AsRef<str>>(names: &[S]) -> Result<Aovs> {
-        let mut bits = 0;
-        for n in names {
-            bits |= Self::bit(n.as_ref()).ok_or_else(|| {
-                Error::arg(
-                    "aovs",
-                    format!(
-                        "unknown AOV {:?}; the AOVs are {}",
-                        n.as_ref(),
-                        Self::NAMES.join(", ")
-                    ),
-                )
-            })?;
-        }
-        if bits == 0 {
-            return Err(Error::arg(
-                "aovs",
-                "name at least one AOV, e.g. aovs=(\"color\",)",
-            ));
-        }
-        Ok(Aovs(bits))
-    }
-    pub fn has(self, name: &str) -> bool {
-        Self::bit(name).is_some_and(|b| self.0 & b != 0)
-    }
-    fn any(self, names: &[&str]) -> bool {
-        names.iter().any(|n| self.has(n))
-    }
-    /// Whether the colour target (colour, steps | flags) is written and read.
-    pub fn color_target(self) -> bool {
-        self.any(&["color", "steps", "flags"])
-    }
-    /// Whether the geo target (uv, distance, lod; the mask) is written and read.
-    pub fn geo_target(self) -> bool {
-        self.any(&["uv", "depth", "mask", "lod", "steps", "flags", "object"])
-    }
-    /// The AOVs whose targets a pass writes when the adapter cannot leave a gap in its colour
-    /// attachments (`Capabilities::sparse_attachments` false): the targets before the last
-    /// requested one are written too (and cleared), though not read back.
-    pub fn dense(self) -> Aovs {
-        let mut a = self;
-        if a.id_target() {
-            a.0 |= Self::bit("uv").unwrap_or(0);
-        }
-        if a.geo_target() {
-            a.0 |= Self::bit("color").unwrap_or(0);
-        }
-        a
-    }
-    /// Whether the object-id target is written and read.
-    pub fn id_target(self) -> bool {
-        self.has("object")
-    }
-}
-
-/// Per-pixel results of one render. Arrays are row-major (H, W, ...), row 0 at the top. The
-/// AOVs not in `aovs` are empty.
-#[derive(Clone, Debug)]
-pub struct Frame {
-    pub width: u32,
-    pub height: u32,
-    pub aovs: Aovs,
-    /// linear RGB, H*W*3
-    pub color: Vec<f32>,
-    /// hit uv in mesh uv space (unwrapped), H*W*2, NaN where no hit
-    pub uv: Vec<f32>,
-    /// distance eye -> hit, NaN where no hit
-    pub depth: Vec<f32>,
-    pub mask: Vec<bool>,
-    /// height-map samples taken (view + shadow rays)
-    pub steps: Vec<u32>,
-    /// mip level used, NaN where no hit
-    pub lod: Vec<f32>,
-    /// bit 0: the march hit its iteration bound; bit 1: the march ended early, still inside the
-    /// shell (the curved-silhouette method's early termination)
-    pub flags: Vec<u8>,
-    /// the index of the object hit in the scene's objects, -1 where no hit
-    pub object: Vec<i32>,
-    /// GPU time of the render pass from timestamp queries, if the adapter has them
-    pub gpu_ms: Option<f64>,
-    /// wall time of submit-and-wait, always measured
-    pub wall_ms: f64,
-}
+use super::aovs::Texels;
+pub use super::aovs::{Aovs, Frame};
 
 /// The render targets and readback buffers of one frame size, kept for the next frame.
 pub struct Targets {
@@ -279,149 +181,57 @@ impl Targets {
         aovs: Aovs,
         wall_ms: f64,
     ) -> crate::Result<Frame> {
-        let mut frame = Frame::empty(self.w, self.h, aovs);
         // one wait for every buffer the frame reads
-        let mut bufs: Vec<&wgpu::Buffer> = Vec::with_capacity(3);
-        if aovs.geo_target() {
-            bufs.push(&self.geo_buf);
-        }
-        if aovs.color_target() {
-            bufs.push(&self.color_buf);
-        }
-        if aovs.id_target() {
-            bufs.push(&self.id_buf);
+        let mut bufs: Vec<&wgpu::Buffer> = Vec::with_capacity(4);
+        let (color, geo, id) = (aovs.color_target(), aovs.geo_target(), aovs.id_target());
+        for (used, b) in [
+            (color, &self.color_buf),
+            (geo, &self.geo_buf),
+            (id, &self.id_buf),
+        ] {
+            if used {
+                bufs.push(b);
+            }
         }
         if let Some(b) = &self.ts_read {
             bufs.push(b);
         }
-        let rb = row_bytes(self.w) as usize;
+        let (w, h) = (self.w as usize, self.h as usize);
         let period = ctx.queue.get_timestamp_period() as f64;
         ctx.map_read_all(&bufs, Some(submission), |raw| {
             let mut k = 0;
-            if aovs.geo_target() {
-                frame.unpack_geo(rb, raw[k]);
-                k += 1;
+            let mut next = |used: bool| -> Option<&[u8]> {
+                used.then(|| {
+                    k += 1;
+                    raw[k - 1]
+                })
+            };
+            // rows of `texel` bytes per pixel, 256-aligned, into one pixel array
+            fn rows<T: bytemuck::Pod + Copy>(
+                raw: &[u8],
+                w: usize,
+                h: usize,
+                texel: usize,
+            ) -> Vec<T> {
+                let rb = (w * texel).div_ceil(256) * 256;
+                let mut out = Vec::with_capacity(w * h);
+                for y in 0..h {
+                    out.extend_from_slice(bytemuck::cast_slice::<u8, T>(
+                        &raw[y * rb..y * rb + w * texel],
+                    ));
+                }
+                out
             }
-            if aovs.color_target() {
-                frame.unpack_color(rb, raw[k]);
-                k += 1;
-            }
-            if aovs.id_target() {
-                frame.unpack_object(texel_row_bytes(self.w, 4) as usize, raw[k]);
-                k += 1;
-            }
-            if self.ts_read.is_some() {
+            let t = Texels {
+                color: next(color).map(|r| rows::<[u32; 4]>(r, w, h, 16)),
+                geo: next(geo).map(|r| rows::<[f32; 4]>(r, w, h, 16)),
+                id: next(id).map(|r| rows::<u32>(r, w, h, 4)),
+            };
+            let gpu_ms = self.ts_read.as_ref().and_then(|_| {
                 let t: &[u64] = bytemuck::cast_slice(&raw[k][..16]);
-                frame.gpu_ms = (t[1] > t[0]).then(|| (t[1] - t[0]) as f64 * period / 1e6);
-            }
-        })?;
-        frame.wall_ms = wall_ms;
-        Ok(frame)
-    }
-}
-
-impl Frame {
-    fn empty(w: u32, h: u32, aovs: Aovs) -> Self {
-        let n = (w * h) as usize;
-        fn sized<T: Clone>(on: bool, len: usize, v: T) -> Vec<T> {
-            if on {
-                vec![v; len]
-            } else {
-                Vec::new()
-            }
-        }
-        Frame {
-            width: w,
-            height: h,
-            aovs,
-            color: sized(aovs.has("color"), n * 3, 0.0),
-            uv: sized(aovs.has("uv"), n * 2, f32::NAN),
-            depth: sized(aovs.has("depth"), n, f32::NAN),
-            // the mask is kept whenever the geo target is read: steps and flags need it
-            mask: sized(aovs.geo_target(), n, false),
-            steps: sized(aovs.has("steps"), n, 0),
-            lod: sized(aovs.has("lod"), n, f32::NAN),
-            flags: sized(aovs.has("flags"), n, 0),
-            object: sized(aovs.has("object"), n, -1),
-            gpu_ms: None,
-            wall_ms: 0.0,
-        }
-    }
-
-    /// uv, distance and lod from the geo target (distance < 0: no hit); sets the mask.
-    fn unpack_geo(&mut self, row_bytes: usize, raw: &[u8]) {
-        let w = self.width as usize;
-        let (uv, depth, lod) = (
-            self.aovs.has("uv"),
-            self.aovs.has("depth"),
-            self.aovs.has("lod"),
-        );
-        for y in 0..self.height as usize {
-            let g: &[f32] = bytemuck::cast_slice(&raw[y * row_bytes..y * row_bytes + w * 16]);
-            for (x, px) in g.chunks_exact(4).enumerate() {
-                if px[2] >= 0.0 {
-                    let i = y * w + x;
-                    self.mask[i] = true;
-                    if uv {
-                        self.uv[2 * i] = px[0];
-                        self.uv[2 * i + 1] = px[1];
-                    }
-                    if depth {
-                        self.depth[i] = px[2];
-                    }
-                    if lod {
-                        self.lod[i] = px[3];
-                    }
-                }
-            }
-        }
-    }
-
-    /// The object ids from the id target, where hit (the mask).
-    fn unpack_object(&mut self, row_bytes: usize, raw: &[u8]) {
-        let w = self.width as usize;
-        for y in 0..self.height as usize {
-            let ids: &[u32] = bytemuck::cast_slice(&raw[y * row_bytes..y * row_bytes + w * 4]);
-            for (x, id) in ids.iter().enumerate() {
-                let i = y * w + x;
-                if self.mask[i] {
-                    self.object[i] = *id as i32;
-                }
-            }
-        }
-    }
-
-    /// Colour, steps and flags from the colour target (steps and flags only where hit).
-    fn unpack_color(&mut self, row_bytes: usize, raw: &[u8]) {
-        let w = self.width as usize;
-        let (color, steps, flags) = (
-            self.aovs.has("color"),
-            self.aovs.has("steps"),
-            self.aovs.has("flags"),
-        );
-        for y in 0..self.height as usize {
-            let row = &raw[y * row_bytes..y * row_bytes + w * 16];
-            if color {
-                let c: &[f32] = bytemuck::cast_slice(row);
-                let out = &mut self.color[3 * y * w..3 * (y + 1) * w];
-                for (o, px) in out.chunks_exact_mut(3).zip(c.chunks_exact(4)) {
-                    o.copy_from_slice(&px[..3]);
-                }
-            }
-            if steps || flags {
-                let c: &[u32] = bytemuck::cast_slice(row);
-                for (x, px) in c.chunks_exact(4).enumerate() {
-                    let i = y * w + x;
-                    if self.mask[i] {
-                        if steps {
-                            self.steps[i] = px[3] & 0x0fff_ffff;
-                        }
-                        if flags {
-                            self.flags[i] = (px[3] >> 28) as u8;
-                        }
-                    }
-                }
-            }
-        }
+                (t[1] > t[0]).then(|| (t[1] - t[0]) as f64 * period / 1e6)
+            });
+            Frame::decode(self.w, self.h, aovs, &t, gpu_ms, wall_ms)
+        })
     }
 }
