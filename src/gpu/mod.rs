@@ -493,3 +493,73 @@ pub fn shared(choice: Option<&str>) -> Result<Arc<Context>> {
     *g = Some((choice.map(str::to_string), ctx.clone()));
     Ok(ctx)
 }
+
+/// A compute pass that makes a table from another: binding 0 a read-only storage buffer, 1 a
+/// uniform block of parameters, 2 the read-write storage buffer it fills; dispatched over a
+/// w x h grid in 8 x 8 workgroups. Methods build their own data this way (the cone map, the
+/// distance volume).
+pub struct TablePass {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    label: &'static str,
+}
+
+impl TablePass {
+    /// `module` (composed) with entry point `entry`.
+    pub fn new(
+        ctx: &Context,
+        label: &'static str,
+        module: naga::Module,
+        entry: &str,
+    ) -> Result<Self> {
+        ctx.scoped(|| {
+            let dev = &ctx.device;
+            let cs = wgpu::ShaderStages::COMPUTE;
+            let layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                entries: &[
+                    layout::buffer(0, cs, wgpu::BufferBindingType::Storage { read_only: true }),
+                    layout::buffer(1, cs, wgpu::BufferBindingType::Uniform),
+                    layout::buffer(2, cs, wgpu::BufferBindingType::Storage { read_only: false }),
+                ],
+            });
+            let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(label),
+                source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
+            });
+            let pipeline = ctx.compute_pipeline(label, &module, entry, &layout);
+            Ok(TablePass {
+                pipeline,
+                layout,
+                label,
+            })
+        })
+    }
+
+    /// Fill `output` from `input` with `params` over `grid`, submitted (not waited for).
+    pub fn run(
+        &self,
+        ctx: &Context,
+        input: &wgpu::Buffer,
+        params: &[u8],
+        output: &wgpu::Buffer,
+        grid: (u32, u32),
+    ) -> Result<()> {
+        ctx.scoped(|| {
+            let ubuf = ctx.upload(self.label, params, wgpu::BufferUsages::UNIFORM);
+            let bg = ctx.bind_group(
+                self.label,
+                &self.layout,
+                vec![
+                    input.as_entire_binding(),
+                    ubuf.as_entire_binding(),
+                    output.as_entire_binding(),
+                ],
+            );
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            Context::dispatch_8x8(&mut enc, self.label, &self.pipeline, 0, &bg, grid);
+            ctx.queue.submit([enc.finish()]);
+            Ok(())
+        })
+    }
+}

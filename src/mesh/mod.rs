@@ -60,6 +60,24 @@ impl Vertex {
             .collect()
     }
 
+    /// The vertex's attributes and one more, at location 5 right after the vertex (a method's
+    /// own geometry: the prisms' index, the quadric coefficients).
+    pub const fn with_location5(format: wgpu::VertexFormat) -> [wgpu::VertexAttribute; 6] {
+        let v = Self::ATTRIBUTES;
+        [
+            v[0],
+            v[1],
+            v[2],
+            v[3],
+            v[4],
+            wgpu::VertexAttribute {
+                format,
+                offset: std::mem::size_of::<Vertex>() as u64,
+                shader_location: 5,
+            },
+        ]
+    }
+
     pub const ATTRIBUTES: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2];
 
     /// The vertex buffer layout every pipeline (surface, shadow map, NCS bake) uses.

@@ -48,14 +48,11 @@ impl MethodResources for ConeMapResource {
         ])
     }
     fn build(&self, inputs: &BuildInputs<'_>) -> Result<Vec<Resident>> {
-        let b = inputs.builders.get("cone map", || {
-            cone_map::ConeBuilder::new(inputs.ctx, inputs.composer)
-        })?;
-        Ok(vec![Resident::Buffer(b.build(
-            inputs.ctx,
-            inputs.height_max,
-            inputs.height_size,
-            self.0,
+        let pass = inputs
+            .builders
+            .get("cone map", || cone_map::pass(inputs.ctx, inputs.composer))?;
+        Ok(vec![Resident::Buffer(cone_map::build(
+            &pass, inputs, self.0,
         )?)])
     }
 }

@@ -28,21 +28,8 @@ struct QuadricVertex {
     quadric: [f32; 4],
 }
 
-const ATTRIBUTES: [wgpu::VertexAttribute; 6] = {
-    let v = Vertex::ATTRIBUTES;
-    [
-        v[0],
-        v[1],
-        v[2],
-        v[3],
-        v[4],
-        wgpu::VertexAttribute {
-            format: wgpu::VertexFormat::Float32x4,
-            offset: std::mem::size_of::<Vertex>() as u64,
-            shader_location: 5,
-        },
-    ]
-};
+const ATTRIBUTES: [wgpu::VertexAttribute; 6] =
+    Vertex::with_location5(wgpu::VertexFormat::Float32x4);
 
 #[derive(Debug)]
 pub struct QuadricMesh;

@@ -47,17 +47,13 @@ impl MethodResources for DistanceVolume {
         ])
     }
     fn build(&self, inputs: &BuildInputs<'_>) -> Result<Vec<Resident>> {
-        let b = inputs.builders.get("distance volume", || {
-            volume::VolumeBuilder::new(inputs.ctx, inputs.composer)
+        let pass = inputs.builders.get("distance volume", || {
+            volume::pass(inputs.ctx, inputs.composer)
         })?;
         let (w, h) = inputs.height_size;
         let l = Layout::of(w, h, self.slices, MAX_VOXELS);
-        Ok(vec![Resident::Buffer(b.build(
-            inputs.ctx,
-            inputs.height_max,
-            (w, h),
-            l,
-            RADIUS,
+        Ok(vec![Resident::Buffer(volume::build(
+            &pass, inputs, l, RADIUS,
         )?)])
     }
 }

@@ -1,8 +1,8 @@
 //! The distance volume's builder: one compute pass over the max pyramid (distance_volume.wgsl).
 
-use crate::contract::Composer;
+use crate::contract::{BuildInputs, Composer};
 use crate::error::Result;
-use crate::gpu::{layout, Context};
+use crate::gpu::{Context, TablePass};
 use crate::heightmap::{level_size, max_offsets, top_maxmip_level};
 
 pub const VOLUME_SHADER: &str = include_str!("distance_volume.wgsl");
@@ -48,97 +48,62 @@ struct VolumeParams {
     pad: [u32; 3],
 }
 
-pub struct VolumeBuilder {
-    pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
+/// The distance volume's pass (distance_volume.wgsl), made once per renderer.
+pub fn pass(ctx: &Context, lib: &dyn Composer) -> Result<TablePass> {
+    let file = "src/methods/distance_mapping/distance_volume.wgsl";
+    TablePass::new(
+        ctx,
+        "distance volume",
+        lib.compose_pass(VOLUME_SHADER, file)?,
+        "build",
+    )
 }
 
-impl VolumeBuilder {
-    pub fn new(ctx: &Context, lib: &dyn Composer) -> Result<Self> {
-        let module = lib.compose_pass(
-            VOLUME_SHADER,
-            "src/methods/distance_mapping/distance_volume.wgsl",
-        )?;
-        ctx.scoped(|| {
-            let dev = &ctx.device;
-            let cs = wgpu::ShaderStages::COMPUTE;
-            let layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("distance volume"),
-                entries: &[
-                    layout::buffer(0, cs, wgpu::BufferBindingType::Storage { read_only: true }),
-                    layout::buffer(1, cs, wgpu::BufferBindingType::Uniform),
-                    layout::buffer(2, cs, wgpu::BufferBindingType::Storage { read_only: false }),
-                ],
-            });
-            let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("pomkit distance volume"),
-                source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(module)),
-            });
-            let pipeline = ctx.compute_pipeline("distance volume", &module, "build", &layout);
-            Ok(VolumeBuilder { pipeline, layout })
-        })
-    }
-
-    /// The volume of a resident height map (its max pyramid must be current).
-    pub fn build(
-        &self,
-        ctx: &Context,
-        max_buf: &wgpu::Buffer,
-        (w, h): (u32, u32),
-        l: Layout,
-        radius: u32,
-    ) -> Result<wgpu::Buffer> {
-        ctx.scoped(|| {
-            let header = [
-                l.size.0 as f32,
-                l.size.1 as f32,
-                l.slices as f32,
-                l.level as f32,
-            ];
-            let buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("distance volume"),
-                size: l.bytes(),
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_DST
-                    | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            ctx.queue
-                .write_buffer(&buf, 0, bytemuck::cast_slice(&header));
-            let p = VolumeParams {
-                size: [l.size.0, l.size.1],
-                slices: l.slices,
-                radius: radius as i32,
-                offset: max_offsets(w, h).0[l.level as usize],
-                pad: [0; 3],
-            };
-            let ubuf = ctx.upload(
-                "distance volume params",
-                bytemuck::bytes_of(&p),
-                wgpu::BufferUsages::UNIFORM,
-            );
-            let bg = ctx.bind_group(
-                "distance volume",
-                &self.layout,
-                vec![
-                    max_buf.as_entire_binding(),
-                    ubuf.as_entire_binding(),
-                    buf.as_entire_binding(),
-                ],
-            );
-            let mut enc = ctx.device.create_command_encoder(&Default::default());
-            Context::dispatch_8x8(
-                &mut enc,
-                "distance volume",
-                &self.pipeline,
-                0,
-                &bg,
-                (l.size.0, l.size.1 * l.slices),
-            );
-            ctx.queue.submit([enc.finish()]);
-            Ok(buf)
-        })
-    }
+/// The volume of an object's resident height map in layout `l`, its distances within `radius`
+/// voxels (its max pyramid must be current).
+pub fn build(
+    pass: &TablePass,
+    inputs: &BuildInputs<'_>,
+    l: Layout,
+    radius: u32,
+) -> Result<wgpu::Buffer> {
+    let ctx = inputs.ctx;
+    let header = [
+        l.size.0 as f32,
+        l.size.1 as f32,
+        l.slices as f32,
+        l.level as f32,
+    ];
+    let buf = ctx.scoped(|| {
+        let usage = wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC;
+        let desc = wgpu::BufferDescriptor {
+            label: Some("distance volume"),
+            size: l.bytes(),
+            usage,
+            mapped_at_creation: false,
+        };
+        let buf = ctx.device.create_buffer(&desc);
+        ctx.queue
+            .write_buffer(&buf, 0, bytemuck::cast_slice(&header));
+        Ok(buf)
+    })?;
+    let p = VolumeParams {
+        size: [l.size.0, l.size.1],
+        slices: l.slices,
+        radius: radius as i32,
+        offset: max_offsets(inputs.height_size.0, inputs.height_size.1).0[l.level as usize],
+        pad: [0; 3],
+    };
+    pass.run(
+        ctx,
+        inputs.height_max,
+        bytemuck::bytes_of(&p),
+        &buf,
+        (l.size.0, l.size.1 * l.slices),
+    )?;
+    Ok(buf)
 }
 
 #[cfg(test)]

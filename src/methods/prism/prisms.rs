@@ -16,21 +16,8 @@ pub struct PrismVertex {
 }
 
 impl PrismVertex {
-    pub const ATTRIBUTES: [wgpu::VertexAttribute; 6] = {
-        let v = Vertex::ATTRIBUTES;
-        [
-            v[0],
-            v[1],
-            v[2],
-            v[3],
-            v[4],
-            wgpu::VertexAttribute {
-                format: wgpu::VertexFormat::Uint32,
-                offset: std::mem::size_of::<Vertex>() as u64,
-                shader_location: 5,
-            },
-        ]
-    };
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 6] =
+        Vertex::with_location5(wgpu::VertexFormat::Uint32);
     pub fn layout() -> wgpu::VertexBufferLayout<'static> {
         wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<PrismVertex>() as u64,
