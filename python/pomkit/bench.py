@@ -166,11 +166,11 @@ def _sweep_scene(job: tuple) -> list[dict]:
                 pass
         steps = float(f.steps[f.mask].mean()) if f.mask.any() else 0.0
         shadow = _shadow_columns(r, scene, m, ref if reference == "exact" else None)
-        rows.append(dict(**shadow, method=method_name(m), label=label(m), safety=m.safety, scene=sname, angle=angle,
+        rows.append(dict(method=method_name(m), label=label(m), safety=m.safety, scene=sname, angle=angle,
                          size=cfg["size"], gpu_ms=t["ms"], gpu_ms_p25=t["ms_p25"], gpu_ms_p75=t["ms_p75"],
                          march_ms=t["march_ms"], call_ms=t["call_ms"], repeats=t["repeats"], timing=t["timing"],
                          ms_per_mpix=t["ms"] / mpix, mean_steps=steps, uv_p50=e["p50"], uv_p95=e["p95"],
-                         uv_p99=e["p99"], mask_iou=e["mask_iou"], flip=fl))
+                         uv_p99=e["p99"], mask_iou=e["mask_iou"], flip=fl, **shadow))
     return rows
 
 
