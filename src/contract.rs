@@ -31,26 +31,17 @@ pub trait FieldValue: Sized {
     fn get(f: &dyn Fields, name: &str) -> Result<Self>;
 }
 
-impl FieldValue for u32 {
-    fn get(f: &dyn Fields, name: &str) -> Result<Self> {
-        f.u32(name)
-    }
+macro_rules! field_values {
+    ($($t:ty => $get:ident),*) => {$(
+        impl FieldValue for $t {
+            fn get(f: &dyn Fields, name: &str) -> Result<Self> {
+                f.$get(name)
+            }
+        }
+    )*};
 }
-impl FieldValue for f32 {
-    fn get(f: &dyn Fields, name: &str) -> Result<Self> {
-        f.f32(name)
-    }
-}
-impl FieldValue for f64 {
-    fn get(f: &dyn Fields, name: &str) -> Result<Self> {
-        f.f64(name)
-    }
-}
-impl FieldValue for bool {
-    fn get(f: &dyn Fields, name: &str) -> Result<Self> {
-        f.bool(name)
-    }
-}
+
+field_values!(u32 => u32, f32 => f32, f64 => f64, bool => bool);
 
 /// A method's parameters, read from `Fields`.
 pub trait FromFields: Sized {
@@ -330,12 +321,6 @@ pub enum Geometry {
     Own(Arc<dyn MethodGeometry>),
 }
 
-impl PartialEq for Geometry {
-    fn eq(&self, other: &Self) -> bool {
-        format!("{self:?}") == format!("{other:?}")
-    }
-}
-
 /// The kind of one binding of a method's own resources (bind group 2, from binding 1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ResourceKind {
@@ -435,12 +420,6 @@ pub struct Spec {
     pub lod_threshold: f32,
     /// bound of every max-mip traversal (the method's and exact shadows)
     pub max_iterations: u32,
-}
-
-impl PartialEq for Spec {
-    fn eq(&self, other: &Self) -> bool {
-        format!("{self:?}") == format!("{other:?}")
-    }
 }
 
 impl Spec {

@@ -72,7 +72,9 @@ class Renderer:
         names = _aovs(aovs)
         frame = self.render(scene, method, aovs if names is None else tuple(dict.fromkeys(names + ("mask",))))
         lit, free = _visibility_twins(scene, method)
-        a = self.render(lit, method, aovs=("color", "mask"))
+        # a scene that is already its own shadowed twin (one light, no ambient, constant albedo):
+        # its frame is that render
+        a = frame if lit is scene and frame.has("color") else self.render(lit, method, aovs=("color", "mask"))
         b = self.render(free, _unshadowed(method), aovs=("color", "mask"))
         ca = a.color.mean(-1, dtype=np.float64)
         cb = b.color.mean(-1, dtype=np.float64)
@@ -129,9 +131,13 @@ def _first_directional(scene: Scene):
 
 def _visibility_twins(scene: Scene, method: Method) -> tuple[Scene, Scene]:
     """The scene with only its first directional light, no ambient and constant albedo: with its
-    cast shadows as given (for the shadowed render) and without (for the unshadowed one)."""
+    cast shadows as given (for the shadowed render) and without (for the unshadowed one). The
+    shadowed twin is `scene` itself where it already has that form."""
     import dataclasses
     light = _first_directional(scene)
+    plain = all(o.material.albedo is None for o in scene.objects)
+    if plain and tuple(scene.lights) == (light,) and not np.any(scene.ambient):
+        return scene, scene.replace(lights=[dataclasses.replace(light, cast_shadows=False)])
     objects = [o if o.material.albedo is None else dataclasses.replace(o, material=dataclasses.replace(o.material, albedo=None))
                for o in scene.objects]
     lit = scene.replace(objects=objects, lights=[light], ambient=0.0)

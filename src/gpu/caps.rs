@@ -26,8 +26,10 @@ pub struct Capabilities {
     /// storage buffers in fragment shaders (the max pyramid, prisms, cone data): required;
     /// without them pomkit reports no usable adapter rather than rendering wrongly
     pub fragment_storage: bool,
-    /// textureGather on R32Float (the max-mip walk's cell corners): WebGPU core on every
-    /// native backend; reported
+    /// compute shaders (the mip and max pyramids, methods' tables): required
+    pub compute_shaders: bool,
+    /// textureGather on the R32Float height map (the max-mip walk's cell corners): WGSL core
+    /// wherever the format can be sampled, which is what is detected; required
     pub gather: bool,
     /// SHADER_F64 (reported: the float64 oracle runs on the CPU, no shader needs f64)
     pub shader_f64: bool,
@@ -55,7 +57,11 @@ impl Capabilities {
             fragment_storage: d.flags.contains(wgpu::DownlevelFlags::FRAGMENT_STORAGE)
                 && adapter.limits().max_storage_buffers_per_shader_stage
                     >= STORAGE_BUFFERS_PER_STAGE,
-            gather: d.flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS),
+            compute_shaders: d.flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS),
+            gather: adapter
+                .get_texture_format_features(wgpu::TextureFormat::R32Float)
+                .allowed_usages
+                .contains(wgpu::TextureUsages::TEXTURE_BINDING),
             shader_f64: f.contains(wgpu::Features::SHADER_F64),
             storage_mip_views: !gl,
             sparse_attachments: !gl,
@@ -95,6 +101,11 @@ impl Capabilities {
             (
                 "storage buffers in fragment shaders",
                 self.fragment_storage,
+                "required: no usable adapter",
+            ),
+            (
+                "compute shaders",
+                self.compute_shaders,
                 "required: no usable adapter",
             ),
             (

@@ -139,9 +139,9 @@ impl Context {
         };
         let info = describe(&adapter);
         let caps = Capabilities::detect(&adapter);
-        if !caps.fragment_storage || !caps.gather {
+        if !caps.fragment_storage || !caps.compute_shaders || !caps.gather {
             return Err(Error::NoAdapter(format!(
-                "{} ({}) lacks storage buffers in fragment shaders or compute shaders, which pomkit needs; {NO_ADAPTER_HELP}",
+                "{} ({}) lacks storage buffers in fragment shaders, compute shaders or sampling of R32Float textures, which pomkit needs; {NO_ADAPTER_HELP}",
                 info.name, info.backend
             )));
         }

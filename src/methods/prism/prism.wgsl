@@ -22,7 +22,7 @@
 
 #import pomkit::globals::{G, V}
 #import pomkit::vertex::{VertexIn, VertexOut, pass_through}
-#import pomkit::aov::{write_aovs, FLAG_BOUND}
+#import pomkit::aov::{FsOut, write_aovs, FLAG_BOUND}
 #import pomkit::frame::{Frame, make_frame}
 #import pomkit::height::{height_at, height_normal, height_lod, compute_lod}
 #import pomkit::march::{Segment, linear_search_from, refine_linear, pom_sample_count}
@@ -60,15 +60,6 @@ fn prism_vertex(v: VertexIn, prism: u32, clip_from_world: mat4x4<f32>) -> Vertex
 @vertex
 fn vs_prism(v: VertexIn, @location(5) prism: u32) -> VertexOut {
     return prism_vertex(v, prism, V.view_proj);
-}
-
-struct PrismFsOut {
-    @location(0) color: vec4<u32>,
-    @location(1) geo: vec4<u32>,
-    @location(2) id: u32,
-#ifdef DISPLACED_DEPTH
-    @builtin(frag_depth) depth: f32,
-#endif
 }
 
 // Ray (o + t d) against triangle (a, b, c): (t, barycentrics u, v, 1), or w = 0 for a miss.
@@ -301,7 +292,7 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
 }
 
 @fragment
-fn fs_prism(in: VertexOut) -> PrismFsOut {
+fn fs_prism(in: VertexOut) -> FsOut {
     let tiling = G.tiling;
     let lod = compute_lod(in.uv * tiling);
     // object space, as in surface.wgsl
@@ -319,11 +310,7 @@ fn fs_prism(in: VertexOut) -> PrismFsOut {
     if (G.transformed > 0.5) {
         dist = length(p_obj - G.eye_object) * stretch(view);
     }
-    let aov = write_aovs(sh.color, u32(ph.steps + sh.steps), ph.flags, ph.s / tiling, dist, lod);
-    var o: PrismFsOut;
-    o.color = aov.color;
-    o.geo = aov.geo;
-    o.id = aov.id;
+    var o = write_aovs(sh.color, u32(ph.steps + sh.steps), ph.flags, ph.s / tiling, dist, lod);
 #ifdef DISPLACED_DEPTH
     o.depth = clip_depth(p);
 #endif
