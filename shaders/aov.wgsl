@@ -3,6 +3,7 @@
 #define_import_path pomkit::aov
 
 #import pomkit::globals::G
+#import pomkit::cost::cost_counts
 
 struct FsOut {
     // rgb: linear radiance (float bits), a: steps (low 28 bits) | flags << 28
@@ -11,6 +12,10 @@ struct FsOut {
     @location(1) geo: vec4<u32>,
     // the object's index (AOV `object`)
     @location(2) id: u32,
+#ifdef COUNT_FETCHES
+    // x: texel fetches, y: bytes read by the search (AOVs `fetches`, `bytes`: cost.wgsl)
+    @location(3) cost: vec2<u32>,
+#endif
 #ifdef DISPLACED_DEPTH
     // the displaced hit's depth (pixel depth offset): objects meet where their displaced
     // surfaces meet (frames of several objects)
@@ -28,5 +33,8 @@ fn write_aovs(color: vec3<f32>, steps: u32, flags: u32, uv: vec2<f32>, dist: f32
     o.color = vec4<u32>(c, min(steps, 0x0fffffffu) | (flags << 28u));
     o.geo = bitcast<vec4<u32>>(vec4<f32>(uv, dist, lod));
     o.id = u32(G.object_id);
+#ifdef COUNT_FETCHES
+    o.cost = cost_counts();
+#endif
     return o;
 }

@@ -8,6 +8,7 @@
 
 #import pomkit::globals::{G, height_tex, height_samp, albedo_tex, albedo_samp, max_buf}
 #import pomkit::frame::Frame
+#import pomkit::cost::fetched
 
 // x mod n in [0, n), also for negative x. Written with f32 floor: on lavapipe (Mesa 22.3)
 // integer `%` and `>>` on negative i32 gave wrong results in the max-mip traversal.
@@ -63,8 +64,9 @@ fn num_mips() -> f32 {
     return G.mip_count;
 }
 
-// The height at texture coordinate s (tiled units), at mip level `lod` (trilinear).
-fn height_at(s: vec2<f32>, lod: f32) -> f32 {
+// The height at texture coordinate s (tiled units), at mip level `lod` (trilinear), uncounted
+// (the shading normal's samples).
+fn sample_height(s: vec2<f32>, lod: f32) -> f32 {
 #if FILTERING == 1
     let l0 = i32(floor(lod));
     let fl = lod - f32(l0);
@@ -80,13 +82,26 @@ fn height_at(s: vec2<f32>, lod: f32) -> f32 {
 #endif
 }
 
+// The height at texture coordinate s (tiled units), at mip level `lod` (trilinear): a sample
+// of the search, counted (cost.wgsl). Exact filtering loads 4 texels per level; the hardware
+// filter is one fetch reading 4 texels per level.
+fn height_at(s: vec2<f32>, lod: f32) -> f32 {
+    let levels = select(2u, 1u, lod == floor(lod));
+#if FILTERING == 1
+    fetched(4u * levels, 16u * levels);
+#else
+    fetched(1u, 16u * levels);
+#endif
+    return sample_height(s, lod);
+}
+
 // Shading normal of the displaced surface, world space, from central differences of the
 // height field (one texel of the level in use). Shared by every method and by the tessellated
 // reference, so that a shading difference is a geometry difference.
 fn height_normal(f: Frame, s: vec2<f32>, lod: f32) -> vec3<f32> {
     let texel = exp2(max(floor(lod), 0.0)) / G.map_size;
-    let hx = height_at(s + vec2<f32>(texel.x, 0.0), lod) - height_at(s - vec2<f32>(texel.x, 0.0), lod);
-    let hy = height_at(s + vec2<f32>(0.0, texel.y), lod) - height_at(s - vec2<f32>(0.0, texel.y), lod);
+    let hx = sample_height(s + vec2<f32>(texel.x, 0.0), lod) - sample_height(s - vec2<f32>(texel.x, 0.0), lod);
+    let hy = sample_height(s + vec2<f32>(0.0, texel.y), lod) - sample_height(s - vec2<f32>(0.0, texel.y), lod);
     // d(world height)/d(world distance along t) = depth * dh/ds * ds/du / (world per u)
     let gx = G.depth * hx / (2.0 * texel.x) * G.tiling / f.scale.x;
     let gy = G.depth * hy / (2.0 * texel.y) * G.tiling / f.scale.y;
@@ -120,5 +135,6 @@ fn max_level_dims(level: i32) -> vec2<i32> {
 fn max_at(node: vec2<i32>, level: i32) -> f32 {
     let dims = max_level_dims(level);
     let off = G.max_offsets[level / 4][level % 4];
+    fetched(1u, 4u);
     return max_buf[off + u32(wrap_i(node.y, dims.y) * dims.x + wrap_i(node.x, dims.x))];
 }

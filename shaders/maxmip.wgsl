@@ -17,6 +17,7 @@
 
 #import pomkit::globals::{G, height_tex, height_samp}
 #import pomkit::height::max_at
+#import pomkit::cost::fetched
 
 // First t in [t0, t1] where the ray (x(t), y(t), h(t)) = (X0 + dX t, Y0 + dY t, h0 + dh t) meets
 // the bilinear patch of cell c, or -1.
@@ -25,6 +26,7 @@ fn cell_intersect(c: vec2<i32>, x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh:
     // point between the four texel centres c .. c + 1 the gather's footprint is exactly them
     // (w: (c.x, c.y), z: (c.x + 1, c.y), x: (c.x, c.y + 1), y: (c.x + 1, c.y + 1))
     let q = textureGather(0, height_tex, height_samp, (vec2<f32>(c) + 1.0) / G.map_size);
+    fetched(4u, 16u);
     let a = q.w;
     let b = q.z;
     let cc = q.x;

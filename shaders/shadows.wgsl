@@ -15,6 +15,7 @@
 #import pomkit::globals::{G, V, shadow_tex, shadow_samp, PI}
 #import pomkit::frame::{Frame, to_texture_space}
 #import pomkit::height::{height_at, height_exact_level}
+#import pomkit::cost::fetched
 #import pomkit::lights::LightSample
 #import pomkit::maxmip::{maxmip_traverse, positive_start}
 
@@ -136,6 +137,7 @@ fn exact_shadow(f: Frame, s: vec2<f32>, h_march: f32, ls: LightSample) -> Shadow
     let dsdh = l_ts.xy / l_ts.z;
     // start a hair above the surface at s (the exact field: an approximate march may stop below
     // it), so that the hit point does not shadow itself
+    fetched(4u, 16u);
     let h0 = max(h_march, height_exact_level(s, 0)) + EXACT_SHADOW_BIAS;
     r.visibility = 1.0;
     r.steps = 0.0;

@@ -29,6 +29,7 @@ pub const LIBRARY: &[(&str, &str)] = &[
         "shaders/object.wgsl",
         include_str!("../shaders/object.wgsl"),
     ),
+    ("shaders/cost.wgsl", include_str!("../shaders/cost.wgsl")),
     ("shaders/aov.wgsl", include_str!("../shaders/aov.wgsl")),
     ("shaders/frame.wgsl", include_str!("../shaders/frame.wgsl")),
     (
@@ -111,6 +112,9 @@ pub struct FrameDefs {
     /// several objects, which meet where their displaced surfaces meet. With one object the
     /// rasterised depth orders its fragments (a fragment depth would cost the early depth test).
     pub displaced_depth: bool,
+    /// the frame asks for the cost counters (AOVs `fetches`, `bytes`): COUNT_FETCHES, and the
+    /// cost target is written (shaders/cost.wgsl). Without it the counters compile away.
+    pub count_fetches: bool,
 }
 
 /// The shader defs of a variant.
@@ -126,6 +130,9 @@ pub fn defs(
     let marched = spec.defs.contains(&"MARCH") || matches!(spec.pass, Pass::Own { .. });
     if frame.displaced_depth && marched {
         d.insert("DISPLACED_DEPTH".to_string(), ShaderDefValue::Bool(true));
+    }
+    if frame.count_fetches {
+        d.insert("COUNT_FETCHES".to_string(), ShaderDefValue::Bool(true));
     }
     d.insert(
         "SHADOWS".to_string(),

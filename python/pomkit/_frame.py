@@ -10,12 +10,14 @@ import numpy as np
 from . import _core
 from ._scene import linear_to_srgb
 
-__all__ = ["Frame", "AovName", "AOV_NAMES"]
+__all__ = ["Frame", "AovName", "AOV_NAMES", "COST_AOVS"]
 
 #: the AOVs a render can return (`Renderer.render(..., aovs=...)`): the core's list, the one
 #: source; the Literal types them (tests/test_contracts.py holds the two equal)
-AovName = Literal["color", "uv", "depth", "mask", "steps", "lod", "flags", "object"]
+AovName = Literal["color", "uv", "depth", "mask", "steps", "lod", "flags", "object", "fetches", "bytes"]
 AOV_NAMES: tuple[str, ...] = tuple(_core.AOV_NAMES)
+#: the cost counters: counted only when named in `aovs=` (not in "all")
+COST_AOVS: tuple[str, ...] = ("fetches", "bytes")
 #: arrays a Frame may also hold that no render target writes: `visibility` comes from the CPU
 #: oracle (`exact_uv`) or from `Renderer.render_visibility` (a shadowed and an unshadowed render)
 DERIVED_NAMES: tuple[str, ...] = ("visibility",)

@@ -42,9 +42,11 @@ class Renderer:
         return f"Renderer({i['name']!r}, backend={i['backend']!r}, timestamps={i['timestamps']})"
 
     def render(self, scene: Scene, method: Method, aovs: Aovs = "all") -> Frame:
-        """Render `scene` with `method`. `aovs`: "all" (the default) or the AOVs to return, e.g.
-        ("color", "uv"); the render targets no requested AOV needs are neither written nor read
-        back, and the Frame holds only what was asked for."""
+        """Render `scene` with `method`. `aovs`: "all" (the default: every AOV but the cost
+        counters) or the AOVs to return, e.g. ("color", "uv"). The render targets no requested AOV
+        needs are neither written nor read back, and the Frame holds only what was asked for. The
+        cost counters (`COST_AOVS`: "fetches", "bytes") are counted only when named, e.g.
+        aovs=("color", "steps", "fetches"): counting costs the search a little."""
         _check(scene, method)
         return _frame(self._r.render(scene._describe(), method, _aovs(aovs)), method)
 

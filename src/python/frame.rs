@@ -8,14 +8,15 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
-/// `aovs=` from Python: None or "all" for every AOV, else a sequence of names.
+/// `aovs=` from Python: None or "all" for every AOV but the cost counters, else a sequence of
+/// names.
 pub fn aovs_from_py(aovs: Option<&Bound<'_, PyAny>>) -> PyResult<Aovs> {
     let Some(a) = aovs else {
-        return Ok(Aovs::ALL);
+        return Ok(Aovs::STANDARD);
     };
     if let Ok(s) = a.extract::<String>() {
         return if s == "all" {
-            Ok(Aovs::ALL)
+            Ok(Aovs::STANDARD)
         } else {
             Ok(Aovs::parse(&[s])?)
         };

@@ -21,6 +21,57 @@ pub enum Source {
     GeoHit,
     /// the id target, where hit (-1 elsewhere)
     Id,
+    /// the cost target's channel `c` (shaders/cost.wgsl), where hit (0 elsewhere); written only
+    /// when asked for (shader def COUNT_FETCHES)
+    Cost(usize),
+}
+
+/// The render targets, in location order (shaders/aov.wgsl's `FsOut`): the format, its u32
+/// words per texel, and the clear value (no hit is marked by distance -1.0 in the geo target).
+pub struct TargetDesc {
+    pub label: &'static str,
+    pub format: wgpu::TextureFormat,
+    pub words: usize,
+    pub clear: [u32; 4],
+}
+
+pub const TARGETS: [TargetDesc; 4] = [
+    TargetDesc {
+        label: "color",
+        format: wgpu::TextureFormat::Rgba32Uint,
+        words: 4,
+        clear: [0; 4],
+    },
+    TargetDesc {
+        label: "geo",
+        format: wgpu::TextureFormat::Rgba32Uint,
+        words: 4,
+        clear: [0, 0, 0xbf80_0000, 0],
+    },
+    TargetDesc {
+        label: "object",
+        format: wgpu::TextureFormat::R32Uint,
+        words: 1,
+        clear: [u32::MAX, 0, 0, 0],
+    },
+    TargetDesc {
+        label: "cost",
+        format: wgpu::TextureFormat::Rg32Uint,
+        words: 2,
+        clear: [0; 4],
+    },
+];
+
+impl Source {
+    /// The target the AOV is read from.
+    pub const fn target(self) -> usize {
+        match self {
+            Source::ColorRgb | Source::ColorLow28 | Source::ColorHigh4 => 0,
+            Source::Geo(_) | Source::GeoHit => 1,
+            Source::Id => 2,
+            Source::Cost(_) => 3,
+        }
+    }
 }
 
 /// An AOV's element type (numpy's).
@@ -45,7 +96,7 @@ pub struct Aov {
 }
 
 /// Every AOV, in the order of `Frame.aovs` and Python's `AOV_NAMES`.
-pub const AOVS: [Aov; 8] = [
+pub const AOVS: [Aov; 10] = [
     Aov {
         name: "color",
         comps: 3,
@@ -102,6 +153,20 @@ pub const AOVS: [Aov; 8] = [
         source: Source::Id,
         doc: "index of the object hit in the scene's objects, -1 where no hit",
     },
+    Aov {
+        name: "fetches",
+        comps: 1,
+        dtype: Dtype::U32,
+        source: Source::Cost(0),
+        doc: "texel fetches of the search (view and light rays): a load or a storage read 1, a gather 4, a filtered sample 1; 0 where no hit",
+    },
+    Aov {
+        name: "bytes",
+        comps: 1,
+        dtype: Dtype::U32,
+        source: Source::Cost(1),
+        doc: "bytes those fetches read (a filtered sample: 4 bytes per texel its filter reads); 0 where no hit",
+    },
 ];
 
 const fn names() -> [&'static str; AOVS.len()] {
@@ -114,6 +179,18 @@ const fn names() -> [&'static str; AOVS.len()] {
     out
 }
 
+const fn standard_bits() -> u32 {
+    let mut bits = 0;
+    let mut i = 0;
+    while i < AOVS.len() {
+        if !matches!(AOVS[i].source, Source::Cost(_)) {
+            bits |= 1 << i;
+        }
+        i += 1;
+    }
+    bits
+}
+
 /// The AOVs a render returns, as a set. Targets that no requested AOV needs are neither written
 /// nor read back.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -122,6 +199,9 @@ pub struct Aovs(u32);
 impl Aovs {
     pub const NAMES: [&'static str; AOVS.len()] = names();
     pub const ALL: Aovs = Aovs((1 << AOVS.len()) - 1);
+    /// `aovs="all"`, a render's default: every AOV but the cost counters (`fetches`, `bytes`),
+    /// which are counted only when named (counting costs the search a little).
+    pub const STANDARD: Aovs = Aovs(standard_bits());
 
     fn bit(name: &str) -> Option<u32> {
         Self::NAMES.iter().position(|n| *n == name).map(|i| 1 << i)
@@ -158,37 +238,33 @@ impl Aovs {
             .filter(move |(i, _)| self.0 & (1 << i) != 0)
             .map(|(_, a)| a.source)
     }
-    /// Whether the colour target (colour, channel 3's packed integers) is written and read.
-    pub fn color_target(self) -> bool {
-        self.sources().any(|s| {
-            matches!(
-                s,
-                Source::ColorRgb | Source::ColorLow28 | Source::ColorHigh4
-            )
-        })
-    }
-    /// Whether the geo target (uv, distance, lod; the hit mask) is written and read: every AOV
-    /// that is blanked where nothing is hit needs it.
-    pub fn geo_target(self) -> bool {
-        self.sources().any(|s| !matches!(s, Source::ColorRgb))
-    }
-    /// Whether the object-id target is written and read.
-    pub fn id_target(self) -> bool {
-        self.sources().any(|s| s == Source::Id)
-    }
-    /// The AOVs whose targets a pass writes when the adapter cannot leave a gap in its colour
-    /// attachments (`Capabilities::sparse_attachments` false): the targets before the last
-    /// requested one are written too (and cleared), though not read back.
-    pub fn dense(self) -> Aovs {
-        let mut a = self;
-        if a.id_target() {
-            a.0 |= Self::bit("uv").unwrap_or(0);
+    /// The targets the AOVs are read from (aligned with `TARGETS`). Every AOV that is blanked
+    /// where nothing is hit needs the geo target too.
+    pub fn targets(self) -> [bool; TARGETS.len()] {
+        let mut t = [false; TARGETS.len()];
+        for s in self.sources() {
+            t[s.target()] = true;
+            if s != Source::ColorRgb {
+                t[Source::GeoHit.target()] = true;
+            }
         }
-        if a.geo_target() {
-            a.0 |= Self::bit("color").unwrap_or(0);
-        }
-        a
+        t
     }
+    /// Whether the frame asks for the cost counters (shader def COUNT_FETCHES).
+    pub fn counts_fetches(self) -> bool {
+        self.targets()[Source::Cost(0).target()]
+    }
+}
+
+/// The targets a pass writes: `read`, or, when the adapter cannot leave a gap in its colour
+/// attachments (`Capabilities::sparse_attachments` false), every target up to the last one read
+/// (written and cleared, not read back).
+pub fn written(read: [bool; TARGETS.len()], sparse: bool) -> [bool; TARGETS.len()] {
+    if sparse {
+        return read;
+    }
+    let last = read.iter().rposition(|&b| b).unwrap_or(0);
+    std::array::from_fn(|i| i <= last)
 }
 
 /// One AOV's values, row-major (H, W, comps).
@@ -215,12 +291,17 @@ pub struct Frame {
     pub wall_ms: f64,
 }
 
-/// The targets' texels as read back (each None when not read): colour (4 x u32 bits), geo (4 x
-/// f32), object id.
-pub struct Texels {
-    pub color: Option<Vec<[u32; 4]>>,
-    pub geo: Option<Vec<[f32; 4]>>,
-    pub id: Option<Vec<u32>>,
+/// The targets' texels as read back, aligned with `TARGETS` (None when not read): each pixel's
+/// `words` u32 words, row-major.
+pub struct Texels(pub [Option<Vec<u32>>; TARGETS.len()]);
+
+impl Texels {
+    /// Pixel `i`'s words of target `t` (the target was read).
+    fn px(&self, t: usize, i: usize) -> &[u32] {
+        let w = TARGETS[t].words;
+        let v = self.0[t].as_ref().expect("the target was read");
+        &v[i * w..(i + 1) * w]
+    }
 }
 
 impl Frame {
@@ -254,8 +335,9 @@ impl Frame {
         wall_ms: f64,
     ) -> Frame {
         let n = (width * height) as usize;
-        let hit: Vec<bool> = match &t.geo {
-            Some(g) => g.iter().map(|p| p[2] >= 0.0).collect(),
+        let geo = Source::GeoHit.target();
+        let hit: Vec<bool> = match &t.0[geo] {
+            Some(_) => (0..n).map(|i| f32::from_bits(t.px(geo, i)[2]) >= 0.0).collect(),
             None => vec![true; n],
         };
         let data = AOVS
@@ -267,47 +349,40 @@ impl Frame {
                 let where_hit = |f: &dyn Fn(usize) -> u32, none: u32| -> Vec<u32> {
                     (0..n).map(|i| if hit[i] { f(i) } else { none }).collect()
                 };
+                let k = a.source.target();
                 Some(match a.source {
-                    Source::ColorRgb => {
-                        let c = t.color.as_ref().expect("the colour target was read");
-                        AovData::F32(
-                            c.iter()
-                                .flat_map(|p| [0, 1, 2].map(|k| f32::from_bits(p[k])))
-                                .collect(),
-                        )
-                    }
-                    Source::ColorLow28 => {
-                        let c = t.color.as_ref().expect("the colour target was read");
-                        AovData::U32(where_hit(&|i| c[i][3] & 0x0fff_ffff, 0))
-                    }
-                    Source::ColorHigh4 => {
-                        let c = t.color.as_ref().expect("the colour target was read");
-                        AovData::U8(
-                            where_hit(&|i| c[i][3] >> 28, 0)
-                                .into_iter()
-                                .map(|x| x as u8)
-                                .collect(),
-                        )
-                    }
+                    Source::ColorRgb => AovData::F32(
+                        (0..n)
+                            .flat_map(|i| {
+                                let p = t.px(k, i);
+                                [0, 1, 2].map(|c| f32::from_bits(p[c]))
+                            })
+                            .collect(),
+                    ),
+                    Source::ColorLow28 => AovData::U32(where_hit(&|i| t.px(k, i)[3] & 0x0fff_ffff, 0)),
+                    Source::ColorHigh4 => AovData::U8(
+                        where_hit(&|i| t.px(k, i)[3] >> 28, 0)
+                            .into_iter()
+                            .map(|x| x as u8)
+                            .collect(),
+                    ),
                     Source::Geo(c0) => {
-                        let g = t.geo.as_ref().expect("the geo target was read");
                         let mut v = vec![f32::NAN; n * a.comps];
                         for i in (0..n).filter(|&i| hit[i]) {
-                            v[i * a.comps..(i + 1) * a.comps]
-                                .copy_from_slice(&g[i][c0..c0 + a.comps]);
+                            for (c, x) in t.px(k, i)[c0..c0 + a.comps].iter().enumerate() {
+                                v[i * a.comps + c] = f32::from_bits(*x);
+                            }
                         }
                         AovData::F32(v)
                     }
                     Source::GeoHit => AovData::Bool(hit.clone()),
-                    Source::Id => {
-                        let ids = t.id.as_ref().expect("the id target was read");
-                        AovData::I32(
-                            where_hit(&|i| ids[i], u32::MAX)
-                                .into_iter()
-                                .map(|x| x as i32)
-                                .collect(),
-                        )
-                    }
+                    Source::Id => AovData::I32(
+                        where_hit(&|i| t.px(k, i)[0], u32::MAX)
+                            .into_iter()
+                            .map(|x| x as i32)
+                            .collect(),
+                    ),
+                    Source::Cost(c) => AovData::U32(where_hit(&|i| t.px(k, i)[c], 0)),
                 })
             })
             .collect();
@@ -330,24 +405,18 @@ mod tests {
     fn every_aov_decodes_to_its_declared_type_and_size() {
         let (w, h) = (3u32, 2u32);
         let n = 6;
-        let t = Texels {
-            color: Some(vec![
-                [
-                    1.0f32.to_bits(),
-                    0.5f32.to_bits(),
-                    0.25f32.to_bits(),
-                    7 | (2 << 28)
-                ];
-                n
-            ]),
+        let color = [1.0f32.to_bits(), 0.5f32.to_bits(), 0.25f32.to_bits(), 7 | (2 << 28)];
+        let t = Texels([
+            Some(color.repeat(n)),
             // pixel 0 misses (distance -1)
-            geo: Some(
+            Some(
                 (0..n)
-                    .map(|i| [0.1, 0.2, if i == 0 { -1.0 } else { 2.0 }, 0.5])
+                    .flat_map(|i| [0.1f32, 0.2, if i == 0 { -1.0 } else { 2.0 }, 0.5].map(f32::to_bits))
                     .collect(),
             ),
-            id: Some(vec![4; n]),
-        };
+            Some(vec![4; n]),
+            Some([9, 36].repeat(n)),
+        ]);
         let f = Frame::decode(w, h, Aovs::ALL, &t, None, 0.0);
         for (a, d) in AOVS.iter().zip(&f.data) {
             let d = d.as_ref().expect("every AOV");
@@ -369,5 +438,17 @@ mod tests {
             Some(&AovData::I32(vec![-1, 4, 4, 4, 4, 4]))
         );
         assert_eq!(&f.f32s("color")[..3], &[1.0, 0.5, 0.25]);
+        assert_eq!(f.get("fetches"), Some(&AovData::U32(vec![0, 9, 9, 9, 9, 9])));
+        assert_eq!(f.get("bytes"), Some(&AovData::U32(vec![0, 36, 36, 36, 36, 36])));
+        assert_eq!(
+            Aovs::parse(&["color"]).unwrap().targets(),
+            [true, false, false, false]
+        );
+        assert_eq!(
+            Aovs::parse(&["fetches"]).unwrap().targets(),
+            [false, true, false, true]
+        );
+        assert_eq!(written([true, false, true, false], false), [true, true, true, false]);
+        assert_eq!(written([true, false, true, false], true), [true, false, true, false]);
     }
 }

@@ -34,8 +34,6 @@ use resources::Resources;
 use std::sync::{Arc, Mutex};
 use targets::Targets;
 
-/// float32 bits in uint targets: exact on every backend (GL cannot render to Rgba32Float)
-pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// Samplers, and the stand-in bound where a frame has no shadow map.
@@ -289,7 +287,7 @@ impl Renderer {
 
     /// Render every AOV of one frame.
     pub fn render(&self, scene: &Scene, method: &Method) -> Result<Frame> {
-        self.render_aovs(scene, method, Aovs::ALL)
+        self.render_aovs(scene, method, Aovs::STANDARD)
     }
 
     /// Render one frame with the AOVs in `aovs`.
@@ -313,11 +311,7 @@ impl Renderer {
         };
         // the targets the pass writes: the requested ones, or (where attachments cannot have
         // gaps) every target up to the last requested one
-        let written = if self.ctx.caps.sparse_attachments {
-            aovs
-        } else {
-            aovs.dense()
-        };
+        let written = aovs::written(aovs.targets(), self.ctx.caps.sparse_attachments);
         let mut frames = Vec::with_capacity(scenes.len());
         let _guard = self.submit.lock().map_err(poisoned)?;
         let mut pending: Option<Pending> = None;
@@ -332,12 +326,9 @@ impl Renderer {
                 FrameDefs {
                     shadow_map: shadow.is_some(),
                     displaced_depth: scene.objects.len() > 1,
+                    count_fetches: aovs.counts_fetches(),
                 },
-                (
-                    written.color_target(),
-                    written.geo_target(),
-                    written.id_target(),
-                ),
+                written,
                 arg,
             )?;
             let shadow_view = shadow
@@ -497,7 +488,7 @@ impl Renderer {
         binds: &FrameBinds,
         draws: &[Draw],
         aovs: Aovs,
-        written: Aovs,
+        written: [bool; aovs::TARGETS.len()],
     ) -> Result<Pending> {
         let ctx = &self.ctx;
         let (w, h) = (scene.camera.width, scene.camera.height);

@@ -3,7 +3,8 @@
 //! method (its `params` and the resources it declares: one layout per declaration). One
 //! pipeline per composed shader variant, keyed on the composed shader defs themselves.
 
-use super::{COLOR_FORMAT, DEPTH_FORMAT};
+use super::aovs::TARGETS;
+use super::DEPTH_FORMAT;
 use crate::contract::{Filtering, Geometry, Pass, ResourceKind, Spec};
 use crate::error::{Error, Result};
 use crate::gpu::{layout, Context};
@@ -57,7 +58,7 @@ fn variant_key(
     spec: &Spec,
     filtering: Filtering,
     frame: FrameDefs,
-    targets: (bool, bool, bool),
+    targets: [bool; TARGETS.len()],
 ) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
     let mut defs: Vec<(String, String)> = crate::shaders::defs(spec, filtering, frame)
@@ -195,10 +196,10 @@ impl Pipelines {
         spec: &Spec,
         filtering: Filtering,
         frame: FrameDefs,
-        (color, geo, id): (bool, bool, bool),
+        written: [bool; TARGETS.len()],
         arg: &str,
     ) -> Result<Arc<Variant>> {
-        let key = variant_key(spec, filtering, frame, (color, geo, id));
+        let key = variant_key(spec, filtering, frame, written);
         if let Some(v) = self
             .cache
             .lock()
@@ -236,11 +237,17 @@ impl Pipelines {
                 } => (*shadow_vs, Some(*shadow_fs)),
             };
             let vertex_layout = vertex_layout(&spec.geometry);
-            let target = Some(wgpu::ColorTargetState {
-                format: COLOR_FORMAT,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            });
+            // a target no requested AOV needs is left out: its output is discarded
+            let last = written.iter().rposition(|&b| b).map_or(0, |i| i + 1);
+            let targets: Vec<Option<wgpu::ColorTargetState>> = (0..last)
+                .map(|i| {
+                    written[i].then_some(wgpu::ColorTargetState {
+                        format: TARGETS[i].format,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })
+                })
+                .collect();
             let main = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("pomkit pass"),
                 layout: Some(&layout.pipeline),
@@ -262,16 +269,7 @@ impl Pipelines {
                     module: &module,
                     entry_point: Some(fs),
                     compilation_options: Default::default(),
-                    // a target no requested AOV needs is left out: its output is discarded
-                    targets: &[
-                        color.then(|| target.clone()).flatten(),
-                        geo.then_some(target).flatten(),
-                        id.then_some(wgpu::ColorTargetState {
-                            format: super::targets::ID_FORMAT,
-                            blend: None,
-                            write_mask: wgpu::ColorWrites::ALL,
-                        }),
-                    ],
+                    targets: &targets,
                 }),
                 multiview_mask: None,
                 cache: None,

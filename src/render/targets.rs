@@ -1,33 +1,34 @@
 //! The frame's render targets and their readback; the `Frame` is decoded from them as the AOV
-//! table says (aovs.rs). Targets hold float32 bits in Rgba32Uint (exact on every backend; GL
-//! cannot render to Rgba32Float): colour + steps|flags, uv + distance + lod, and the object id.
+//! table says (aovs.rs). Targets hold float32 bits in uint formats (exact on every backend; GL
+//! cannot render to Rgba32Float): colour + steps|flags, uv + distance + lod, the object id, and
+//! the cost counters (aovs::TARGETS).
 
-use super::{COLOR_FORMAT, DEPTH_FORMAT};
+use super::DEPTH_FORMAT;
 use crate::gpu::Context;
 
+pub use super::aovs::{Aovs, Frame, TARGETS};
 use super::aovs::Texels;
-pub use super::aovs::{Aovs, Frame};
+
+/// One render target and its readback buffer.
+pub struct Target {
+    pub t: wgpu::Texture,
+    pub v: wgpu::TextureView,
+    pub buf: wgpu::Buffer,
+}
 
 /// The render targets and readback buffers of one frame size, kept for the next frame.
 pub struct Targets {
     pub w: u32,
     pub h: u32,
-    pub color_t: wgpu::Texture,
-    pub geo_t: wgpu::Texture,
-    pub color_v: wgpu::TextureView,
-    pub geo_v: wgpu::TextureView,
+    /// aligned with `TARGETS`
+    pub targets: Vec<Target>,
     pub depth_v: wgpu::TextureView,
-    pub id_t: wgpu::Texture,
-    pub id_v: wgpu::TextureView,
-    pub color_buf: wgpu::Buffer,
-    pub geo_buf: wgpu::Buffer,
-    pub id_buf: wgpu::Buffer,
     pub queries: Option<wgpu::QuerySet>,
     pub ts_resolve: Option<wgpu::Buffer>,
     pub ts_read: Option<wgpu::Buffer>,
 }
 
-/// Bytes per row of a readback buffer of the colour and geo targets (256-aligned).
+/// Bytes per row of a readback buffer of the widest target (256-aligned).
 pub fn row_bytes(w: u32) -> u64 {
     texel_row_bytes(w, 16)
 }
@@ -37,22 +38,9 @@ fn texel_row_bytes(w: u32, texel: u64) -> u64 {
     (w as u64 * texel).div_ceil(256) * 256
 }
 
-/// The object-id target's format: one u32 per pixel.
-pub const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
-
 impl Targets {
     pub fn new(ctx: &Context, w: u32, h: u32) -> Self {
         let dev = &ctx.device;
-        let tex = |label, format, usage| ctx.texture_2d(label, (w, h), format, usage);
-        let rt = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
-        let color_t = tex("color", COLOR_FORMAT, rt);
-        let geo_t = tex("geo", COLOR_FORMAT, rt);
-        let id_t = tex("object", ID_FORMAT, rt);
-        let depth_t = tex(
-            "depth",
-            DEPTH_FORMAT,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        );
         let buf = |label, size, usage| {
             dev.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -62,18 +50,34 @@ impl Targets {
             })
         };
         let rb = wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST;
+        let rt = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        let targets = TARGETS
+            .iter()
+            .map(|d| {
+                let t = ctx.texture_2d(d.label, (w, h), d.format, rt);
+                Target {
+                    v: t.create_view(&Default::default()),
+                    t,
+                    buf: buf(
+                        d.label,
+                        texel_row_bytes(w, 4 * d.words as u64) * h as u64,
+                        rb,
+                    ),
+                }
+            })
+            .collect();
+        let depth_t = ctx.texture_2d(
+            "depth",
+            (w, h),
+            DEPTH_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
         let ts = ctx.caps.timestamps;
         Targets {
             w,
             h,
-            color_v: color_t.create_view(&Default::default()),
-            geo_v: geo_t.create_view(&Default::default()),
+            targets,
             depth_v: depth_t.create_view(&Default::default()),
-            color_buf: buf("color readback", row_bytes(w) * h as u64, rb),
-            geo_buf: buf("geo readback", row_bytes(w) * h as u64, rb),
-            id_v: id_t.create_view(&Default::default()),
-            id_buf: buf("object readback", texel_row_bytes(w, 4) * h as u64, rb),
-            id_t,
             queries: ts.then(|| {
                 dev.create_query_set(&wgpu::QuerySetDescriptor {
                     label: Some("pass time"),
@@ -89,74 +93,51 @@ impl Targets {
                 )
             }),
             ts_read: ts.then(|| buf("ts read", 16, rb)),
-            color_t,
-            geo_t,
         }
     }
 
-    /// The colour attachments, cleared: no hit is marked by distance -1.0 (as float32 bits).
-    pub fn attachments(&self, aovs: Aovs) -> [Option<wgpu::RenderPassColorAttachment<'_>>; 3] {
-        let att = |view, clear| {
-            Some(wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(clear),
-                    store: wgpu::StoreOp::Store,
-                },
+    /// The colour attachments of the targets `written`, cleared to their `TargetDesc::clear`.
+    pub fn attachments(
+        &self,
+        written: [bool; TARGETS.len()],
+    ) -> Vec<Option<wgpu::RenderPassColorAttachment<'_>>> {
+        let last = written.iter().rposition(|&b| b).map_or(0, |i| i + 1);
+        (0..last)
+            .map(|i| {
+                written[i].then(|| {
+                    let c = TARGETS[i].clear.map(|x| x as f64);
+                    wgpu::RenderPassColorAttachment {
+                        view: &self.targets[i].v,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color {
+                                r: c[0],
+                                g: c[1],
+                                b: c[2],
+                                a: c[3],
+                            }),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    }
+                })
             })
-        };
-        [
-            aovs.color_target()
-                .then(|| att(&self.color_v, wgpu::Color::TRANSPARENT))
-                .flatten(),
-            aovs.geo_target()
-                .then(|| {
-                    att(
-                        &self.geo_v,
-                        wgpu::Color {
-                            r: 0.0,
-                            g: 0.0,
-                            b: (-1.0f32).to_bits() as f64,
-                            a: 0.0,
-                        },
-                    )
-                })
-                .flatten(),
-            aovs.id_target()
-                .then(|| {
-                    att(
-                        &self.id_v,
-                        wgpu::Color {
-                            r: u32::MAX as f64,
-                            g: 0.0,
-                            b: 0.0,
-                            a: 0.0,
-                        },
-                    )
-                })
-                .flatten(),
-        ]
+            .collect()
     }
 
-    /// Copy the targets and the pass's timestamps into the readback buffers.
+    /// Copy the targets the frame reads and the pass's timestamps into the readback buffers.
     pub fn encode_readback(&self, enc: &mut wgpu::CommandEncoder, aovs: Aovs) {
-        for (t, b, used, texel) in [
-            (&self.color_t, &self.color_buf, aovs.color_target(), 16),
-            (&self.geo_t, &self.geo_buf, aovs.geo_target(), 16),
-            (&self.id_t, &self.id_buf, aovs.id_target(), 4),
-        ] {
+        for ((tg, d), used) in self.targets.iter().zip(&TARGETS).zip(aovs.targets()) {
             if !used {
                 continue;
             }
             enc.copy_texture_to_buffer(
-                t.as_image_copy(),
+                tg.t.as_image_copy(),
                 wgpu::TexelCopyBufferInfo {
-                    buffer: b,
+                    buffer: &tg.buf,
                     layout: wgpu::TexelCopyBufferLayout {
                         offset: 0,
-                        bytes_per_row: Some(texel_row_bytes(self.w, texel) as u32),
+                        bytes_per_row: Some(texel_row_bytes(self.w, 4 * d.words as u64) as u32),
                         rows_per_image: Some(self.h),
                     },
                 },
@@ -182,17 +163,15 @@ impl Targets {
         wall_ms: f64,
     ) -> crate::Result<Frame> {
         // one wait for every buffer the frame reads
-        let mut bufs: Vec<&wgpu::Buffer> = Vec::with_capacity(4);
-        let (color, geo, id) = (aovs.color_target(), aovs.geo_target(), aovs.id_target());
-        for (used, b) in [
-            (color, &self.color_buf),
-            (geo, &self.geo_buf),
-            (id, &self.id_buf),
-        ] {
-            if used {
-                bufs.push(b);
-            }
-        }
+        let used = aovs.targets();
+        let mut bufs: Vec<&wgpu::Buffer> = self
+            .targets
+            .iter()
+            .zip(used)
+            .filter(|(_, u)| *u)
+            .map(|(t, _)| &t.buf)
+            .collect();
+        let n_targets = bufs.len();
         if let Some(b) = &self.ts_read {
             bufs.push(b);
         }
@@ -200,38 +179,27 @@ impl Targets {
         let period = ctx.queue.get_timestamp_period() as f64;
         ctx.map_read_all(&bufs, Some(submission), |raw| {
             let mut k = 0;
-            let mut next = |used: bool| -> Option<&[u8]> {
-                used.then(|| {
+            let texels = std::array::from_fn(|i| {
+                used[i].then(|| {
+                    // rows of `words` u32 per pixel, 256-aligned, into one pixel array
+                    let texel = 4 * TARGETS[i].words;
+                    let rb = (w * texel).div_ceil(256) * 256;
+                    let r = raw[k];
                     k += 1;
-                    raw[k - 1]
+                    let mut out = Vec::with_capacity(w * h * TARGETS[i].words);
+                    for y in 0..h {
+                        out.extend_from_slice(bytemuck::cast_slice::<u8, u32>(
+                            &r[y * rb..y * rb + w * texel],
+                        ));
+                    }
+                    out
                 })
-            };
-            // rows of `texel` bytes per pixel, 256-aligned, into one pixel array
-            fn rows<T: bytemuck::Pod + Copy>(
-                raw: &[u8],
-                w: usize,
-                h: usize,
-                texel: usize,
-            ) -> Vec<T> {
-                let rb = (w * texel).div_ceil(256) * 256;
-                let mut out = Vec::with_capacity(w * h);
-                for y in 0..h {
-                    out.extend_from_slice(bytemuck::cast_slice::<u8, T>(
-                        &raw[y * rb..y * rb + w * texel],
-                    ));
-                }
-                out
-            }
-            let t = Texels {
-                color: next(color).map(|r| rows::<[u32; 4]>(r, w, h, 16)),
-                geo: next(geo).map(|r| rows::<[f32; 4]>(r, w, h, 16)),
-                id: next(id).map(|r| rows::<u32>(r, w, h, 4)),
-            };
+            });
             let gpu_ms = self.ts_read.as_ref().and_then(|_| {
-                let t: &[u64] = bytemuck::cast_slice(&raw[k][..16]);
+                let t: &[u64] = bytemuck::cast_slice(&raw[n_targets][..16]);
                 (t[1] > t[0]).then(|| (t[1] - t[0]) as f64 * period / 1e6)
             });
-            Frame::decode(self.w, self.h, aovs, &t, gpu_ms, wall_ms)
+            Frame::decode(self.w, self.h, aovs, &Texels(texels), gpu_ms, wall_ms)
         })
     }
 }

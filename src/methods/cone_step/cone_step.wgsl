@@ -15,6 +15,7 @@
 // flagged (FLAG_BOUND).
 #define_import_path pomkit::methods::cone_step
 
+#import pomkit::cost::fetched
 #import pomkit::globals::G
 #import pomkit::aov::FLAG_BOUND
 #import pomkit::march::{Ray, Hit, planar_hit}
@@ -33,6 +34,7 @@ fn cell_ahead(p: vec2<f32>, dir: vec2<f32>) -> vec2<i32> {
 // (base, w) of a cell
 fn cone_of(c: vec2<i32>) -> vec2<f32> {
     let d = vec2<i32>(G.map_size);
+    fetched(1u, 8u);
     return cone_buf[wrap_i(c.y, d.y) * d.x + wrap_i(c.x, d.x)];
 }
 

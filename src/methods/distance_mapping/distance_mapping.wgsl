@@ -6,6 +6,7 @@
 // `binary_steps` bisections. `max_steps` bounds the walk (flagged).
 #define_import_path pomkit::methods::distance_mapping
 
+#import pomkit::cost::fetched
 #import pomkit::globals::G
 #import pomkit::aov::FLAG_BOUND
 #import pomkit::march::{Ray, Hit, planar_hit}
@@ -50,6 +51,7 @@ fn march(r: Ray) -> Hit {
         let y = wrap_f(y0 + dy * u, hv);
         let z = clamp(slices * (1.0 - u), 0.0, slices - 0.5);
         let idx = (u32(z) * u32(hv) + u32(y)) * u32(wv) + u32(x);
+        fetched(1u, 4u);
         let dd = dist_buf[4u + idx] - 0.8660254;
         steps = steps + 1.0;
         if (dd > 0.0) {

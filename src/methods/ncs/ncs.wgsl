@@ -12,6 +12,7 @@
 
 #define_import_path pomkit::methods::ncs
 
+#import pomkit::cost::fetched
 #import pomkit::globals::G
 #import pomkit::aov::FLAG_EARLY
 #import pomkit::frame::{Frame, make_frame}
@@ -23,6 +24,7 @@
 @group(2) @binding(1) var frame_map: texture_2d<u32>;
 
 fn frame_texel(x: i32, y: i32) -> FrameTexel {
+    fetched(1u, 16u);
     return unpack_frame(textureLoad(frame_map, vec2<i32>(x, y), 0));
 }
 

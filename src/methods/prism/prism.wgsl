@@ -20,6 +20,7 @@
 // (DISPLACED_DEPTH); with one, the entries' rasterised depth orders the fragments (a ray's later
 // entry lies behind its earlier one's whole walk), which keeps the early depth test.
 
+#import pomkit::cost::fetched
 #import pomkit::globals::{G, V}
 #import pomkit::vertex::{VertexIn, VertexOut, pass_through}
 #import pomkit::aov::{FsOut, write_aovs, FLAG_BOUND}
@@ -131,6 +132,8 @@ fn prism_span(p: u32, o: vec3<f32>, d: vec3<f32>) -> Span {
     sp.t_out = -3.4e38;
     sp.side = 3u;
     sp.ok = false;
+    // the prism's corners and adjacency (no texels: bytes only), and its max height
+    fetched(0u, 128u);
     let t0 = prisms[p].top[0].xyz;
     let t1 = prisms[p].top[1].xyz;
     let t2 = prisms[p].top[2].xyz;

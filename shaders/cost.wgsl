@@ -1,0 +1,36 @@
+// cost.wgsl: the per-pixel cost counters (AOVs `fetches` and `bytes`), counted only in the
+// variants that write them (shader def COUNT_FETCHES; elsewhere `fetched` is empty and compiles
+// away, so a frame that does not ask for them costs and renders exactly as before).
+//
+// What counts: every read of the method's search (the view ray and the light rays) from the
+// height field, the max pyramid, the cone map, the NCS frame map, the distance volume and the
+// prisms' data. The shading normal (the same four samples for every method) and the albedo are
+// not counted: the counts are the method's cost above Flat.
+//   fetches: texel fetch operations. A textureLoad or a storage read of one map value is 1; a
+//            textureGather is 4 (four texels); a hardware-filtered sample is 1 (one texture
+//            instruction; its filter reads 4 texels, 8 between two levels).
+//   bytes:   the bytes those fetches read: 4 per float32 texel, 16 for a filtered bilinear sample
+//            (32 trilinear), 16 per gather, 16 per frame-map texel, 96 per prism visited.
+#define_import_path pomkit::cost
+
+#ifdef COUNT_FETCHES
+var<private> cost_fetches: u32;
+var<private> cost_bytes: u32;
+#endif
+
+// `n` fetches reading `b` bytes.
+fn fetched(n: u32, b: u32) {
+#ifdef COUNT_FETCHES
+    cost_fetches = cost_fetches + n;
+    cost_bytes = cost_bytes + b;
+#endif
+}
+
+// The counts so far: (fetches, bytes).
+fn cost_counts() -> vec2<u32> {
+#ifdef COUNT_FETCHES
+    return vec2<u32>(cost_fetches, cost_bytes);
+#else
+    return vec2<u32>(0u);
+#endif
+}
