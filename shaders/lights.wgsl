@@ -1,4 +1,5 @@
-// lights.wgsl: the direction toward a light and the irradiance it delivers.
+// lights.wgsl: the direction toward a light and the irradiance it delivers. Sphere lights only
+// in frames that have one (shader def SPHERE_LIGHTS): elsewhere the branch is compiled out.
 #define_import_path pomkit::lights
 
 #import pomkit::globals::V
@@ -13,10 +14,13 @@ struct LightSample {
 fn light_sample(i: u32, p: vec3<f32>) -> LightSample {
     let l = V.lights[i];
     var ls: LightSample;
+#ifdef SPHERE_LIGHTS
     if (l.vec.w < 0.5) {
+#endif
         ls.dir = normalize(-l.vec.xyz);
         ls.e = l.color.rgb;
         ls.tan_radius = l.color.w;
+#ifdef SPHERE_LIGHTS
     } else {
         let d = l.vec.xyz - p;
         let r2 = max(dot(d, d), 1e-12);
@@ -24,5 +28,6 @@ fn light_sample(i: u32, p: vec3<f32>) -> LightSample {
         ls.e = l.color.rgb / r2;
         ls.tan_radius = l.color.w / sqrt(max(r2 - l.color.w * l.color.w, 1e-12));
     }
+#endif
     return ls;
 }

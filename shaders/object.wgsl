@@ -2,13 +2,23 @@
 // there (the displacement `depth` is in object units, along the object-space normal); positions
 // go to world space for the depth buffer, the lights and the shadow map, normals for the light
 // model. An untransformed object skips the arithmetic (a uniform branch), so that its results are
-// bit-identical to a scene without transforms.
+// bit-identical to a scene without transforms; in a frame without transforms (no shader def
+// TRANSFORMED) the arithmetic is compiled out, as a branch costs both its sides on lavapipe.
 #define_import_path pomkit::object
 
 #import pomkit::globals::{G, V}
 
 fn is_transformed() -> bool {
+#ifdef TRANSFORMED
     return G.transformed > 0.5;
+#else
+    return false;
+#endif
+}
+
+// An object-space position in clip space through `clip_from_world` (the camera's or the light's).
+fn to_clip(p: vec3<f32>, clip_from_world: mat4x4<f32>) -> vec4<f32> {
+    return clip_from_world * vec4<f32>(to_world(p), 1.0);
 }
 
 // An object-space point in world space.

@@ -18,11 +18,11 @@
 #import pomkit::height::{height_normal, height_lod, compute_lod}
 #import pomkit::march::{Ray, Hit}
 #import pomkit::shading::shade
-#import pomkit::object::{to_world, normal_to_world, stretch, clip_depth, shadow_depth, shadow_light_object}
+#import pomkit::object::{to_world, to_clip, normal_to_world, stretch, clip_depth, shadow_depth, shadow_light_object}
 
 @vertex
 fn vs_main(v: VertexIn) -> VertexOut {
-    return pass_through(v, V.view_proj * (G.model * vec4<f32>(v.position, 1.0)));
+    return pass_through(v, to_clip(v.position, V.view_proj));
 }
 
 // The shadow-map pass: the scene seen from the shadowing light (orthographic). Meshes that are
@@ -31,7 +31,7 @@ fn vs_main(v: VertexIn) -> VertexOut {
 // every object casts with its displaced surface.
 @vertex
 fn vs_shadow(v: VertexIn) -> VertexOut {
-    return pass_through(v, V.shadow_vp * (G.model * vec4<f32>(v.position, 1.0)));
+    return pass_through(v, to_clip(v.position, V.shadow_vp));
 }
 
 // The ray of a fragment along `view` (object space, unit) in its tangent frame.

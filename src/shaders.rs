@@ -115,6 +115,12 @@ pub struct FrameDefs {
     /// the frame asks for the cost counters (AOVs `fetches`, `bytes`): COUNT_FETCHES, and the
     /// cost target is written (shaders/cost.wgsl). Without it the counters compile away.
     pub count_fetches: bool,
+    /// an object of the frame has a transform (TRANSFORMED): the model-space arithmetic, which
+    /// each object still skips when its own is the identity (a uniform branch; in a frame of
+    /// untransformed objects the arithmetic is compiled out: lavapipe runs both sides of a branch)
+    pub transformed: bool,
+    /// the frame has a sphere light (SPHERE_LIGHTS); without one, lights.wgsl is directional only
+    pub sphere_lights: bool,
 }
 
 /// The shader defs of a variant.
@@ -130,6 +136,14 @@ pub fn defs(
     let marched = spec.defs.contains(&"MARCH") || matches!(spec.pass, Pass::Own { .. });
     if frame.displaced_depth && marched {
         d.insert("DISPLACED_DEPTH".to_string(), ShaderDefValue::Bool(true));
+    }
+    for (on, def) in [
+        (frame.transformed, "TRANSFORMED"),
+        (frame.sphere_lights, "SPHERE_LIGHTS"),
+    ] {
+        if on {
+            d.insert(def.to_string(), ShaderDefValue::Bool(true));
+        }
     }
     if frame.count_fetches {
         d.insert("COUNT_FETCHES".to_string(), ShaderDefValue::Bool(true));

@@ -18,7 +18,7 @@ def test_sweep_rows(tmp_path):
     rows = rows.to_dict("records") if hasattr(rows, "to_dict") else rows
     assert len(rows) == 6
     need = {"method", "label", "safety", "scene", "angle", "gpu_ms", "gpu_ms_p25", "gpu_ms_p75", "march_ms", "call_ms",
-            "repeats", "ms_per_mpix", "mean_steps", "uv_p50", "uv_p95", "uv_p99", "mask_iou", "flip"}
+            "repeats", "ms_per_mpix", "mean_steps", "fetches_mean", "fetches_p99", "bytes_mean", "uv_p50", "uv_p95", "uv_p99", "mask_iou", "flip"}
     assert need <= set(rows[0])
     for x in rows:
         # every row is labelled, without stray spaces (the quick bench once wrote '' and 'Exact ')
@@ -30,6 +30,20 @@ def test_sweep_rows(tmp_path):
     exact = [x for x in rows if x["method"] == "Exact"]
     assert all(x["uv_p99"] < 0.1 for x in exact)
     assert (tmp_path / "t.csv").read_text().count("\n") == 7
+    # the fetch counts follow the settings: twice the layers, more fetches (same scene and angle)
+    for a in (30.0, 70.0):
+        f8, f16 = (next(x["fetches_mean"] for x in rows if x["angle"] == a and f"max_steps={n})" in x["label"]) for n in (8, 16))
+        assert 0 < f8 < f16
+        assert all(x["bytes_mean"] >= 4 * x["fetches_mean"] for x in rows)
+
+
+def test_fit_cost_recovers_a_line():
+    from pomkit.bench import fit_cost
+    rows = [dict(fetches_mean=x, gpu_ms=2.0 + 0.5 * x) for x in (1, 4, 9, 30)]
+    fit = fit_cost(rows)
+    assert abs(fit["a"] - 2.0) < 1e-9 and abs(fit["b"] - 0.5) < 1e-9 and abs(fit["r2"] - 1.0) < 1e-12
+    noisy = rows + [dict(fetches_mean=4, gpu_ms=9.0)]
+    assert fit_cost(noisy)["r2"] < 0.9
 
 
 def test_presets_are_valid_methods():

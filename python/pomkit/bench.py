@@ -149,7 +149,8 @@ def _sweep_scene(job: tuple) -> list[dict]:
     else:
         from . import reference as R
         ref = cref = R.render_mitsuba(scene, spp=cfg["spp"])
-    aovs: tuple[pk.AovName, ...] = ("color", "uv", "mask", "steps") if flip else ("uv", "mask", "steps")
+    aovs: tuple[pk.AovName, ...] = ("color", "uv", "mask", "steps", "fetches", "bytes") if flip else \
+        ("uv", "mask", "steps", "fetches", "bytes")
     if len(scene.objects) > 1:
         aovs += ("object",)  # uv error is measured per object
     times = time_methods(r, scene, methods, aovs=("color",), min_repeats=repeats)
@@ -165,11 +166,14 @@ def _sweep_scene(job: tuple) -> list[dict]:
             except ImportError:
                 pass
         steps = float(f.steps[f.mask].mean()) if f.mask.any() else 0.0
+        fetches = f.fetches[f.mask] if f.mask.any() else np.zeros(1)
+        nbytes = f.bytes[f.mask] if f.mask.any() else np.zeros(1)
         shadow = _shadow_columns(r, scene, m, ref if reference == "exact" else None)
         rows.append(dict(method=method_name(m), label=label(m), safety=m.safety, scene=sname, angle=angle,
                          size=cfg["size"], gpu_ms=t["ms"], gpu_ms_p25=t["ms_p25"], gpu_ms_p75=t["ms_p75"],
                          march_ms=t["march_ms"], call_ms=t["call_ms"], repeats=t["repeats"], timing=t["timing"],
-                         ms_per_mpix=t["ms"] / mpix, mean_steps=steps, uv_p50=e["p50"], uv_p95=e["p95"],
+                         ms_per_mpix=t["ms"] / mpix, mean_steps=steps, fetches_mean=float(fetches.mean()),
+                         fetches_p99=float(np.percentile(fetches, 99)), bytes_mean=float(nbytes.mean()), uv_p50=e["p50"], uv_p95=e["p95"],
                          uv_p99=e["p99"], mask_iou=e["mask_iou"], flip=fl, **shadow))
     return rows
 
@@ -208,8 +212,9 @@ def sweep(methods: Iterable, scenes: Iterable = ("bricks",), angles: Iterable[fl
 
     Rows: method, label, safety ("safe": never misses a feature of the bilinear field;
     "approximate"), scene, angle, size, gpu_ms (median) with its p25/p75, march_ms (cost above
-    Flat), call_ms, repeats, timing, ms_per_mpix, mean_steps, uv p50/p95/p99 (texels), mask IoU,
-    FLIP. Returns a pandas DataFrame when pandas is installed, else a list of dicts; writes CSV
+    Flat), call_ms, repeats, timing, ms_per_mpix, mean_steps, fetches_mean and fetches_p99 (texel
+    fetches per pixel of the search: the AOV `fetches`), bytes_mean, uv p50/p95/p99 (texels),
+    mask IoU, FLIP. Returns a pandas DataFrame when pandas is installed, else a list of dicts; writes CSV
     to `csv_path` when given."""
     if reference not in ("exact", "tessellated", "mitsuba"):
         raise ValueError(f"reference: must be 'exact', 'tessellated' or 'mitsuba', got {reference!r}")
@@ -282,6 +287,22 @@ def swimming(method, scene_height, frames: int = 16, step_deg: float = 0.5, star
             acc.append(float(np.linalg.norm(d, axis=-1).mean()))
         prev = (f, o)
     return float(np.mean(acc))
+
+
+def fit_cost(rows: list[dict], x: str = "fetches_mean", y: str = "gpu_ms") -> dict:
+    """The least-squares line y = a + b * x over `rows` (e.g. a sweep's rows: ms against mean
+    fetches per pixel) and how well it predicts: R² (1: the fetches explain every difference in
+    time; 0: no better than the mean). Returns a, b, r2, n."""
+    xs = np.array([float(r[x]) for r in rows])
+    ys = np.array([float(r[y]) for r in rows])
+    ok = np.isfinite(xs) & np.isfinite(ys)
+    xs, ys = xs[ok], ys[ok]
+    if len(xs) < 3 or np.ptp(xs) == 0:
+        return dict(a=float("nan"), b=float("nan"), r2=float("nan"), n=int(len(xs)))
+    b, a = np.polyfit(xs, ys, 1)
+    res = ys - (a + b * xs)
+    r2 = 1.0 - float(np.sum(res ** 2)) / float(np.sum((ys - ys.mean()) ** 2))
+    return dict(a=float(a), b=float(b), r2=r2, n=int(len(xs)))
 
 
 def pareto_front(points):

@@ -327,6 +327,11 @@ impl Renderer {
                     shadow_map: shadow.is_some(),
                     displaced_depth: scene.objects.len() > 1,
                     count_fetches: aovs.counts_fetches(),
+                    transformed: scene.objects.iter().any(|o| !o.transform.is_identity()),
+                    sphere_lights: scene
+                        .lights
+                        .iter()
+                        .any(|l| matches!(l, crate::scene::Light::Sphere { .. })),
                 },
                 written,
                 arg,

@@ -29,7 +29,7 @@
 #import pomkit::march::{Segment, linear_search_from, refine_linear, pom_sample_count}
 #import pomkit::maxmip::{maxmip_traverse, positive_start}
 #import pomkit::shading::shade
-#import pomkit::object::{to_world, normal_to_world, stretch, clip_depth, shadow_depth, shadow_light_object}
+#import pomkit::object::{is_transformed, to_world, to_clip, normal_to_world, stretch, clip_depth, shadow_depth, shadow_light_object}
 
 struct PrismData {
     top: array<vec4<f32>, 3>,
@@ -53,7 +53,7 @@ const MAX_PRISMS: u32 = 64u;
 
 // A boundary-face corner seen through `clip_from_world` (the camera's or the light's).
 fn prism_vertex(v: VertexIn, prism: u32, clip_from_world: mat4x4<f32>) -> VertexOut {
-    var o = pass_through(v, clip_from_world * (G.model * vec4<f32>(v.position, 1.0)));
+    var o = pass_through(v, to_clip(v.position, clip_from_world));
     o.prism = prism;
     return o;
 }
@@ -310,7 +310,7 @@ fn fs_prism(in: VertexOut) -> FsOut {
     let p = to_world(p_obj);
     let sh = shade(ph.f, ph.s, ph.h, p, normal_to_world(height_normal(ph.f, ph.s, ph.hl)), ph.hl, true, px);
     var dist = length(p - V.eye);
-    if (G.transformed > 0.5) {
+    if (is_transformed()) {
         dist = length(p_obj - G.eye_object) * stretch(view);
     }
     var o = write_aovs(sh.color, u32(ph.steps + sh.steps), ph.flags, ph.s / tiling, dist, lod);

@@ -1,0 +1,184 @@
+"""The bench's speed goals over a suite of scenes, not one (issue 25): each goal's ratio is taken
+per scene from interleaved rounds (the median of per-round ratios, so that the machine's drift
+falls on both sides alike), then reported as the worst case and the median over the suite. A
+goal is met only if its worst case meets it.
+
+The planar suite: three maps (bricks and cobblestones from `pk.textures`, and the USGS Jacksboro
+fault DEM that matplotlib ships, read here straight from matplotlib's sample data) at 45° and 70°.
+The curved suite: the torus and the sphere at 256², each with cobblestones (depth 0.12, one
+tile) and the DEM (depth 0.06, two tiles), seen from two elevations.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import numpy as np
+
+import pomkit as pk
+from pomkit import metrics, presets
+from pomkit.bench import label, plane_scene, time_methods
+
+PLANAR_ANGLES = (45.0, 70.0)
+
+
+def dem(size: int = 512) -> np.ndarray:
+    """The Jacksboro fault DEM from matplotlib's sample data (not pk.textures): its largest
+    centred square, area-resampled to size², normalised to exactly [0, 1]."""
+    from matplotlib import cbook
+    from PIL import Image
+    d: Any = cbook.get_sample_data("jacksboro_fault_dem.npz")  # an NpzFile (np_load=True)
+    a = np.asarray(d["elevation"], np.float64)
+    n = min(a.shape)
+    r0, c0 = (a.shape[0] - n) // 2, (a.shape[1] - n) // 2
+    a = np.asarray(Image.fromarray(a[r0:r0 + n, c0:c0 + n].astype(np.float32)).resize((size, size), Image.Resampling.BOX),
+                   np.float64)
+    return ((a - a.min()) / (a.max() - a.min())).astype(np.float32)
+
+
+def planar_maps(size: int = 512) -> dict[str, np.ndarray]:
+    return {"bricks": pk.textures.bricks(size), "cobblestones": pk.textures.cobblestones(size, cells=8),
+            "jacksboro DEM": dem(size)}
+
+
+def planar_suite(size: int, map_size: int = 512) -> list[tuple[str, pk.Scene]]:
+    return [(f"{name} {a:g}°", plane_scene(h, a, size)) for name, h in planar_maps(map_size).items() for a in PLANAR_ANGLES]
+
+
+def curved_suite(size: int = 256) -> list[tuple[str, pk.Scene]]:
+    meshes = {"torus": pk.Mesh.torus(segments=48, tube_segments=24), "sphere": pk.Mesh.sphere(segments=48, rings=24)}
+    mats = {"cobblestones": pk.Material(pk.textures.cobblestones(256, cells=8), depth=0.12, tiling=1.0),
+            "DEM x2": pk.Material(dem(256), depth=0.06, tiling=2.0)}
+    eyes = {"low": (0.0, 1.0, 2.8), "high": (0.0, 2.3, 1.7)}
+    light = pk.DirectionalLight((-0.4, -1, -0.3), 3.0)
+    return [(f"{m} {k} {e}", pk.Scene(mesh=mesh, material=mat, lights=[light],
+                                      camera=pk.Camera.look_at(eye, fov_y=40, width=size, height=size)))
+            for m, mesh in meshes.items() for k, mat in mats.items() for e, eye in eyes.items()]
+
+
+@dataclass
+class Goal:
+    """One figure over the suite: per-scene values, the bound and the direction."""
+    name: str
+    bound: float
+    per_scene: dict[str, float]
+    lower_is_better: bool = True
+
+    def line(self) -> str:
+        items = sorted(self.per_scene.items(), key=lambda kv: kv[1], reverse=self.lower_is_better)
+        worst_scene, worst = items[0]
+        med = float(np.median(list(self.per_scene.values())))
+        met = worst <= self.bound if self.lower_is_better else worst >= self.bound
+        op = "<=" if self.lower_is_better else ">="
+        return (f"worst {worst:.3f} ({worst_scene}), median {med:.3f}, over {len(self.per_scene)} scenes: "
+                f"{'met' if met else 'NOT met'} (goal {op} {self.bound:g})")
+
+
+def _interleaved(r: pk.Renderer, scene: pk.Scene, runs: list[tuple[pk.Method, Any]], rounds: int) -> list[np.ndarray]:
+    """GPU ms per round for each (method, aovs), interleaved after a warm-up."""
+    for m, a in runs:
+        r.render(scene, m, aovs=a)
+        r.render(scene, m, aovs=a)
+    out: list[list[float]] = [[] for _ in runs]
+    for k in range(rounds):
+        for j in range(len(runs)):
+            i = (j + k) % len(runs)
+            m, a = runs[i]
+            out[i].append(r.render(scene, m, aovs=a).time_ms or 0.0)
+    return [np.array(x) for x in out]
+
+
+def fixed_cost(r: pk.Renderer, suite, rounds: int) -> Goal:
+    """Flat with every AOV ("all") over Flat with colour alone."""
+    per = {}
+    for name, sc in suite:
+        col, allv = _interleaved(r, sc, [(pk.Flat(), ("color",)), (pk.Flat(), "all")], rounds)
+        per[name] = float(np.median(allv / col))
+    return Goal("flat_all_aovs_over_colour_alone", 1.25, per)
+
+
+def march_ratios(r: pk.Renderer, suite, rounds: int) -> list[Goal]:
+    """Exact's and ConeStep's march (cost above Flat, in the same rounds) over POM's default's."""
+    ex, co = {}, {}
+    for name, sc in suite:
+        t = time_methods(r, sc, [pk.POM(shadows="none"), pk.Exact(), pk.ConeStep()], min_repeats=rounds,
+                         max_repeats=rounds)
+        pom = max(t[0]["march_ms"], 1e-6)
+        ex[name] = t[1]["march_ms"] / pom
+        co[name] = t[2]["march_ms"] / pom
+    return [Goal("exact_march_over_pom_default_march", 1.5, ex), Goal("cone_step_march_over_pom_default_march", 1.0, co)]
+
+
+def silhouettes(r: pk.Renderer, suite, rounds: int) -> list[Goal]:
+    """Prism and NCS against POM and against the mesh they replace (Tessellated(1)), shadows off."""
+    fns: dict[str, Callable[[], pk.Method]] = {
+        "POM": lambda: pk.POM(shadows="none"), "NCS": lambda: pk.NCS(shadows="none"),
+        "Prism": lambda: pk.Prism(shadows="none"), "Tessellated(1)": lambda: pk.Tessellated(1.0, shadows="none")}
+    per: dict[str, dict[str, float]] = {k: {} for k in ("pp", "pt", "np", "nt")}
+    for name, sc in suite:
+        ms = [f() for f in fns.values()]
+        t = _interleaved(r, sc, [(m, ("color",)) for m in ms], rounds)
+        pom, ncs, prism, tess = t
+        per["pp"][name] = float(np.median(prism / pom))
+        per["pt"][name] = float(np.median(prism / tess))
+        per["np"][name] = float(np.median(ncs / pom))
+        per["nt"][name] = float(np.median(ncs / tess))
+    return [Goal("prism_over_pom", 3.0, per["pp"]), Goal("prism_over_tessellated(1)", 0.8, per["pt"]),
+            Goal("ncs_over_pom", 2.0, per["np"]), Goal("ncs_over_tessellated(1)", 1.0, per["nt"])]
+
+
+#: pomkit's safe methods and the settings tried for issue 11's restated goal
+SAFE_CANDIDATES: list[Callable[[], pk.Method]] = [
+    lambda: pk.Exact(), lambda: pk.ConeStep(),
+    lambda: pk.ConeStep(max_steps=24, binary_steps=6), lambda: pk.ConeStep(max_steps=12, binary_steps=4)]
+
+
+def versus_bevy_relief(r: pk.Renderer, suite, rounds: int) -> tuple[list[Goal], list[dict]]:
+    """Issue 11's last goal, restated: per scene, of pomkit's safe methods whose uv p95 is at most
+    bevy_relief's (against the exact oracle), the one with the fewest fetches; its mean fetches
+    per pixel over bevy_relief's, and its ms above Parallax (the search's own cost) over
+    bevy_relief's, timed in the same interleaved rounds."""
+    fetch, above = {}, {}
+    rows = []
+    for name, sc in suite:
+        ref = pk.exact_uv(sc)
+        bevy = presets.bevy_relief()
+        cands = [f() for f in SAFE_CANDIDATES]
+
+        def measure(m):
+            f = r.render(sc, m, aovs=("uv", "mask", "fetches"))
+            return metrics.uv_error(f, ref, sc)["p95"], float(f.fetches[f.mask].mean())
+
+        b_err, b_fetch = measure(bevy)
+        ok = [(m, *measure(m)) for m in cands]
+        ok = [x for x in ok if x[1] <= b_err]
+        if not ok:
+            rows.append(dict(scene=name, bevy_relief_p95=b_err, best=None))
+            continue
+        best, err, fe = min(ok, key=lambda x: x[2])
+        t = time_methods(r, sc, [pk.Parallax(), bevy, best], min_repeats=rounds, max_repeats=rounds, baseline=False)
+        par = t[0]["ms"]
+        fetch[name] = fe / max(b_fetch, 1e-9)
+        above[name] = (t[2]["ms"] - par) / max(t[1]["ms"] - par, 1e-9)
+        rows.append(dict(scene=name, best=label(best), best_p95=err, best_fetches=fe, bevy_relief_p95=b_err,
+                         bevy_relief_fetches=b_fetch, best_ms_above_parallax=t[2]["ms"] - par,
+                         bevy_relief_ms_above_parallax=t[1]["ms"] - par))
+    goals = [Goal("best_safe_fetches_over_bevy_relief_at_its_error", 1.0, fetch),
+             Goal("best_safe_ms_above_parallax_over_bevy_relief", 1.0, above)]
+    return goals, rows
+
+
+def run(quick: bool = False, size: int = 512) -> tuple[dict[str, str], list[dict]]:
+    """Every suite goal, as goals.txt lines, and the issue-11 rows."""
+    r = pk.Renderer()
+    rounds = 5 if quick else 9
+    planar = planar_suite(256 if quick else size)
+    curved = curved_suite(256)
+    goals: list[Goal] = [fixed_cost(r, planar, rounds)]
+    goals += march_ratios(r, planar, rounds)
+    goals += silhouettes(r, curved, rounds + 3)
+    g11, rows = versus_bevy_relief(r, planar, rounds)
+    goals += g11
+    out = {f"suite {g.name}": g.line() for g in goals}
+    return out, rows
