@@ -175,13 +175,17 @@ fn every_variant_translates_to_every_backend() {
     let mut variants = 0;
     for m in builtin_variants() {
         let spec = m.spec();
-        for (shadow_map, displaced_depth) in [(false, false), (true, false), (true, true)] {
+        // plain; with a shadow map; and every frame def on (several transformed objects, sphere
+        // lights, the cost counters)
+        for (shadow_map, all) in [(false, false), (true, false), (true, true)] {
             let frame = FrameDefs {
                 shadow_map,
-                displaced_depth,
+                displaced_depth: all,
+                count_fetches: all,
+                transformed: all,
+                sphere_lights: all,
             };
-            let what =
-                format!("{m:?} (shadow map {shadow_map}, displaced depth {displaced_depth})");
+            let what = format!("{m:?} ({frame:?})");
             let module = lib
                 .compose(&spec, spec.pixel.filtering, frame, "method")
                 .unwrap_or_else(|e| panic!("{what}: {e}"));
