@@ -220,3 +220,25 @@ def test_assert_close_reports_numbers_and_writes_a_diff(tmp_path, monkeypatch):
 def test_reference_frame_fixture(reference_frame):
     scene = plane_scene(pk.textures.sine(16, 2), size=16)
     assert reference_frame(scene, kind="exact").mask.any()
+
+
+def test_supersampling_takes_the_aliasing_out_of_the_score():
+    """Tessellated (the exact geometry) against Mitsuba's box-filtered 256 spp on the plane,
+    whose outline is in view. Measured here (bricks 128², 45°): FLIP 0.031 at 1 spp, 0.021 at
+    4, 0.020 at 16. What remains is not aliasing: the interior's shading (Mitsuba interpolates
+    the vertex normals, pomkit differentiates the bilinear field per pixel) and Mitsuba's
+    ray-traced shadows against the shadow map's. The claim: supersampling removes about a third
+    of the score, and most of the outline's error."""
+    scene = plane_scene(pk.textures.bricks(128), depth=0.08, theta_deg=45.0, size=128, dist=1.6, fov=40,
+                        lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0)])
+    ref = R.render_mitsuba(scene, spp=256)
+    r = pk.Renderer()
+    f1 = r.render(scene, pk.Tessellated(texels_per_vertex=0.5, shadows="none"))
+    f16 = r.render(scene, pk.Tessellated(texels_per_vertex=0.5, shadows="none"), spp=16)
+    fl1, fl16 = metrics.flip(f1, ref), metrics.flip(f16, ref)
+    assert fl16 < 0.75 * fl1 and fl16 < 0.024, (fl1, fl16)
+    # the outline: pixels the plane covers in part
+    edge = (f16.coverage > 0) & (f16.coverage < 1)
+    e1 = np.abs(f1.color - ref.color).mean(-1)[edge].mean()
+    e16 = np.abs(f16.color - ref.color).mean(-1)[edge].mean()
+    assert e16 < 0.5 * e1, (e1, e16)

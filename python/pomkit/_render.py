@@ -41,23 +41,31 @@ class Renderer:
         i = self.info
         return f"Renderer({i['name']!r}, backend={i['backend']!r}, timestamps={i['timestamps']})"
 
-    def render(self, scene: Scene, method: Method, aovs: Aovs = "all") -> Frame:
+    def render(self, scene: Scene, method: Method, aovs: Aovs = "all", spp: int = 1) -> Frame:
         """Render `scene` with `method`. `aovs`: "all" (the default: every AOV but the cost
         counters) or the AOVs to return, e.g. ("color", "uv"). The render targets no requested AOV
         needs are neither written nor read back, and the Frame holds only what was asked for. The
         cost counters (`COST_AOVS`: "fetches", "bytes") are counted only when named, e.g.
-        aovs=("color", "steps", "fetches"): counting costs the search a little."""
-        _check(scene, method)
-        return _frame(self._r.render(scene._describe(), method, _aovs(aovs)), method)
+        aovs=("color", "steps", "fetches"): counting costs the search a little.
 
-    def render_many(self, scenes: Iterable[Scene], method: Method, aovs: Aovs = "all") -> list[Frame]:
+        `spp`: samples per pixel, a square number (1, 4, 9, 16, ...): k x k stratified samples on
+        a regular grid in each pixel, rendered as one pass at k² the pixels. Colour is their mean
+        (a box filter over the pixel, as `pk.reference.render_mitsuba`'s), `coverage` the fraction
+        that hit; uv, depth, mask, steps, lod, flags, object and the counters come from the
+        sample at (k/2, k/2) of the pixel's grid (its centre for odd k). spp=1 is the plain
+        frame, bit for bit."""
+        _check(scene, method)
+        return _frame(self._r.render(scene._describe(), method, _aovs(aovs), _spp(spp)), method)
+
+    def render_many(self, scenes: Iterable[Scene], method: Method, aovs: Aovs = "all", spp: int = 1) -> list[Frame]:
         """Render many scenes (one scene under many cameras, a sweep of one parameter...) with one
         method. Submissions and readbacks are pipelined: frame i+1 renders on the GPU while
-        frame i is read back and unpacked. The frames equal those of `render`, one by one."""
+        frame i is read back and unpacked. The frames equal those of `render`, one by one
+        (`spp` as in `render`)."""
         scenes = list(scenes)
         for sc in scenes:
             _check(sc, method)
-        ds = self._r.render_many([sc._describe() for sc in scenes], method, _aovs(aovs))
+        ds = self._r.render_many([sc._describe() for sc in scenes], method, _aovs(aovs), _spp(spp))
         return [_frame(d, method) for d in ds]
 
     def render_visibility(self, scene: Scene, method: Method, aovs: Aovs = ("color", "uv", "mask")) -> Frame:
@@ -120,6 +128,15 @@ def _aovs(aovs: Aovs) -> Optional[Any]:
     if not names:
         raise ValueError("aovs: name at least one AOV, e.g. aovs=('color',)")
     return names
+
+
+def _spp(spp: int) -> int:
+    if isinstance(spp, bool) or not isinstance(spp, (int, np.integer)):
+        raise TypeError(f"spp: expected a square number of samples per pixel such as 1, 4 or 16, got {spp!r}")
+    k = int(round(float(spp) ** 0.5))
+    if spp < 1 or k * k != spp or k > 16:
+        raise ValueError(f"spp: must be a square number from 1 to 256 (1, 4, 9, 16, ...: k x k samples per pixel), got {spp}")
+    return int(spp)
 
 
 def _first_directional(scene: Scene):

@@ -83,30 +83,34 @@ impl PyRenderer {
     /// Render `scene` (a dict from pomkit.Scene._describe()) with `method` (a pomkit method
     /// dataclass, extracted field by field into the core's typed `Method`). Returns a dict of
     /// numpy arrays (None for the AOVs not in `aovs`).
-    #[pyo3(signature = (scene, method, aovs=None))]
+    #[pyo3(signature = (scene, method, aovs=None, spp=1))]
     fn render<'py>(
         &self,
         py: Python<'py>,
         scene: &Bound<'py, PyDict>,
         method: Method,
         aovs: Option<&Bound<'py, PyAny>>,
+        spp: u32,
     ) -> PyResult<Bound<'py, PyTuple>> {
         let aovs = aovs_from_py(aovs)?;
         let scene = scene_from_py(scene)?;
         let r = self.inner.clone();
-        let frame = py.detach(move || r.render_aovs(&scene, &method, aovs))?;
-        frame_to_py(py, frame)
+        let mut frames = py.detach(move || {
+            r.render_many_spp(std::slice::from_ref(&scene), &method, aovs, spp)
+        })?;
+        frame_to_py(py, frames.pop().expect("one frame"))
     }
 
     /// Render many scenes with one method, pipelined (`Renderer::render_many`): a list of
     /// dicts as `render` returns.
-    #[pyo3(signature = (scenes, method, aovs=None))]
+    #[pyo3(signature = (scenes, method, aovs=None, spp=1))]
     fn render_many<'py>(
         &self,
         py: Python<'py>,
         scenes: Vec<Bound<'py, PyDict>>,
         method: Method,
         aovs: Option<&Bound<'py, PyAny>>,
+        spp: u32,
     ) -> PyResult<Vec<Bound<'py, PyTuple>>> {
         let aovs = aovs_from_py(aovs)?;
         let scenes = scenes
@@ -114,7 +118,7 @@ impl PyRenderer {
             .map(scene_from_py)
             .collect::<PyResult<Vec<_>>>()?;
         let r = self.inner.clone();
-        let frames = py.detach(move || r.render_many(&scenes, &method, aovs))?;
+        let frames = py.detach(move || r.render_many_spp(&scenes, &method, aovs, spp))?;
         frames.into_iter().map(|f| frame_to_py(py, f)).collect()
     }
 

@@ -19,6 +19,9 @@ pub enum Source {
     Geo(usize),
     /// the geo target's distance >= 0: the pixel shows a surface
     GeoHit,
+    /// the fraction of the pixel's samples that hit (from the geo target; 0 or 1 at one sample
+    /// per pixel, averaged by `Frame::downsample`)
+    Coverage,
     /// the id target, where hit (-1 elsewhere)
     Id,
     /// the cost target's channel `c` (shaders/cost.wgsl), where hit (0 elsewhere); written only
@@ -67,7 +70,7 @@ impl Source {
     pub const fn target(self) -> usize {
         match self {
             Source::ColorRgb | Source::ColorLow28 | Source::ColorHigh4 => 0,
-            Source::Geo(_) | Source::GeoHit => 1,
+            Source::Geo(_) | Source::GeoHit | Source::Coverage => 1,
             Source::Id => 2,
             Source::Cost(_) => 3,
         }
@@ -96,7 +99,7 @@ pub struct Aov {
 }
 
 /// Every AOV, in the order of `Frame.aovs` and Python's `AOV_NAMES`.
-pub const AOVS: [Aov; 10] = [
+pub const AOVS: [Aov; 11] = [
     Aov {
         name: "color",
         comps: 3,
@@ -123,7 +126,14 @@ pub const AOVS: [Aov; 10] = [
         comps: 1,
         dtype: Dtype::Bool,
         source: Source::GeoHit,
-        doc: "the pixel shows a surface",
+        doc: "the pixel shows a surface (at its centre sample)",
+    },
+    Aov {
+        name: "coverage",
+        comps: 1,
+        dtype: Dtype::F32,
+        source: Source::Coverage,
+        doc: "fraction of the pixel's samples that hit a surface (spp > 1; 0 or 1 at one sample)",
     },
     Aov {
         name: "steps",
@@ -376,6 +386,9 @@ impl Frame {
                         AovData::F32(v)
                     }
                     Source::GeoHit => AovData::Bool(hit.clone()),
+                    Source::Coverage => {
+                        AovData::F32(hit.iter().map(|&b| if b { 1.0 } else { 0.0 }).collect())
+                    }
                     Source::Id => AovData::I32(
                         where_hit(&|i| t.px(k, i)[0], u32::MAX)
                             .into_iter()
@@ -393,6 +406,90 @@ impl Frame {
             data,
             gpu_ms,
             wall_ms,
+        }
+    }
+}
+
+impl AovData {
+    fn len(&self) -> usize {
+        match self {
+            AovData::F32(v) => v.len(),
+            AovData::U32(v) => v.len(),
+            AovData::U8(v) => v.len(),
+            AovData::I32(v) => v.len(),
+            AovData::Bool(v) => v.len(),
+        }
+    }
+    /// The values of pixel `i` (of `comps` components) at `idx`, one pixel per index.
+    fn pick(&self, comps: usize, idx: &[usize]) -> AovData {
+        fn take<T: Copy>(v: &[T], comps: usize, idx: &[usize]) -> Vec<T> {
+            idx.iter()
+                .flat_map(|&i| v[i * comps..(i + 1) * comps].iter().copied())
+                .collect()
+        }
+        match self {
+            AovData::F32(v) => AovData::F32(take(v, comps, idx)),
+            AovData::U32(v) => AovData::U32(take(v, comps, idx)),
+            AovData::U8(v) => AovData::U8(take(v, comps, idx)),
+            AovData::I32(v) => AovData::I32(take(v, comps, idx)),
+            AovData::Bool(v) => AovData::Bool(take(v, comps, idx)),
+        }
+    }
+}
+
+impl Frame {
+    /// The frame of `k` x `k` samples per pixel rendered as one (k w) x (k h) frame, reduced to
+    /// w x h: colour is the mean of the pixel's samples (a box filter over the pixel, as the
+    /// Mitsuba reference's `box` rfilter), coverage the fraction that hit, and every other AOV
+    /// (uv, depth, mask, steps, lod, flags, object, fetches, bytes) is the sample at (k/2, k/2)
+    /// of the pixel's grid: the pixel centre for odd k, half a sample past it (right and down)
+    /// for even k. GPU and wall time are the one pass's.
+    pub fn downsample(self, k: u32) -> Frame {
+        if k == 1 {
+            return self;
+        }
+        let (k, bw) = (k as usize, self.width as usize);
+        let (w, h) = (bw / k, self.height as usize / k);
+        let c = k / 2;
+        let centre: Vec<usize> = (0..h * w)
+            .map(|i| (i / w * k + c) * bw + (i % w) * k + c)
+            .collect();
+        let mean = |v: &[f32], comps: usize| -> Vec<f32> {
+            let mut out = vec![0.0f64; w * h * comps];
+            for y in 0..h * k {
+                for x in 0..w * k {
+                    let o = ((y / k) * w + x / k) * comps;
+                    let i = (y * bw + x) * comps;
+                    for ch in 0..comps {
+                        out[o + ch] += v[i + ch] as f64;
+                    }
+                }
+            }
+            let n = (k * k) as f64;
+            out.into_iter().map(|x| (x / n) as f32).collect()
+        };
+        let data = AOVS
+            .iter()
+            .zip(self.data)
+            .map(|(a, d)| {
+                d.map(|d| {
+                    debug_assert_eq!(d.len(), bw * self.height as usize * a.comps);
+                    match (a.source, &d) {
+                        (Source::ColorRgb | Source::Coverage, AovData::F32(v)) => {
+                            AovData::F32(mean(v, a.comps))
+                        }
+                        _ => d.pick(a.comps, &centre),
+                    }
+                })
+            })
+            .collect();
+        Frame {
+            width: w as u32,
+            height: h as u32,
+            aovs: self.aovs,
+            data,
+            gpu_ms: self.gpu_ms,
+            wall_ms: self.wall_ms,
         }
     }
 }
@@ -439,6 +536,7 @@ mod tests {
         );
         assert_eq!(&f.f32s("color")[..3], &[1.0, 0.5, 0.25]);
         assert_eq!(f.get("fetches"), Some(&AovData::U32(vec![0, 9, 9, 9, 9, 9])));
+        assert_eq!(f.f32s("coverage"), &[0.0, 1.0, 1.0, 1.0, 1.0, 1.0]);
         assert_eq!(f.get("bytes"), Some(&AovData::U32(vec![0, 36, 36, 36, 36, 36])));
         assert_eq!(
             Aovs::parse(&["color"]).unwrap().targets(),
@@ -450,5 +548,34 @@ mod tests {
         );
         assert_eq!(written([true, false, true, false], false), [true, true, true, false]);
         assert_eq!(written([true, false, true, false], true), [true, false, true, false]);
+    }
+
+    #[test]
+    fn downsampling_box_filters_colour_and_keeps_the_centre_sample() {
+        // a 4 x 2 frame of 2 x 2 samples per pixel -> 2 x 1; pixel 0's samples: one miss
+        let (w, h, n) = (4u32, 2u32, 8usize);
+        let color: Vec<u32> = (0..n)
+            .flat_map(|i| [i as f32, 0.0, 1.0, i as f32].map(f32::to_bits))
+            .collect();
+        let t = Texels([
+            Some(color),
+            Some(
+                (0..n)
+                    .flat_map(|i| [i as f32, 0.0, if i == 0 { -1.0 } else { 2.0 }, 0.0].map(f32::to_bits))
+                    .collect(),
+            ),
+            Some((0..n as u32).collect()),
+            Some(vec![0; 2 * n]),
+        ]);
+        let f = Frame::decode(w, h, Aovs::ALL, &t, Some(1.5), 2.0).downsample(2);
+        assert_eq!((f.width, f.height), (2, 1));
+        // samples of pixel 0: 0, 1, 4, 5; of pixel 1: 2, 3, 6, 7
+        assert_eq!(f.f32s("color"), &[2.5, 0.0, 1.0, 4.5, 0.0, 1.0]);
+        assert_eq!(f.f32s("coverage"), &[0.75, 1.0]);
+        // the sample at (1, 1) of each pixel's grid: 5 and 7
+        assert_eq!(f.f32s("uv"), &[5.0, 0.0, 7.0, 0.0]);
+        assert_eq!(f.get("object"), Some(&AovData::I32(vec![5, 7])));
+        assert_eq!(f.mask(), &[true, true]);
+        assert_eq!(f.gpu_ms, Some(1.5));
     }
 }

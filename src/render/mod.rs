@@ -296,6 +296,57 @@ impl Renderer {
         Ok(frames.pop().expect("one frame"))
     }
 
+    /// Render many frames at `spp` samples per pixel: a square number, k x k stratified samples
+    /// on a regular grid in each pixel (k = 1: `render_many` itself, bit for bit). The samples
+    /// are one pass at k² the pixels (the camera's width and height times k: one pass measured
+    /// cheaper here than k² jittered passes, whose fixed cost per pass, a frame's clears,
+    /// uploads and readback, repeats), reduced by `Frame::downsample`: colour box-filtered as the
+    /// Mitsuba reference's `box` rfilter, coverage the fraction of samples that hit, the other
+    /// AOVs from the sample at (k/2, k/2). Each sample's LOD is its own footprint's.
+    pub fn render_many_spp(
+        &self,
+        scenes: &[Scene],
+        method: &Method,
+        aovs: Aovs,
+        spp: u32,
+    ) -> Result<Vec<Frame>> {
+        let k = (spp as f64).sqrt().round() as u32;
+        if spp == 0 || k * k != spp || k > 16 {
+            return Err(Error::arg(
+                "spp",
+                format!("must be a square number of samples per pixel from 1 to 256 (1, 4, 9, 16, ...: k x k per pixel), got {spp}"),
+            ));
+        }
+        if k == 1 {
+            return self.render_many(scenes, method, aovs);
+        }
+        let maxd = self.ctx.limits.max_texture_dimension_2d;
+        let big: Vec<Scene> = scenes
+            .iter()
+            .map(|s| {
+                let mut s = s.clone();
+                let (w, h) = (s.camera.width as u64 * k as u64, s.camera.height as u64 * k as u64);
+                if w > maxd as u64 || h > maxd as u64 {
+                    return Err(Error::limit(
+                        "spp",
+                        format!(
+                            "{}x{} pixels at spp={spp} is a {w}x{h} pass, over the device's max_texture_dimension_2d = {maxd}; lower spp or the resolution",
+                            s.camera.width, s.camera.height
+                        ),
+                    ));
+                }
+                s.camera.width = w as u32;
+                s.camera.height = h as u32;
+                Ok(s)
+            })
+            .collect::<Result<_>>()?;
+        Ok(self
+            .render_many(&big, method, aovs)?
+            .into_iter()
+            .map(|f| f.downsample(k))
+            .collect())
+    }
+
     /// Render many frames with one method, pipelined: frame i+1 is submitted before frame i is
     /// read back and unpacked, so that the unpacking overlaps the GPU's work. Each frame is the
     /// one `render_aovs` would give.
