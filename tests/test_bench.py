@@ -115,3 +115,15 @@ def test_sweep_shadow_columns():
     assert by["Exact(shadows='exact')"]["shadow_iou"] > 0.95
     assert 0.5 < by["POM(shadows='hard')"]["shadow_iou"] <= 1.0
     assert by["POM(shadows='hard')"]["shadow_vis_error"] >= 0.0
+
+
+def test_regions_split_interior_and_outline():
+    from pomkit import metrics
+    mask = np.zeros((20, 30), bool)
+    mask[5:15, 0:20] = True  # the left edge is the frame's border, not an outline
+    f = pk.Frame._of({"mask": mask})
+    reg = metrics.regions(f, f, band=2)
+    assert not (reg["interior"] & reg["silhouette"]).any()
+    assert reg["interior"][10, 1] and reg["interior"][10, 16] and not reg["interior"][10, 18]
+    assert reg["silhouette"][4, 10] and reg["silhouette"][10, 21] and not reg["silhouette"][10, 25]
+    assert not reg["silhouette"][10, 0] and reg["interior"].sum() == 4 * 17

@@ -1,6 +1,6 @@
 """Supersampling (`spp=`): k x k stratified samples per pixel in one pass at k² the pixels,
-colour box-filtered, coverage the fraction of samples that hit, the other AOVs from the sample
-at (k/2, k/2) (the pixel centre for odd k)."""
+colour box-filtered, coverage the fraction of samples that hit; the other AOVs from a
+one-sample pass (the plain frame's)."""
 
 import numpy as np
 import pytest
@@ -27,17 +27,18 @@ def test_spp_1_is_the_plain_frame_bit_for_bit(renderer, scene, method):
         assert np.array_equal(x, y, equal_nan=x.dtype.kind == "f"), name
 
 
-@pytest.mark.parametrize("method", [pk.Flat(), pk.Exact()], ids=lambda m: m.name)
-def test_odd_k_keeps_the_centre_sample(renderer, scene, method):
-    """At spp=9 the sample at (1, 1) of each pixel's 3 x 3 grid is the pixel centre: uv and depth
-    equal the plain frame's to float rounding (the rasteriser's interpolation on another grid)."""
-    a = renderer.render(scene, method)
-    b = renderer.render(scene, method, spp=9)
-    assert b.color.shape == a.color.shape
-    both = a.mask & b.mask
-    assert (a.mask != b.mask).mean() < 0.002
-    assert np.abs(a.uv[both] - b.uv[both]).max() * 64 < 1e-3  # texels
-    assert np.abs(a.depth[both] - b.depth[both]).max() < 1e-5
+@pytest.mark.parametrize("spp", [4, 9])
+@pytest.mark.parametrize("method", [pk.Flat(), pk.Exact(), pk.Prism()], ids=lambda m: m.name)
+def test_geometric_aovs_are_the_plain_frames(renderer, scene, method, spp):
+    """uv, depth, mask, steps, lod, flags, object and the counters come from a one-sample pass:
+    the plain frame's, bit for bit."""
+    names = ("uv", "depth", "mask", "steps", "lod", "flags", "object", "fetches")
+    a = renderer.render(scene, method, aovs=names)
+    b = renderer.render(scene, method, aovs=("color", "coverage") + names, spp=spp)
+    assert b.color.shape[:2] == a.uv.shape[:2]
+    for n in names:
+        x, y = getattr(a, n), getattr(b, n)
+        assert np.array_equal(x, y, equal_nan=x.dtype.kind == "f"), n
 
 
 def test_coverage_and_the_box_filter(renderer, scene):

@@ -51,9 +51,9 @@ class Renderer:
         `spp`: samples per pixel, a square number (1, 4, 9, 16, ...): k x k stratified samples on
         a regular grid in each pixel, rendered as one pass at k² the pixels. Colour is their mean
         (a box filter over the pixel, as `pk.reference.render_mitsuba`'s), `coverage` the fraction
-        that hit; uv, depth, mask, steps, lod, flags, object and the counters come from the
-        sample at (k/2, k/2) of the pixel's grid (its centre for odd k). spp=1 is the plain
-        frame, bit for bit."""
+        that hit; uv, depth, mask, steps, lod, flags, object and the counters come from a second,
+        one-sample pass: they are the plain frame's, bit for bit, and `time_ms` is both passes'.
+        spp=1 is the plain frame."""
         _check(scene, method)
         return _frame(self._r.render(scene._describe(), method, _aovs(aovs), _spp(spp)), method)
 

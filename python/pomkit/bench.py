@@ -159,10 +159,11 @@ def _sweep_scene(job: tuple) -> list[dict]:
     for m, t in zip(methods, times):
         f = r.render(scene, m, aovs=aovs)
         e = metrics.uv_error(f, ref, scene)
-        fl = float("nan")
+        fl = fl_in = fl_sil = float("nan")
         if flip and cref is not None:
             try:
-                fl = metrics.flip(f, cref)
+                c = metrics.compare(f, cref, scene)
+                fl, fl_in, fl_sil = c["flip"], c["flip_interior"], c["flip_silhouette"]
             except ImportError:
                 pass
         steps = float(f.steps[f.mask].mean()) if f.mask.any() else 0.0
@@ -174,7 +175,8 @@ def _sweep_scene(job: tuple) -> list[dict]:
                          march_ms=t["march_ms"], call_ms=t["call_ms"], repeats=t["repeats"], timing=t["timing"],
                          ms_per_mpix=t["ms"] / mpix, mean_steps=steps, fetches_mean=float(fetches.mean()),
                          fetches_p99=float(np.percentile(fetches, 99)), bytes_mean=float(nbytes.mean()), uv_p50=e["p50"], uv_p95=e["p95"],
-                         uv_p99=e["p99"], mask_iou=e["mask_iou"], flip=fl, **shadow))
+                         uv_p99=e["p99"], mask_iou=e["mask_iou"], flip=fl, flip_interior=fl_in,
+                         flip_silhouette=fl_sil, **shadow))
     return rows
 
 
@@ -214,7 +216,7 @@ def sweep(methods: Iterable, scenes: Iterable = ("bricks",), angles: Iterable[fl
     "approximate"), scene, angle, size, gpu_ms (median) with its p25/p75, march_ms (cost above
     Flat), call_ms, repeats, timing, ms_per_mpix, mean_steps, fetches_mean and fetches_p99 (texel
     fetches per pixel of the search: the AOV `fetches`), bytes_mean, uv p50/p95/p99 (texels),
-    mask IoU, FLIP. Returns a pandas DataFrame when pandas is installed, else a list of dicts; writes CSV
+    mask IoU, FLIP over the frame, its interior and its silhouette band (`metrics.compare`). Returns a pandas DataFrame when pandas is installed, else a list of dicts; writes CSV
     to `csv_path` when given."""
     if reference not in ("exact", "tessellated", "mitsuba"):
         raise ValueError(f"reference: must be 'exact', 'tessellated' or 'mitsuba', got {reference!r}")

@@ -13,7 +13,7 @@ import numpy as np
 from ._frame import Frame
 from ._scene import Scene, linear_to_srgb
 
-__all__ = ["uv_error", "depth_error", "mask_iou", "shadow_error", "flip", "psnr", "ssim"]
+__all__ = ["uv_error", "depth_error", "mask_iou", "shadow_error", "flip", "psnr", "ssim", "regions", "compare"]
 
 
 def _check(frame, ref):
@@ -168,3 +168,70 @@ def ssim(frame: Frame, ref: Frame, image: bool = False):
         raise ImportError("ssim needs scikit-image: pip install pomkit[reference]") from None
     v, full = structural_similarity(_ldr(ref), _ldr(frame), channel_axis=-1, data_range=1.0, full=True)
     return (float(v), full.mean(-1)) if image else float(v)
+
+
+def regions(frame: Frame, ref: Frame, band: int = 4) -> dict[str, np.ndarray]:
+    """The pixel regions `compare` scores separately: `silhouette`, every pixel within `band`
+    pixels of either frame's outline (the edge of its hit mask, where a planar method cannot
+    follow the displaced outline, and where one sample per pixel aliases); `interior`, the pixels
+    both frames hit outside that band. (Boolean (H, W) arrays.)"""
+    _check(frame, ref)
+    a, b = np.asarray(frame.mask, bool), np.asarray(ref.mask, bool)
+    # the outline: pixels whose 8-neighbourhood holds both a hit and a miss, in either frame
+    # (the frame's border is no outline)
+    outline = (a ^ b) | (_grow(a, 1) & _grow(~a, 1)) | (_grow(b, 1) & _grow(~b, 1))
+    sil = _grow(outline, band)
+    return dict(interior=a & b & ~sil, silhouette=sil)
+
+
+def _grow(m: np.ndarray, n: int) -> np.ndarray:
+    """`m` dilated n times by the 3 x 3 square."""
+    out = m.copy()
+    for _ in range(n):
+        p = np.pad(out, 1, constant_values=False)
+        out = np.zeros_like(m)
+        for dy in range(3):
+            for dx in range(3):
+                out |= p[dy:dy + m.shape[0], dx:dx + m.shape[1]]
+    return out
+
+
+def compare(frame: Frame, reference: Frame, scene: Scene, *, band: int = 4, visibility: Frame | None = None,
+            oracle: Frame | None = None) -> dict:
+    """A frame's error against a reference, decomposed (a planar method's outline error, the
+    aliasing of one sample per pixel and the interior's displacement error are different
+    failures):
+
+    - `interior`: FLIP and uv error (texels) where both frames hit, farther than `band` pixels
+      from either outline (`regions`);
+    - `silhouette`: FLIP over the band around the outlines, and the mask IoU;
+    - `shadows` (when `visibility` is the method's `Renderer.render_visibility` frame and
+      `oracle` is `pk.exact_uv(scene)`): `shadow_error`'s IoU, visibility error and fractions;
+    - `whole`: FLIP over the whole frame.
+
+    FLIP needs colour in both frames (flip-evaluator: the `reference` extra); uv needs uv in both.
+    Returns a flat dict: flip, flip_interior, flip_silhouette, uv_p50_interior, uv_p95_interior,
+    uv_p99_interior, uv_p95_silhouette, mask_iou, interior_px, silhouette_px, and shadow_iou,
+    shadow_vis_error, shadow_false_shadow, shadow_false_light when given."""
+    reg = regions(frame, reference, band)
+    out: dict = dict(mask_iou=mask_iou(frame, reference), interior_px=int(reg["interior"].sum()),
+                     silhouette_px=int(reg["silhouette"].sum()))
+    if frame.has("color") and reference.has("color"):
+        whole, emap = flip(frame, reference, image=True)
+        out["flip"] = whole
+        for k, m in reg.items():
+            out[f"flip_{k}"] = float(emap[m].mean()) if m.any() else float("nan")
+    if frame.has("uv") and reference.has("uv"):
+        e = uv_error(frame, reference, scene)["image"]
+        for k, m in reg.items():
+            v = e[m & np.isfinite(e)]
+            st = _stats(v)
+            if k == "interior":
+                out.update(uv_p50_interior=st["p50"], uv_p95_interior=st["p95"], uv_p99_interior=st["p99"])
+            else:
+                out["uv_p95_silhouette"] = st["p95"]
+    if visibility is not None and oracle is not None:
+        sh = shadow_error(visibility, oracle, scene)
+        out.update(shadow_iou=sh["iou"], shadow_vis_error=sh["vis_error"], shadow_false_shadow=sh["false_shadow"],
+                   shadow_false_light=sh["false_light"])
+    return out

@@ -40,11 +40,14 @@ def _diff_image(frame: Frame, ref: Frame, name: str) -> Path:
 
 def assert_close(frame: Frame, ref: Frame, scene: Optional[Scene] = None, *, uv_p95: Optional[float] = None,
                  uv_p99: Optional[float] = None, flip: Optional[float] = None, iou: Optional[float] = None,
-                 objects: Optional[float] = None, name: str = "assert_close") -> dict:
+                 objects: Optional[float] = None, flip_interior: Optional[float] = None,
+                 flip_silhouette: Optional[float] = None, name: str = "assert_close") -> dict:
     """Check a frame against a reference. Each given tolerance is asserted (uv in texels, needs
     `scene`; in a scene of several objects, per object where both frames hit the same one);
     `objects` is the least fraction of the pixels both cover where the two `object` AOVs agree
-    (interpenetration). The returned dict holds every measured number. On failure the message lists them
+    (interpenetration). `flip_interior` and `flip_silhouette` bound FLIP over the interior and the
+    silhouette band of `metrics.compare` (a planar method's outline error apart from its
+    displacement error). The returned dict holds every measured number. On failure the message lists them
     all and names the side-by-side diff image."""
     from . import metrics
 
@@ -63,6 +66,15 @@ def assert_close(frame: Frame, ref: Frame, scene: Optional[Scene] = None, *, uv_
         got["flip"] = metrics.flip(frame, ref)
         if not got["flip"] <= flip:
             fails.append(f"FLIP {got['flip']:.4f} > {flip}")
+    if flip_interior is not None or flip_silhouette is not None:
+        c = metrics.compare(frame, ref, scene) if scene is not None else None
+        if c is None:
+            raise ValueError("scene: region tolerances need the scene")
+        got.update(flip_interior=c["flip_interior"], flip_silhouette=c["flip_silhouette"])
+        if flip_interior is not None and not c["flip_interior"] <= flip_interior:
+            fails.append(f"FLIP interior {c['flip_interior']:.4f} > {flip_interior}")
+        if flip_silhouette is not None and not c["flip_silhouette"] <= flip_silhouette:
+            fails.append(f"FLIP silhouette {c['flip_silhouette']:.4f} > {flip_silhouette}")
     if objects is not None or (frame.has("object") and ref.has("object")):
         both = frame.mask & ref.mask
         got["objects"] = float((frame.object == ref.object)[both].mean()) if both.any() else float("nan")

@@ -239,6 +239,18 @@ impl Aovs {
         }
         Ok(Aovs(bits))
     }
+    /// (the AOVs a supersampled pass averages: colour and coverage; the rest, each None when
+    /// empty)
+    pub fn split_supersampled(self) -> (Option<Aovs>, Option<Aovs>) {
+        let ss: u32 = AOVS
+            .iter()
+            .enumerate()
+            .filter(|(_, a)| matches!(a.source, Source::ColorRgb | Source::Coverage))
+            .map(|(i, _)| 1 << i)
+            .sum();
+        let some = |b: u32| (b != 0).then_some(Aovs(b));
+        (some(self.0 & ss), some(self.0 & !ss))
+    }
     pub fn has(self, name: &str) -> bool {
         Self::bit(name).is_some_and(|b| self.0 & b != 0)
     }
@@ -410,50 +422,16 @@ impl Frame {
     }
 }
 
-impl AovData {
-    fn len(&self) -> usize {
-        match self {
-            AovData::F32(v) => v.len(),
-            AovData::U32(v) => v.len(),
-            AovData::U8(v) => v.len(),
-            AovData::I32(v) => v.len(),
-            AovData::Bool(v) => v.len(),
-        }
-    }
-    /// The values of pixel `i` (of `comps` components) at `idx`, one pixel per index.
-    fn pick(&self, comps: usize, idx: &[usize]) -> AovData {
-        fn take<T: Copy>(v: &[T], comps: usize, idx: &[usize]) -> Vec<T> {
-            idx.iter()
-                .flat_map(|&i| v[i * comps..(i + 1) * comps].iter().copied())
-                .collect()
-        }
-        match self {
-            AovData::F32(v) => AovData::F32(take(v, comps, idx)),
-            AovData::U32(v) => AovData::U32(take(v, comps, idx)),
-            AovData::U8(v) => AovData::U8(take(v, comps, idx)),
-            AovData::I32(v) => AovData::I32(take(v, comps, idx)),
-            AovData::Bool(v) => AovData::Bool(take(v, comps, idx)),
-        }
-    }
-}
-
 impl Frame {
-    /// The frame of `k` x `k` samples per pixel rendered as one (k w) x (k h) frame, reduced to
-    /// w x h: colour is the mean of the pixel's samples (a box filter over the pixel, as the
-    /// Mitsuba reference's `box` rfilter), coverage the fraction that hit, and every other AOV
-    /// (uv, depth, mask, steps, lod, flags, object, fetches, bytes) is the sample at (k/2, k/2)
-    /// of the pixel's grid: the pixel centre for odd k, half a sample past it (right and down)
-    /// for even k. GPU and wall time are the one pass's.
-    pub fn downsample(self, k: u32) -> Frame {
-        if k == 1 {
-            return self;
-        }
-        let (k, bw) = (k as usize, self.width as usize);
-        let (w, h) = (bw / k, self.height as usize / k);
-        let c = k / 2;
-        let centre: Vec<usize> = (0..h * w)
-            .map(|i| (i / w * k + c) * bw + (i % w) * k + c)
-            .collect();
+    /// A supersampled frame: `big`, a frame of `k` x `k` samples per pixel rendered as one
+    /// (k w) x (k h) frame, gives colour as the mean of each pixel's samples (a box filter over
+    /// the pixel, as the Mitsuba reference's `box` rfilter) and coverage as the fraction that hit;
+    /// every other AOV (uv, depth, mask, steps, lod, flags, object, fetches, bytes) is `plain`'s,
+    /// the one-sample frame's (its pixel centre), so that they keep their per-pixel meaning
+    /// exactly. GPU and wall time are the two passes' sums.
+    pub fn supersampled(big: Frame, k: u32, plain: Option<Frame>) -> Frame {
+        let (k, bw) = (k as usize, big.width as usize);
+        let (w, h) = (bw / k, big.height as usize / k);
         let mean = |v: &[f32], comps: usize| -> Vec<f32> {
             let mut out = vec![0.0f64; w * h * comps];
             for y in 0..h * k {
@@ -468,28 +446,33 @@ impl Frame {
             let n = (k * k) as f64;
             out.into_iter().map(|x| (x / n) as f32).collect()
         };
+        let mut aovs = big.aovs;
+        let (mut gpu, mut wall) = (big.gpu_ms, big.wall_ms);
+        let mut rest: Vec<Option<AovData>> = vec![None; AOVS.len()];
+        if let Some(p) = plain {
+            debug_assert_eq!((p.width as usize, p.height as usize), (w, h));
+            aovs = Aovs(aovs.0 | p.aovs.0);
+            gpu = gpu.zip(p.gpu_ms).map(|(a, b)| a + b);
+            wall += p.wall_ms;
+            rest = p.data;
+        }
         let data = AOVS
             .iter()
-            .zip(self.data)
-            .map(|(a, d)| {
-                d.map(|d| {
-                    debug_assert_eq!(d.len(), bw * self.height as usize * a.comps);
-                    match (a.source, &d) {
-                        (Source::ColorRgb | Source::Coverage, AovData::F32(v)) => {
-                            AovData::F32(mean(v, a.comps))
-                        }
-                        _ => d.pick(a.comps, &centre),
-                    }
-                })
+            .zip(big.data.into_iter().zip(rest))
+            .map(|(a, (d, r))| match (a.source, d) {
+                (Source::ColorRgb | Source::Coverage, Some(AovData::F32(v))) => {
+                    Some(AovData::F32(mean(&v, a.comps)))
+                }
+                _ => r,
             })
             .collect();
         Frame {
             width: w as u32,
             height: h as u32,
-            aovs: self.aovs,
+            aovs,
             data,
-            gpu_ms: self.gpu_ms,
-            wall_ms: self.wall_ms,
+            gpu_ms: gpu,
+            wall_ms: wall,
         }
     }
 }
@@ -551,31 +534,33 @@ mod tests {
     }
 
     #[test]
-    fn downsampling_box_filters_colour_and_keeps_the_centre_sample() {
+    fn supersampling_box_filters_colour_and_takes_the_rest_from_the_plain_frame() {
         // a 4 x 2 frame of 2 x 2 samples per pixel -> 2 x 1; pixel 0's samples: one miss
         let (w, h, n) = (4u32, 2u32, 8usize);
         let color: Vec<u32> = (0..n)
             .flat_map(|i| [i as f32, 0.0, 1.0, i as f32].map(f32::to_bits))
             .collect();
-        let t = Texels([
-            Some(color),
-            Some(
-                (0..n)
-                    .flat_map(|i| [i as f32, 0.0, if i == 0 { -1.0 } else { 2.0 }, 0.0].map(f32::to_bits))
-                    .collect(),
-            ),
-            Some((0..n as u32).collect()),
-            Some(vec![0; 2 * n]),
-        ]);
-        let f = Frame::decode(w, h, Aovs::ALL, &t, Some(1.5), 2.0).downsample(2);
+        let geo = |n: usize, miss: usize| -> Vec<u32> {
+            (0..n)
+                .flat_map(|i| [i as f32, 0.0, if i == miss { -1.0 } else { 2.0 }, 0.0].map(f32::to_bits))
+                .collect()
+        };
+        let t = Texels([Some(color), Some(geo(n, 0)), None, None]);
+        let (ss, rest) = Aovs::parse(&["color", "coverage", "uv", "object"])
+            .unwrap()
+            .split_supersampled();
+        let big = Frame::decode(w, h, ss.unwrap(), &t, Some(1.5), 2.0);
+        let t1 = Texels([None, Some(geo(2, 9)), Some(vec![5, 7]), None]);
+        let plain = Frame::decode(2, 1, rest.unwrap(), &t1, Some(0.5), 1.0);
+        let f = Frame::supersampled(big, 2, Some(plain));
         assert_eq!((f.width, f.height), (2, 1));
+        assert!(f.aovs.has("uv") && f.aovs.has("color") && !f.aovs.has("depth"));
         // samples of pixel 0: 0, 1, 4, 5; of pixel 1: 2, 3, 6, 7
         assert_eq!(f.f32s("color"), &[2.5, 0.0, 1.0, 4.5, 0.0, 1.0]);
         assert_eq!(f.f32s("coverage"), &[0.75, 1.0]);
-        // the sample at (1, 1) of each pixel's grid: 5 and 7
-        assert_eq!(f.f32s("uv"), &[5.0, 0.0, 7.0, 0.0]);
+        // the plain frame's
+        assert_eq!(f.f32s("uv"), &[0.0, 0.0, 1.0, 0.0]);
         assert_eq!(f.get("object"), Some(&AovData::I32(vec![5, 7])));
-        assert_eq!(f.mask(), &[true, true]);
-        assert_eq!(f.gpu_ms, Some(1.5));
+        assert_eq!((f.gpu_ms, f.wall_ms), (Some(2.0), 3.0));
     }
 }

@@ -340,10 +340,20 @@ impl Renderer {
                 Ok(s)
             })
             .collect::<Result<_>>()?;
-        Ok(self
-            .render_many(&big, method, aovs)?
+        // colour and coverage from the samples; the other AOVs from a one-sample pass
+        let (ss, rest) = aovs.split_supersampled();
+        let plain = match rest {
+            Some(a) => self.render_many(scenes, method, a)?.into_iter().map(Some).collect(),
+            None => vec![None; scenes.len()],
+        };
+        let bigs = match ss {
+            Some(a) => self.render_many(&big, method, a)?,
+            None => return Ok(plain.into_iter().flatten().collect()),
+        };
+        Ok(bigs
             .into_iter()
-            .map(|f| f.downsample(k))
+            .zip(plain)
+            .map(|(b, p)| Frame::supersampled(b, k, p))
             .collect())
     }
 
