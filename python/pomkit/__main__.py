@@ -1,4 +1,5 @@
-"""Command line: `python -m pomkit demo [--out DIR]` and `python -m pomkit bench [--quick]`."""
+"""Command line: `python -m pomkit demo [--out DIR]`, `bench [--quick]`, `choose HEIGHTS... --max-uv-error E`,
+`info` and `tables`."""
 
 from __future__ import annotations
 
@@ -17,6 +18,15 @@ def main(argv=None) -> int:
     b.add_argument("--quick", action="store_true", help="a small sweep (minutes)")
     i = sub.add_parser("info", help="adapters, backend, driver, features and fallbacks, limits, versions (paste it into a bug report)")
     i.add_argument("--adapter", default=None, help="an adapter index, name or backend (default: the best)")
+    c = sub.add_parser("choose", help="the cheapest method and settings within an error bound, for your height maps and angles")
+    c.add_argument("heights", nargs="+", help="height map files (PNG/TIFF/EXR/.npy)")
+    c.add_argument("--angles", default="30:80", help="view angles in degrees: 'a:b' (3 angles from a to b), 'a:b:n' or 'a,b,c'")
+    c.add_argument("--resolution", type=int, default=256)
+    c.add_argument("--max-uv-error", type=float, default=None, help="bound on the worst uv p95 (texels)")
+    c.add_argument("--max-flip", type=float, default=None, help="bound on the worst FLIP (against the mesh)")
+    c.add_argument("--cost", choices=("gpu_ms", "fetches"), default="gpu_ms")
+    c.add_argument("--methods", default=None, help="comma-separated families (default: all)")
+    c.add_argument("--out", default="pomkit-out/choose")
     t = sub.add_parser("tables", help="regenerate the measured tables in docs/tables/")
     t.add_argument("--out", default="docs/tables")
     a = p.parse_args(argv)
@@ -30,6 +40,17 @@ def main(argv=None) -> int:
             print(f"python -m pomkit bench needs {', '.join(missing)}: pip install pomkit[bench]", file=sys.stderr)
             return 2
         bench.run_bench(a.out, quick=a.quick)
+    elif a.cmd == "choose":
+        from ._choose import choose, report, parse_angles
+        try:
+            ch = choose(a.heights, angles=parse_angles(a.angles), resolution=a.resolution, max_uv_error=a.max_uv_error,
+                        max_flip=a.max_flip, cost=a.cost, methods=a.methods.split(",") if a.methods else None)
+        except (ValueError, TypeError, OSError) as e:
+            print(f"python -m pomkit choose: {e}", file=sys.stderr)
+            return 2
+        print(ch)
+        report(ch, a.out)
+        print(f"wrote {a.out}/choice.md, choice.png, choice.json ({ch.seconds:.1f} s)")
     elif a.cmd == "tables":
         from .apps.tables import run_tables
         run_tables(a.out)

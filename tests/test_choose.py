@@ -1,0 +1,82 @@
+"""pk.choose: the cheapest setting that meets a bound on every case it was given."""
+
+import time
+
+import numpy as np
+import pytest
+
+import pomkit as pk
+from pomkit import metrics
+from pomkit._choose import parse_angles
+
+KW = dict(angles=(40.0, 72.0), resolution=48, rounds=2)
+
+
+@pytest.fixture()
+def cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("POMKIT_CACHE", str(tmp_path))
+    return tmp_path
+
+
+def test_the_choice_meets_the_bound_on_every_case(cache):
+    hs = [pk.textures.bricks(64), pk.textures.real("gravel", 64)]
+    ch = pk.choose(heights=hs, max_uv_error=0.5, methods=["SteepParallax", "POM", "Exact"], **KW)
+    assert ch.met and ch.method is not None, str(ch)
+    # rendered again, on every case
+    from pomkit.bench import plane_scene
+    r = pk.Renderer()
+    for h in hs:
+        for a in KW["angles"]:
+            sc = plane_scene(h, a, KW["resolution"])
+            e = metrics.uv_error(r.render(sc, ch.method), pk.exact_uv(sc), sc)
+            assert e["p95"] <= 0.5, (ch.method, h.shape, a, e["p95"])
+    # the cheapest that meets it: nothing in the table that meets it is cheaper
+    best = next(r for r in ch.table if r["method"] is ch.method)
+    assert all(r["gpu_ms"] >= best["gpu_ms"] for r in ch.table if r["meets"])
+    # bisection, not a grid: a handful of step counts per family
+    assert sum(r["family"] == "SteepParallax" for r in ch.table) <= 9
+    assert "runner-up" in str(ch) or ch.runner_up is None
+
+
+def test_a_looser_bound_is_answered_from_the_cache(cache):
+    h = pk.textures.bricks(64)
+    t0 = time.perf_counter()
+    tight = pk.choose(heights=h, max_uv_error=0.3, methods=["SteepParallax", "Exact"], **KW)
+    t1 = time.perf_counter()
+    loose = pk.choose(heights=h, max_uv_error=3.0, methods=["SteepParallax", "Exact"], **KW)
+    t2 = time.perf_counter()
+    assert tight.met and loose.met
+    assert t2 - t1 < 0.5 * (t1 - t0)
+    tb = next(r for r in tight.table if r["method"] is tight.method)
+    lb = next(r for r in loose.table if r["method"] is loose.method)
+    assert lb["gpu_ms"] <= tb["gpu_ms"] + 1e-9
+
+
+def test_no_method_meets_it_and_the_closest_is_named(cache):
+    ch = pk.choose(heights=pk.textures.bricks(64), max_uv_error=1e-9, methods=["Parallax", "SteepParallax"], **KW)
+    assert not ch.met and ch.method is None and ch.closest is not None
+    assert "no method meets" in str(ch) and repr(ch.closest) in str(ch)
+
+
+def test_bad_arguments_name_the_fix():
+    with pytest.raises(ValueError, match="max_uv_error or max_flip"):
+        pk.choose(heights=pk.textures.bricks(32))
+    with pytest.raises(ValueError, match="methods"):
+        pk.choose(heights=pk.textures.bricks(32), max_uv_error=1.0, methods=["Nope"])
+    with pytest.raises(ValueError, match="heights or scenes"):
+        pk.choose(max_uv_error=1.0)
+    assert parse_angles("30:80") == [30.0, 55.0, 80.0] and parse_angles("10,20") == [10.0, 20.0]
+    with pytest.raises(ValueError, match="angles"):
+        parse_angles("a:b")
+
+
+def test_the_command_line_writes_a_report(cache, tmp_path):
+    from pomkit.__main__ import main
+    from PIL import Image
+    path = tmp_path / "h.png"
+    Image.fromarray((pk.textures.bricks(64) * 65535).astype(np.uint16)).save(path)
+    out = tmp_path / "out"
+    assert main(["choose", str(path), "--angles", "40:70:2", "--resolution", "48", "--max-uv-error", "1.0",
+                 "--methods", "SteepParallax,Exact", "--out", str(out)]) == 0
+    assert (out / "choice.md").read_text().startswith("# pk.choose")
+    assert (out / "choice.json").exists()
