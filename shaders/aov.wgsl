@@ -6,7 +6,8 @@
 #import pomkit::cost::cost_counts
 
 struct FsOut {
-    // rgb: linear radiance (float bits), a: steps (low 28 bits) | flags << 28
+    // rgb: linear radiance (float bits), a: steps (low 28 bits) | flags << 28 | HIT_BIT. Only
+    // this target is cleared: the others are read where the hit bit is set (src/render/aovs.rs)
     @location(0) color: vec4<u32>,
     // xy: hit uv (mesh space, unwrapped), z: distance eye -> hit, w: mip level used
     @location(1) geo: vec4<u32>,
@@ -26,11 +27,13 @@ struct FsOut {
 // flags (AOV `flags`): 1 = the march hit its iteration bound, 2 = NCS early termination
 const FLAG_BOUND: u32 = 1u;
 const FLAG_EARLY: u32 = 2u;
+// the pixel shows a surface (AOV `mask`): channel 3's bit 31
+const HIT_BIT: u32 = 0x80000000u;
 
 fn write_aovs(color: vec3<f32>, steps: u32, flags: u32, uv: vec2<f32>, dist: f32, lod: f32) -> FsOut {
     var o: FsOut;
     let c = bitcast<vec3<u32>>(color);
-    o.color = vec4<u32>(c, min(steps, 0x0fffffffu) | (flags << 28u));
+    o.color = vec4<u32>(c, min(steps, 0x0fffffffu) | (flags << 28u) | HIT_BIT);
     o.geo = bitcast<vec4<u32>>(vec4<f32>(uv, dist, lod));
     o.id = u32(G.object_id);
 #ifdef COUNT_FETCHES

@@ -13,14 +13,14 @@ pub enum Source {
     ColorRgb,
     /// the colour target's channel 3, low 28 bits, where hit (0 elsewhere)
     ColorLow28,
-    /// the colour target's channel 3, high 4 bits, where hit (0 elsewhere)
+    /// the colour target's channel 3, bits 28-30, where hit (0 elsewhere)
     ColorHigh4,
     /// the geo target's channels from `c` (float bits), where hit (NaN elsewhere)
     Geo(usize),
-    /// the geo target's distance >= 0: the pixel shows a surface
-    GeoHit,
-    /// the fraction of the pixel's samples that hit (from the geo target; 0 or 1 at one sample
-    /// per pixel, averaged by `Frame::downsample`)
+    /// the colour target's channel 3, bit 31 (`HIT_BIT`): the pixel shows a surface
+    Hit,
+    /// the fraction of the pixel's samples that hit (the hit bit; 0 or 1 at one sample per
+    /// pixel, averaged by `Frame::supersampled`)
     Coverage,
     /// the id target, where hit (-1 elsewhere)
     Id,
@@ -29,13 +29,18 @@ pub enum Source {
     Cost(usize),
 }
 
+/// The colour target's bit that marks a hit (channel 3, bit 31; shaders/aov.wgsl).
+pub const HIT_BIT: u32 = 1 << 31;
+
 /// The render targets, in location order (shaders/aov.wgsl's `FsOut`): the format, its u32
-/// words per texel, and the clear value (no hit is marked by distance -1.0 in the geo target).
+/// words per texel, and the clear value. Only the colour target is cleared (black, no hit
+/// bit): every other target is read only where the hit bit is set, so its stale texels are
+/// never seen and clearing them would cost every frame their size in writes.
 pub struct TargetDesc {
     pub label: &'static str,
     pub format: wgpu::TextureFormat,
     pub words: usize,
-    pub clear: [u32; 4],
+    pub clear: Option<[u32; 4]>,
 }
 
 pub const TARGETS: [TargetDesc; 4] = [
@@ -43,25 +48,25 @@ pub const TARGETS: [TargetDesc; 4] = [
         label: "color",
         format: wgpu::TextureFormat::Rgba32Uint,
         words: 4,
-        clear: [0; 4],
+        clear: Some([0; 4]),
     },
     TargetDesc {
         label: "geo",
         format: wgpu::TextureFormat::Rgba32Uint,
         words: 4,
-        clear: [0, 0, 0xbf80_0000, 0],
+        clear: None,
     },
     TargetDesc {
         label: "object",
         format: wgpu::TextureFormat::R32Uint,
         words: 1,
-        clear: [u32::MAX, 0, 0, 0],
+        clear: None,
     },
     TargetDesc {
         label: "cost",
         format: wgpu::TextureFormat::Rg32Uint,
         words: 2,
-        clear: [0; 4],
+        clear: None,
     },
 ];
 
@@ -70,7 +75,8 @@ impl Source {
     pub const fn target(self) -> usize {
         match self {
             Source::ColorRgb | Source::ColorLow28 | Source::ColorHigh4 => 0,
-            Source::Geo(_) | Source::GeoHit | Source::Coverage => 1,
+            Source::Hit | Source::Coverage => 0,
+            Source::Geo(_) => 1,
             Source::Id => 2,
             Source::Cost(_) => 3,
         }
@@ -125,7 +131,7 @@ pub const AOVS: [Aov; 11] = [
         name: "mask",
         comps: 1,
         dtype: Dtype::Bool,
-        source: Source::GeoHit,
+        source: Source::Hit,
         doc: "the pixel shows a surface (at its centre sample)",
     },
     Aov {
@@ -261,13 +267,13 @@ impl Aovs {
             .map(|(_, a)| a.source)
     }
     /// The targets the AOVs are read from (aligned with `TARGETS`). Every AOV that is blanked
-    /// where nothing is hit needs the geo target too.
+    /// where nothing is hit needs the colour target too (its hit bit).
     pub fn targets(self) -> [bool; TARGETS.len()] {
         let mut t = [false; TARGETS.len()];
         for s in self.sources() {
             t[s.target()] = true;
             if s != Source::ColorRgb {
-                t[Source::GeoHit.target()] = true;
+                t[Source::Hit.target()] = true;
             }
         }
         t
@@ -357,9 +363,9 @@ impl Frame {
         wall_ms: f64,
     ) -> Frame {
         let n = (width * height) as usize;
-        let geo = Source::GeoHit.target();
-        let hit: Vec<bool> = match &t.0[geo] {
-            Some(_) => (0..n).map(|i| f32::from_bits(t.px(geo, i)[2]) >= 0.0).collect(),
+        let c = Source::Hit.target();
+        let hit: Vec<bool> = match &t.0[c] {
+            Some(_) => (0..n).map(|i| t.px(c, i)[3] & HIT_BIT != 0).collect(),
             None => vec![true; n],
         };
         let data = AOVS
@@ -383,7 +389,7 @@ impl Frame {
                     ),
                     Source::ColorLow28 => AovData::U32(where_hit(&|i| t.px(k, i)[3] & 0x0fff_ffff, 0)),
                     Source::ColorHigh4 => AovData::U8(
-                        where_hit(&|i| t.px(k, i)[3] >> 28, 0)
+                        where_hit(&|i| (t.px(k, i)[3] & !HIT_BIT) >> 28, 0)
                             .into_iter()
                             .map(|x| x as u8)
                             .collect(),
@@ -397,7 +403,7 @@ impl Frame {
                         }
                         AovData::F32(v)
                     }
-                    Source::GeoHit => AovData::Bool(hit.clone()),
+                    Source::Hit => AovData::Bool(hit.clone()),
                     Source::Coverage => {
                         AovData::F32(hit.iter().map(|&b| if b { 1.0 } else { 0.0 }).collect())
                     }
@@ -486,8 +492,16 @@ mod tests {
         let (w, h) = (3u32, 2u32);
         let n = 6;
         let color = [1.0f32.to_bits(), 0.5f32.to_bits(), 0.25f32.to_bits(), 7 | (2 << 28)];
+        // pixel 0 misses (no hit bit)
+        let colors: Vec<u32> = (0..n)
+            .flat_map(|i| {
+                let mut c = color;
+                c[3] |= if i == 0 { 0 } else { HIT_BIT };
+                c
+            })
+            .collect();
         let t = Texels([
-            Some(color.repeat(n)),
+            Some(colors),
             // pixel 0 misses (distance -1)
             Some(
                 (0..n)
@@ -527,7 +541,7 @@ mod tests {
         );
         assert_eq!(
             Aovs::parse(&["fetches"]).unwrap().targets(),
-            [false, true, false, true]
+            [true, false, false, true]
         );
         assert_eq!(written([true, false, true, false], false), [true, true, true, false]);
         assert_eq!(written([true, false, true, false], true), [true, false, true, false]);
@@ -538,7 +552,11 @@ mod tests {
         // a 4 x 2 frame of 2 x 2 samples per pixel -> 2 x 1; pixel 0's samples: one miss
         let (w, h, n) = (4u32, 2u32, 8usize);
         let color: Vec<u32> = (0..n)
-            .flat_map(|i| [i as f32, 0.0, 1.0, i as f32].map(f32::to_bits))
+            .flat_map(|i| {
+                let mut c = [i as f32, 0.0, 1.0, 0.0].map(f32::to_bits);
+                c[3] = if i == 0 { 0 } else { HIT_BIT };
+                c
+            })
             .collect();
         let geo = |n: usize, miss: usize| -> Vec<u32> {
             (0..n)
@@ -550,7 +568,7 @@ mod tests {
             .unwrap()
             .split_supersampled();
         let big = Frame::decode(w, h, ss.unwrap(), &t, Some(1.5), 2.0);
-        let t1 = Texels([None, Some(geo(2, 9)), Some(vec![5, 7]), None]);
+        let t1 = Texels([Some([0, 0, 0, HIT_BIT].repeat(2)), Some(geo(2, 9)), Some(vec![5, 7]), None]);
         let plain = Frame::decode(2, 1, rest.unwrap(), &t1, Some(0.5), 1.0);
         let f = Frame::supersampled(big, 2, Some(plain));
         assert_eq!((f.width, f.height), (2, 1));

@@ -96,7 +96,8 @@ impl Targets {
         }
     }
 
-    /// The colour attachments of the targets `written`, cleared to their `TargetDesc::clear`.
+    /// The colour attachments of the targets `written`: the colour target cleared, the others
+    /// loaded (`TargetDesc::clear`).
     pub fn attachments(
         &self,
         written: [bool; TARGETS.len()],
@@ -104,22 +105,22 @@ impl Targets {
         let last = written.iter().rposition(|&b| b).map_or(0, |i| i + 1);
         (0..last)
             .map(|i| {
-                written[i].then(|| {
-                    let c = TARGETS[i].clear.map(|x| x as f64);
-                    wgpu::RenderPassColorAttachment {
-                        view: &self.targets[i].v,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color {
-                                r: c[0],
-                                g: c[1],
-                                b: c[2],
-                                a: c[3],
+                written[i].then(|| wgpu::RenderPassColorAttachment {
+                    view: &self.targets[i].v,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: match TARGETS[i].clear {
+                            Some(c) => wgpu::LoadOp::Clear(wgpu::Color {
+                                r: c[0] as f64,
+                                g: c[1] as f64,
+                                b: c[2] as f64,
+                                a: c[3] as f64,
                             }),
-                            store: wgpu::StoreOp::Store,
+                            None => wgpu::LoadOp::Load,
                         },
-                    }
+                        store: wgpu::StoreOp::Store,
+                    },
                 })
             })
             .collect()
