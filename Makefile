@@ -1,5 +1,5 @@
 # One command each, from a fresh Debian machine with Rust and Python 3.11:
-#   make demo   set up everything, then run `python -m pomkit demo` (writes ./pomkit-out/)
+#   make demo   set up everything, then run `python -m pomkit demo` (writes ./pomkit-out/index.html)
 #   make test   set up everything, then run the tests (cargo test and pytest)
 SHELL := /bin/bash
 export XDG_RUNTIME_DIR ?= /tmp/pomkit-xdg-$(shell id -u)
@@ -7,7 +7,7 @@ VENV := .venv/bin
 # the tests that run a second time on the GL backend in `make test` (about a minute)
 GL_TESTS := tests/test_cost.py tests/test_methods.py tests/test_analytic.py tests/test_differential.py tests/test_shadows.py tests/test_throughput.py
 
-.PHONY: setup setup-test setup-bench demo test bench wheel info clean
+.PHONY: setup setup-test setup-bench setup-demo demo test bench wheel info clean
 
 setup:
 	scripts/setup.sh
@@ -18,7 +18,10 @@ setup-test:
 setup-bench:
 	scripts/setup.sh bench
 
-demo: setup
+setup-demo:
+	scripts/setup.sh demo
+
+demo: setup-demo
 	$(VENV)/python -m pomkit demo
 
 test: setup-test

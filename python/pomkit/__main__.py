@@ -12,7 +12,7 @@ def main(argv=None) -> int:
     sub = p.add_subparsers(dest="cmd", required=True)
     d = sub.add_parser("demo", help="render the gallery and the comparison report into a folder")
     d.add_argument("--out", default="pomkit-out", help="output folder (default ./pomkit-out)")
-    d.add_argument("--size", type=int, default=384, help="image size in pixels")
+    d.add_argument("--size", type=int, default=256, help="image size in pixels")
     b = sub.add_parser("bench", help="speed-versus-accuracy sweep: table and charts")
     b.add_argument("--out", default="pomkit-out/bench")
     b.add_argument("--quick", action="store_true", help="a small sweep (minutes)")

@@ -63,17 +63,18 @@ class Choice:
     seconds: float = 0.0
 
     def __str__(self) -> str:
+        from .bench import label
         b = ", ".join(f"{k} <= {v:g}" for k, v in self.bound.items())
         if not self.met:
             row = next((r for r in self.table if r["method"] is self.closest), None)
             worst = f" (worst uv p95 {row['uv_p95']:.3f}, FLIP {row['flip']:.4f})" if row else ""
-            return f"no method meets {b}; the closest: {self.closest!r}{worst}"
+            return f"no method meets {b}; the closest: {label(self.closest)}{worst}"
         row = next(r for r in self.table if r["method"] is self.method)
-        s = (f"{self.method!r}: {row['gpu_ms']:.2f} GPU ms, {row['fetches']:.1f} fetches/px, worst uv p95 "
+        s = (f"{label(self.method)}: {row['gpu_ms']:.2f} GPU ms, {row['fetches']:.1f} fetches/px, worst uv p95 "
              f"{row['uv_p95']:.3f}, worst FLIP {row['flip']:.4f} (bound {b}; cheapest by {self.cost})")
         if self.runner_up is not None:
             r2 = next(r for r in self.table if r["method"] is self.runner_up)
-            s += f"\nrunner-up: {self.runner_up!r}: {r2['gpu_ms']:.2f} ms, {r2['fetches']:.1f} fetches/px"
+            s += f"\nrunner-up: {label(self.runner_up)}: {r2['gpu_ms']:.2f} ms, {r2['fetches']:.1f} fetches/px"
         return s
 
     def markdown(self) -> str:

@@ -1,5 +1,4 @@
-"""`python -m pomkit demo`: a small gallery on bricks at a grazing angle (Flat, Bump, POM with hard
-and soft shadows), the LOD tint view, and POM's uv error against the exact oracle."""
+"""`python -m pomkit demo`: the page of every method (apps/page.py) and the several-objects scene."""
 
 from __future__ import annotations
 
@@ -9,17 +8,6 @@ from pathlib import Path
 import numpy as np
 
 import pomkit as pk
-
-
-def lod_tint(frame: pk.Frame, threshold: float) -> np.ndarray:
-    """Colour tinted by the mip level: green where full POM runs, yellow in the blend band,
-    red where bump mapping takes over; sRGB uint8."""
-    base = frame.to_srgb8().astype(np.float32) / 255.0
-    lod = np.nan_to_num(frame.lod, nan=0.0)
-    t = np.clip(lod - (threshold - 1.0), 0.0, 1.0)[..., None]
-    tint = np.where(lod[..., None] <= threshold - 1.0, [0.2, 1.0, 0.2], (1 - t) * np.array([1.0, 1.0, 0.1]) + t * np.array([1.0, 0.2, 0.2]))
-    out = np.where(frame.mask[..., None], 0.55 * base + 0.45 * tint * base.mean(-1, keepdims=True) * 1.6, base)
-    return (np.clip(out, 0, 1) * 255).astype(np.uint8)
 
 
 def _label(img: np.ndarray, text: str) -> np.ndarray:
@@ -39,19 +27,6 @@ def brick_albedo(h: np.ndarray, seed: int = 1) -> np.ndarray:
     brick = np.array([170.0, 74.0, 52.0]) * (0.85 + 0.3 * (h[..., None] - 0.9))
     mortar = np.array([150.0, 146.0, 138.0])
     return np.clip((mortar * (1 - t) + brick * t) * grain, 0, 255).astype(np.uint8)
-
-
-def demo_scene(size: int = 384, theta_deg: float = 72.0) -> pk.Scene:
-    t = np.radians(theta_deg)
-    h = pk.textures.bricks(512)
-    return pk.Scene(
-        mesh=pk.Mesh.plane(size=2.0),
-        material=pk.Material(height=h, depth=0.06, tiling=2.0, albedo=brick_albedo(h)),
-        camera=pk.Camera.look_at(eye=(0.0, 1.5 * np.cos(t), 1.5 * np.sin(t)), target=(0, 0, -0.1), up=(0, 1, 0),
-                                 fov_y=40.0, width=size, height=size),
-        lights=[pk.DirectionalLight(direction=(-0.6, -0.55, -0.3), irradiance=3.0, angular_diameter=4.0)],
-        ambient=0.08,
-    )
 
 
 def objects_demo(r: "pk.Renderer", outdir: Path, size: int = 256) -> list[str]:
@@ -88,56 +63,20 @@ def objects_demo(r: "pk.Renderer", outdir: Path, size: int = 256) -> list[str]:
     return lines
 
 
-def run_demo(out: str = "pomkit-out", size: int = 384) -> Path:
-    from PIL import Image
+def run_demo(out: str = "pomkit-out", size: int = 256) -> Path:
+    """The page (index.html: every method on a plane and a torus beside Mitsuba, heat maps, the
+    speed/accuracy chart, a pk.choose answer, the LOD view; apps/page.py), objects.png and
+    report.txt."""
+    from .page import run_page
 
     t0 = time.perf_counter()
     outdir = Path(out)
     outdir.mkdir(parents=True, exist_ok=True)
     r = pk.Renderer()
     print(f"pomkit {pk.__version__} on {r.info['name']} ({r.info['backend']})")
-    scene = demo_scene(size)
-    methods = {
-        "flat": pk.Flat(),
-        "bump": pk.Bump(),
-        "pom_hard": pk.POM(shadows="hard", shadow_steps=16),
-        "pom_soft": pk.POM(shadows="soft", shadow_steps=16),
-    }
-    tiles = []
-    frames = {}
-    for name, m in methods.items():
-        r.render(scene, m)  # the first render of a method builds its pipeline: time the second
-        f = r.render(scene, m)
-        frames[name] = f
-        f.save(outdir / f"{name}.png")
-        tiles.append(_label(f.to_srgb8(), f"{name}  {f.time_ms:.1f} ms"))
-        print(f"  {name:9s} {f.time_ms:8.2f} ms ({f.timing})  mean steps {f.steps[f.mask].mean():6.1f}")
-    thr = 4.0
-    tint = lod_tint(frames["pom_soft"], thr)
-    Image.fromarray(tint).save(outdir / "lod_tint.png")
-    tiles.append(_label(tint, "LOD: green POM, yellow blend, red bump"))
-    gallery = np.concatenate([np.concatenate(tiles[:3], 1), np.concatenate(tiles[3:] + [np.zeros_like(tiles[0])] * (6 - len(tiles)), 1)], 0)
-    Image.fromarray(gallery).save(outdir / "gallery.png")
-
-    # accuracy against the CPU oracle (exact first hit against the bilinear field)
-    small = scene.replace(camera=pk.Camera.look_at(scene.camera.eye, scene.camera.target, fov_y=40.0, width=160, height=160))
-    oracle = pk.exact_uv(small)
-    h, w = small.single.material.height.shape
-    lines = []
-    for label, m in (("POM (default: level-0 march)", pk.POM(shadows="none")),
-                     ("POM, mip-filtered march", pk.POM(shadows="none", mip_filtering=True)),
-                     ("ConeStep (conservative, exact)", pk.ConeStep()),
-                     ("Exact (max-mip)", pk.Exact())):
-        f = r.render(small, m)
-        e = pk.metrics.uv_error(f, oracle, small)
-        lines.append(f"{label} vs exact_uv at 72 deg: uv error p50 {e['p50']:.3f}, p95 {e['p95']:.3f} texels")
-        print("  " + lines[-1])
-    lines += objects_demo(r, outdir)
-    line = "\n".join(lines)
-    (outdir / "report.txt").write_text(
-        "\n".join([f"adapter: {r.info['name']} ({r.info['backend']})"]
-                  + [f"{k}: {v.time_ms:.2f} ms ({v.timing})" for k, v in frames.items()] + [line]) + "\n")
-    print(f"wrote {outdir.resolve()}/: gallery.png, {', '.join(n + '.png' for n in methods)}, lod_tint.png, objects.png, "
-          "report.txt")
+    page = run_page(outdir, size)
+    lines = objects_demo(r, outdir)
+    (outdir / "report.txt").write_text("\n".join([f"adapter: {r.info['name']} ({r.info['backend']})"] + lines) + "\n")
+    print(f"wrote {page.resolve()} (open it in a browser), objects.png, report.txt")
     print(f"done in {time.perf_counter() - t0:.1f} s")
     return outdir

@@ -1,0 +1,221 @@
+"""The demo's page (`python -m pomkit demo` writes pomkit-out/index.html and its PNGs): every
+method on a planar and on a curved scene, framed on the surface, with the Mitsuba reference
+beside them (renders shipped with the package, made by scripts/make_demo_refs.py, so the demo
+needs no Mitsuba), uv-error and FLIP heat maps, the speed/accuracy chart of the methods shown,
+a `pk.choose` answer for one built-in map, and the LOD as a false-colour overlay with its legend.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import time
+from pathlib import Path
+from typing import Callable, Optional
+
+import numpy as np
+
+import pomkit as pk
+
+REFS = Path(__file__).resolve().parent.parent / "data" / "demo"
+UV_MAX = 2.0  # texels: the uv heat map's scale
+
+
+def planar_scene(size: int = 256) -> pk.Scene:
+    """Bricks with an albedo on a plane at 62° from the normal, framed on the surface (no sky)."""
+    from .demo import brick_albedo
+    h = pk.textures.bricks(256)
+    t = np.radians(62.0)
+    return pk.Scene(mesh=pk.Mesh.plane(size=6.0),
+                    material=pk.Material(height=h, depth=0.06, tiling=6.0, albedo=brick_albedo(h)),
+                    camera=pk.Camera.look_at(eye=(0.0, 1.1 * np.cos(t), 1.1 * np.sin(t)), target=(0.0, 0.0, -0.15),
+                                             up=(0, 1, 0), fov_y=36.0, width=size, height=size),
+                    lights=[pk.DirectionalLight((-0.6, -0.55, -0.3), 3.0)], ambient=0.08)
+
+
+def curved_scene(size: int = 256) -> pk.Scene:
+    """Cobblestones on a torus, seen from above the rim: silhouettes against the black."""
+    return pk.Scene(mesh=pk.Mesh.torus(segments=48, tube_segments=24),
+                    material=pk.Material(pk.textures.cobblestones(256, cells=8), depth=0.12, tiling=1.0),
+                    camera=pk.Camera.look_at((0.0, 1.6, 2.2), target=(0.0, -0.1, 0.0), fov_y=38, width=size, height=size),
+                    lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0)], ambient=0.08)
+
+
+PLANAR: dict[str, Callable[[], pk.Method]] = {
+    "Flat": pk.Flat, "Bump": pk.Bump, "Parallax": pk.Parallax, "SteepParallax": pk.SteepParallax,
+    "POM": lambda: pk.POM(shadows="soft"), "Relief": pk.Relief, "ConeStep": pk.ConeStep,
+    "Exact": lambda: pk.Exact(shadows="exact"), "DistanceMapping": pk.DistanceMapping, "Prism": pk.Prism,
+    "Tessellated(1)": lambda: pk.Tessellated(1.0)}
+CURVED: dict[str, Callable[[], pk.Method]] = {
+    "Flat": pk.Flat, "POM": pk.POM, "NCS": pk.NCS, "CurvedRelief": pk.CurvedRelief, "Prism": pk.Prism,
+    "Prism (exact)": lambda: pk.Prism(exact=True), "Tessellated(1)": lambda: pk.Tessellated(1.0)}
+
+
+def reference(name: str, scene: pk.Scene) -> Optional[np.ndarray]:
+    """The shipped Mitsuba render (sRGB8) of the demo scene `name`, if it is this scene's."""
+    from PIL import Image
+    from .._cache import scene_hash
+    meta = REFS / f"{name}.json"
+    if not meta.exists():
+        return None
+    m = json.loads(meta.read_text())
+    if m.get("hash") != scene_hash(scene, kind="mitsuba", spp=m["spp"], seed=0, variant=None, resolution=2.0):
+        return None
+    return np.asarray(Image.open(REFS / f"{name}.png").convert("RGB"))
+
+
+def _colormap(x: np.ndarray, vmax: float, mask: np.ndarray) -> np.ndarray:
+    """A heat map (magma-like ramp, black to yellow) of x / vmax in [0, 1]; grey where not mask."""
+    t = np.clip(np.nan_to_num(x / vmax, nan=0.0), 0.0, 1.0)[..., None]
+    stops = np.array([[0, 0, 4], [80, 18, 123], [183, 55, 121], [252, 137, 97], [252, 253, 191]], np.float64)
+    pos = t * (len(stops) - 1)
+    i = np.clip(np.floor(pos).astype(int), 0, len(stops) - 2)
+    f = pos - i
+    c = stops[i[..., 0]] * (1 - f) + stops[i[..., 0] + 1] * f
+    return np.where(mask[..., None], c, 60).astype(np.uint8)
+
+
+def lod_overlay(frame: pk.Frame, levels: float) -> np.ndarray:
+    """The mip level as a false colour (level 0 blue, rising through green and yellow to red at
+    `levels`) over the frame's luminance: it reads at a glance, whatever the albedo."""
+    base = frame.to_srgb8().astype(np.float32) / 255.0
+    lum = base.mean(-1, keepdims=True)
+    t = np.clip(np.nan_to_num(frame.lod, nan=0.0) / max(levels, 1e-6), 0, 1)[..., None]
+    stops = np.array([[0.15, 0.35, 1.0], [0.1, 0.85, 0.4], [1.0, 0.9, 0.1], [1.0, 0.2, 0.15]])
+    pos = t * (len(stops) - 1)
+    i = np.clip(np.floor(pos).astype(int), 0, len(stops) - 2)
+    f = pos - i
+    col = stops[i[..., 0]] * (1 - f) + stops[i[..., 0] + 1] * f
+    out = np.where(frame.mask[..., None], col * (0.35 + 0.65 * lum), base)
+    return (np.clip(out, 0, 1) * 255).astype(np.uint8)
+
+
+def lod_legend(levels: float, width: int = 256) -> np.ndarray:
+    from PIL import Image, ImageDraw
+    fake = pk.Frame._of({"color": np.ones((1, width, 3), np.float32) * 0.8,
+                         "lod": np.linspace(0, levels, width, dtype=np.float32)[None, :],
+                         "mask": np.ones((1, width), bool)})
+    bar = np.repeat(lod_overlay(fake, levels), 14, axis=0)
+    im = Image.new("RGB", (width, 30), (255, 255, 255))
+    im.paste(Image.fromarray(bar), (0, 0))
+    d = ImageDraw.Draw(im)
+    for k in range(int(levels) + 1):
+        x = int(k / levels * (width - 1))
+        d.text((min(x, width - 10), 16), str(k), fill=(0, 0, 0))
+    return np.asarray(im)
+
+
+def _save(img: np.ndarray, path: Path) -> str:
+    from PIL import Image
+    Image.fromarray(img).save(path)
+    return path.name
+
+
+def _flip_map(frame: pk.Frame, ref8: np.ndarray) -> tuple[float, np.ndarray]:
+    """FLIP (flip-evaluator, when installed) or, without it, the mean absolute sRGB difference."""
+    ref = pk.Frame._of({"color": pk.srgb_to_linear(ref8.astype(np.float32) / 255.0).astype(np.float32),
+                        "mask": np.ones(ref8.shape[:2], bool)})
+    try:
+        m, e = pk.metrics.flip(frame, ref, image=True)
+        e = np.asarray(e)
+        return m, e.reshape(e.shape[:2])
+    except ImportError:
+        d = np.abs(frame.to_srgb8().astype(np.float32) - ref8.astype(np.float32)).mean(-1) / 255.0
+        return float(d.mean()), d
+
+
+def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: dict, uv_ref: pk.Frame,
+            uv_ref_label: str) -> tuple[str, list[dict]]:
+    """One scene's table: per method its frame, uv-error map, FLIP map (against Mitsuba) and
+    figures."""
+    ref8 = reference(name, scene)
+    rows, cells = [], []
+    have_flip = True
+    try:
+        import flip_evaluator  # noqa: F401
+    except ImportError:
+        have_flip = False
+    for label, make in methods.items():
+        m = make()
+        r.render(scene, m, aovs=("color",))
+        f = r.render(scene, m, spp=4)
+        e = pk.metrics.uv_error(f, uv_ref, scene)
+        row = dict(scene=name, method=label, gpu_ms=f.time_ms or float("nan"), uv_p95=e["p95"], mask_iou=e["mask_iou"],
+                   safety=m.safety)
+        imgs = [_save(f.to_srgb8(), outdir / f"{name}_{label}.png"),
+                _save(_colormap(e["image"], UV_MAX, f.mask | uv_ref.mask), outdir / f"{name}_{label}_uv.png")]
+        if ref8 is not None:
+            fl, emap = _flip_map(f, ref8)
+            row["flip"] = fl
+            imgs.append(_save(_colormap(emap, 0.5 if have_flip else 0.25, np.ones(emap.shape, bool)),
+                              outdir / f"{name}_{label}_flip.png"))
+        rows.append(row)
+        figures = f"{row['gpu_ms']:.1f} ms (2 passes, spp 4) · uv p95 {row['uv_p95']:.2f} tx · IoU {row['mask_iou']:.3f}"
+        if "flip" in row:
+            figures += f" · {'FLIP' if have_flip else '|Δ sRGB|'} {row['flip']:.3f}"
+        cells.append(f"<tr><th>{html.escape(label)}<br><small>{m.safety}</small></th>"
+                     + "".join(f'<td><img src="{i}"></td>' for i in imgs)
+                     + f"<td><small>{html.escape(figures)}</small></td></tr>")
+    head = "<tr><th></th><th>frame (4 spp)</th><th>uv error vs " + html.escape(uv_ref_label) + f" (0–{UV_MAX:g} texels)</th>"
+    if ref8 is not None:
+        _save(ref8, outdir / f"{name}_mitsuba.png")
+        head += f"<th>{'FLIP' if have_flip else '|Δ sRGB|'} vs Mitsuba</th>"
+    head += "<th></th></tr>"
+    ref_html = (f'<p>Mitsuba 3 (the displaced mesh, box filter): <br><img src="{name}_mitsuba.png"></p>' if ref8 is not None
+                else "<p>(no Mitsuba reference for this scene: run scripts/make_demo_refs.py)</p>")
+    return f"<h2>{name}</h2>{ref_html}<table>{head}{''.join(cells)}</table>", rows
+
+
+def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
+    t0 = time.perf_counter()
+    outdir = Path(out)
+    outdir.mkdir(parents=True, exist_ok=True)
+    r = pk.Renderer()
+    parts = [f"<h1>pomkit {pk.__version__}</h1><p>{html.escape(r.info['name'])} ({r.info['backend']}). "
+             "Every method of the field on a plane and on a torus; GPU times of this adapter.</p>"]
+    planar = planar_scene(size)
+    oracle = pk.exact_uv(planar)
+    s1, rows = section(r, outdir, "planar", planar, PLANAR, oracle, "the float64 oracle")
+    curved = curved_scene(size)
+    tess = r.render(curved, pk.Tessellated(0.5))
+    s2, rows2 = section(r, outdir, "curved", curved, CURVED, tess, "Tessellated(0.5)")
+    parts += [s1, s2]
+    # speed against accuracy, the methods above
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(figsize=(6.4, 4.2))
+        for rw in rows:
+            ax.plot(rw["gpu_ms"], max(rw["uv_p95"], 1e-3), "D" if rw["safety"] == "safe" else "o")
+            ax.annotate(rw["method"], (rw["gpu_ms"], max(rw["uv_p95"], 1e-3)), fontsize=7, xytext=(3, 3),
+                        textcoords="offset points")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("GPU ms (planar scene, 4 spp + 1 spp passes)")
+        ax.set_ylabel("uv p95 vs the oracle (texels)")
+        ax.set_title("Speed against accuracy (diamonds: safe methods)")
+        fig.tight_layout()
+        fig.savefig(outdir / "pareto.png", dpi=110)
+        plt.close(fig)
+        parts.append('<h2>Speed against accuracy</h2><img src="pareto.png"><p>The full sweep: '
+                     "<code>python -m pomkit bench</code>.</p>")
+    except ImportError:
+        parts.append("<p>(matplotlib not installed: no chart)</p>")
+    # pk.choose on one built-in map (cached after the first run)
+    ch = pk.choose(heights=pk.textures.bricks(128), angles=(40.0, 75.0), resolution=96, max_uv_error=0.5, rounds=3,
+                   methods=["SteepParallax", "POM", "Relief", "ConeStep", "Exact"])
+    parts.append("<h2>Which method should I ship?</h2><p><code>pk.choose(heights=pk.textures.bricks(128), "
+                 "angles=(40, 75), resolution=96, max_uv_error=0.5)</code></p><pre>" + html.escape(str(ch)) + "</pre>")
+    # the LOD, at a glance
+    pom = r.render(planar, pk.POM(mip_filtering=True))
+    levels = float(np.log2(256))
+    _save(lod_overlay(pom, levels), outdir / "lod.png")
+    _save(lod_legend(levels), outdir / "lod_legend.png")
+    parts.append('<h2>Level of detail</h2><p>POM(mip_filtering=True): the mip level each pixel marched '
+                 '(blue: level 0, red: the coarsest).</p><img src="lod.png"><br><img src="lod_legend.png">')
+    css = ("body{font-family:sans-serif;background:#fafafa;margin:2em}img{image-rendering:pixelated;max-width:256px}"
+           "td,th{padding:3px;vertical-align:top}small{color:#555}")
+    (outdir / "index.html").write_text(f"<!doctype html><meta charset=utf-8><title>pomkit demo</title><style>{css}</style>"
+                                       + "".join(parts) + f"<p><small>made in {time.perf_counter() - t0:.1f} s</small></p>")
+    return outdir / "index.html"

@@ -1,0 +1,32 @@
+"""The demo page: it renders, every method appears on both scenes, the shipped Mitsuba references
+match their scenes (scripts/make_demo_refs.py re-makes them when a scene changes), and the page
+holds a pk.choose answer and the LOD legend."""
+
+import numpy as np
+
+import pomkit as pk
+from pomkit.apps import page
+
+
+def test_the_shipped_references_are_the_demo_scenes():
+    for name, make in (("planar", page.planar_scene), ("curved", page.curved_scene)):
+        ref = page.reference(name, make())
+        assert ref is not None, f"{name}: the shipped reference is stale: run scripts/make_demo_refs.py"
+        assert ref.shape == (256, 256, 3) and ref.mean() > 20
+
+
+def test_the_planar_scene_is_framed_on_the_surface():
+    f = pk.Renderer().render(page.planar_scene(64), pk.Flat(), aovs=("mask",))
+    assert f.mask.mean() > 0.95
+
+
+def test_the_page(tmp_path, monkeypatch):
+    monkeypatch.setenv("POMKIT_CACHE", str(tmp_path / "cache"))
+    out = page.run_page(tmp_path / "out", size=256)  # the shipped references are 256²
+    text = out.read_text()
+    for name in list(page.PLANAR) + list(page.CURVED):
+        assert f"<th>{name}<br>" in text, name
+    assert "vs Mitsuba" in text and "pk.choose" in text and "lod_legend.png" in text
+    for png in ("pareto.png", "lod.png", "planar_Exact.png", "planar_Exact_uv.png", "curved_Prism.png"):
+        assert (tmp_path / "out" / png).exists(), png
+    assert np.asarray(page.lod_legend(8.0)).shape[1] == 256
