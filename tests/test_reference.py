@@ -272,3 +272,16 @@ def test_assert_close_bounds_the_regions():
     assert got["flip_interior"] < got["flip_silhouette"]
     with pytest.raises(AssertionError, match="FLIP silhouette"):
         assert_close(a, b, scene, flip_silhouette=1e-6)
+
+
+def test_the_sweep_reports_the_aliasing_floor_beside_each_score():
+    from pomkit.bench import sweep
+    rows = sweep([pk.Exact(), pk.Flat()], scenes=["bricks"], angles=[45.0], reference="mitsuba", repeats=1,
+                 settings=dict(size=48, spp=16, frame_spp=4), progress=False)
+    rows = rows.to_dict("records") if hasattr(rows, "to_dict") else rows
+    floors = {x["flip_floor"] for x in rows}
+    assert len(floors) == 1 and all(x["frame_spp"] == 4 for x in rows)
+    floor = floors.pop()
+    # the exact geometry scores best: every method's FLIP is at or above the floor
+    assert 0 < floor <= min(x["flip"] for x in rows)
+    assert all(np.isfinite(x["flip_interior"]) and np.isfinite(x["flip_silhouette"]) for x in rows)

@@ -141,14 +141,24 @@ def _sweep_scene(job: tuple) -> list[dict]:
     sname, scene = _scene_for(scene_spec, angle, cfg["size"], cfg["depth"], cfg["tiling"])
     r = pk.Renderer()
     flip = cfg["flip"]
+    fspp = cfg["frame_spp"]
+    floor: dict = {}
     if reference == "exact":
         ref = pk.exact_uv(scene)
-        cref = r.render(scene, pk.Tessellated(texels_per_vertex=0.5), aovs=("color", "mask")) if flip else None
+        cref = r.render(scene, pk.Tessellated(texels_per_vertex=0.5), aovs=("color", "mask"), spp=fspp) if flip else None
     elif reference == "tessellated":
-        ref = cref = r.render(scene, pk.Tessellated(texels_per_vertex=0.5))
+        ref = cref = r.render(scene, pk.Tessellated(texels_per_vertex=0.5), spp=fspp)
     else:
         from . import reference as R
         ref = cref = R.render_mitsuba(scene, spp=cfg["spp"])
+        if flip:
+            # the floor: the exact geometry (the mesh) against Mitsuba at the frames' spp
+            try:
+                fl = metrics.compare(r.render(scene, pk.Tessellated(texels_per_vertex=0.5), spp=fspp), ref, scene)
+                floor = dict(flip_floor=fl["flip"], flip_floor_interior=fl["flip_interior"],
+                             flip_floor_silhouette=fl["flip_silhouette"])
+            except ImportError:
+                pass
     aovs: tuple[pk.AovName, ...] = ("color", "uv", "mask", "steps", "fetches", "bytes") if flip else \
         ("uv", "mask", "steps", "fetches", "bytes")
     if len(scene.objects) > 1:
@@ -157,7 +167,7 @@ def _sweep_scene(job: tuple) -> list[dict]:
     mpix = scene.camera.width * scene.camera.height / 1e6
     rows = []
     for m, t in zip(methods, times):
-        f = r.render(scene, m, aovs=aovs)
+        f = r.render(scene, m, aovs=aovs, spp=fspp)
         e = metrics.uv_error(f, ref, scene)
         fl = fl_in = fl_sil = float("nan")
         if flip and cref is not None:
@@ -176,7 +186,7 @@ def _sweep_scene(job: tuple) -> list[dict]:
                          ms_per_mpix=t["ms"] / mpix, mean_steps=steps, fetches_mean=float(fetches.mean()),
                          fetches_p99=float(np.percentile(fetches, 99)), bytes_mean=float(nbytes.mean()), uv_p50=e["p50"], uv_p95=e["p95"],
                          uv_p99=e["p99"], mask_iou=e["mask_iou"], flip=fl, flip_interior=fl_in,
-                         flip_silhouette=fl_sil, **shadow))
+                         flip_silhouette=fl_sil, frame_spp=fspp, **floor, **shadow))
     return rows
 
 
@@ -203,8 +213,9 @@ def sweep(methods: Iterable, scenes: Iterable = ("bricks",), angles: Iterable[fl
 
     methods: Method instances (see `variants` and `pomkit.presets`); scenes: texture names from
     `pk.textures.ALL`, "sineF" for a sine of frequency F, or (name, height array) pairs;
-    settings: size (256), depth (0.08), tiling (1.0), spp (64, Mitsuba), flip (True: FLIP
-    against the colour reference);
+    settings: size (256), depth (0.08), tiling (1.0), spp (64, Mitsuba's), frame_spp (1: the
+    frames' samples per pixel, `Renderer.render(spp=)`; the colour reference of "exact" and
+    "tessellated" takes the same), flip (True: FLIP against the colour reference);
     reference: "exact" (the CPU oracle; FLIP then against Tessellated(0.5) colour), "tessellated"
     or "mitsuba" (cached on disk);
     repeats: the least number of interleaved timing rounds (see `time_methods`);
@@ -216,11 +227,14 @@ def sweep(methods: Iterable, scenes: Iterable = ("bricks",), angles: Iterable[fl
     "approximate"), scene, angle, size, gpu_ms (median) with its p25/p75, march_ms (cost above
     Flat), call_ms, repeats, timing, ms_per_mpix, mean_steps, fetches_mean and fetches_p99 (texel
     fetches per pixel of the search: the AOV `fetches`), bytes_mean, uv p50/p95/p99 (texels),
-    mask IoU, FLIP over the frame, its interior and its silhouette band (`metrics.compare`). Returns a pandas DataFrame when pandas is installed, else a list of dicts; writes CSV
+    mask IoU, FLIP over the frame, its interior and its silhouette band (`metrics.compare`),
+    frame_spp, and with reference="mitsuba" the aliasing floor beside them: flip_floor,
+    flip_floor_interior, flip_floor_silhouette (Tessellated(0.5), the exact geometry, against
+    Mitsuba at the same frame_spp). Returns a pandas DataFrame when pandas is installed, else a list of dicts; writes CSV
     to `csv_path` when given."""
     if reference not in ("exact", "tessellated", "mitsuba"):
         raise ValueError(f"reference: must be 'exact', 'tessellated' or 'mitsuba', got {reference!r}")
-    cfg: dict = dict(size=256, depth=0.08, tiling=1.0, spp=64, flip=True)
+    cfg: dict = dict(size=256, depth=0.08, tiling=1.0, spp=64, frame_spp=1, flip=True)
     cfg.update(settings or {})
     methods = list(methods)
     for m in methods:
