@@ -154,9 +154,9 @@ def _sweep_scene(job: tuple) -> list[dict]:
         if flip:
             # the floor: the exact geometry (the mesh) against Mitsuba at the frames' spp
             try:
-                fl = metrics.compare(r.render(scene, pk.Tessellated(texels_per_vertex=0.5), spp=fspp), ref, scene)
-                floor = dict(flip_floor=fl["flip"], flip_floor_interior=fl["flip_interior"],
-                             flip_floor_silhouette=fl["flip_silhouette"])
+                fc = metrics.compare(r.render(scene, pk.Tessellated(texels_per_vertex=0.5), spp=fspp), ref, scene)
+                floor = dict(flip_floor=fc["flip"], flip_floor_interior=fc["flip_interior"],
+                             flip_floor_silhouette=fc["flip_silhouette"])
             except ImportError:
                 pass
     aovs: tuple[pk.AovName, ...] = ("color", "uv", "mask", "steps", "fetches", "bytes") if flip else \
