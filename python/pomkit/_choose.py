@@ -67,7 +67,7 @@ class Choice:
         b = ", ".join(f"{k} <= {v:g}" for k, v in self.bound.items())
         if not self.met:
             row = next((r for r in self.table if r["method"] is self.closest), None)
-            worst = f" (worst uv p95 {row['uv_p95']:.3f}, FLIP {row['flip']:.4f})" if row else ""
+            worst = f" (worst uv p95 {row['uv_p95']:.3g}, FLIP {row['flip']:.3g})" if row else ""
             return f"no method meets {b}; the closest: {label(self.closest)}{worst}"
         row = next(r for r in self.table if r["method"] is self.method)
         s = (f"{label(self.method)}: {row['gpu_ms']:.2f} GPU ms, {row['fetches']:.1f} fetches/px, worst uv p95 "
