@@ -278,6 +278,16 @@ impl Aovs {
         }
         t
     }
+    /// The targets a frame of `objects` objects reads: `targets`, without the object target
+    /// when there is one object (its id is 0 wherever hit: `Frame::decode` fills it in, and
+    /// the pass writes 20 bytes a pixel, not 24, for every AOV).
+    pub fn targets_for(self, objects: usize) -> [bool; TARGETS.len()] {
+        let mut t = self.targets();
+        if objects == 1 {
+            t[Source::Id.target()] = false;
+        }
+        t
+    }
     /// Whether the frame asks for the cost counters (shader def COUNT_FETCHES).
     pub fn counts_fetches(self) -> bool {
         self.targets()[Source::Cost(0).target()]
@@ -407,8 +417,9 @@ impl Frame {
                     Source::Coverage => {
                         AovData::F32(hit.iter().map(|&b| if b { 1.0 } else { 0.0 }).collect())
                     }
+                    // not read (one object): 0 wherever hit
                     Source::Id => AovData::I32(
-                        where_hit(&|i| t.px(k, i)[0], u32::MAX)
+                        where_hit(&|i| t.0[k].as_ref().map_or(0, |_| t.px(k, i)[0]), u32::MAX)
                             .into_iter()
                             .map(|x| x as i32)
                             .collect(),
@@ -545,6 +556,13 @@ mod tests {
         );
         assert_eq!(written([true, false, true, false], false), [true, true, true, false]);
         assert_eq!(written([true, false, true, false], true), [true, false, true, false]);
+        let all = Aovs::STANDARD;
+        assert_eq!(all.targets_for(1), [true, true, false, false]);
+        assert_eq!(all.targets_for(2), [true, true, true, false]);
+        // one object: the id is 0 wherever hit without its target
+        let t1 = Texels([Some([0, 0, 0, HIT_BIT, 0, 0, 0, 0].to_vec()), None, None, None]);
+        let f1 = Frame::decode(2, 1, Aovs::parse(&["object"]).unwrap(), &t1, None, 0.0);
+        assert_eq!(f1.get("object"), Some(&AovData::I32(vec![0, -1])));
     }
 
     #[test]

@@ -370,9 +370,6 @@ impl Renderer {
         } else {
             "method"
         };
-        // the targets the pass writes: the requested ones, or (where attachments cannot have
-        // gaps) every target up to the last requested one
-        let written = aovs::written(aovs.targets(), self.ctx.caps.sparse_attachments);
         let mut frames = Vec::with_capacity(scenes.len());
         let _guard = self.submit.lock().map_err(poisoned)?;
         let mut pending: Option<Pending> = None;
@@ -380,6 +377,11 @@ impl Renderer {
             scene.validate()?;
             self.check_limits(scene)?;
             let shadow = shadow_map::setup(scene, &spec, self.ctx.limits.max_texture_dimension_2d);
+            // the targets read back (one object: no object target, its id is 0 wherever hit),
+            // and the ones the pass writes: those, or (where attachments cannot have gaps)
+            // every target up to the last one read
+            let read = aovs.targets_for(scene.objects.len());
+            let written = aovs::written(read, self.ctx.caps.sparse_attachments);
             let variant = self.pipelines.get(
                 &self.ctx,
                 &spec,
@@ -404,7 +406,15 @@ impl Renderer {
             let shadow_view = shadow_view.as_deref();
             let (binds, draws) =
                 self.draws(scene, &spec, &variant, shadow.as_ref(), shadow_view)?;
-            let next = self.submit(scene, &variant, shadow_view, &binds, &draws, aovs, written)?;
+            let next = self.submit(
+                scene,
+                &variant,
+                shadow_view,
+                &binds,
+                &draws,
+                aovs,
+                (read, written),
+            )?;
             if let Some(p) = pending.replace(next) {
                 frames.push(self.finish(p)?);
             }
@@ -420,7 +430,7 @@ impl Renderer {
         self.ctx.scoped(|| {
             self.ctx.wait_for(Some(p.submission.clone()))?;
             let wall_ms = p.t0.elapsed().as_secs_f64() * 1e3;
-            p.targets.read(&self.ctx, p.submission, p.aovs, wall_ms)
+            p.targets.read(&self.ctx, p.submission, p.aovs, p.read, wall_ms)
         })
     }
 
@@ -554,7 +564,7 @@ impl Renderer {
         binds: &FrameBinds,
         draws: &[Draw],
         aovs: Aovs,
-        written: [bool; aovs::TARGETS.len()],
+        (read, written): ([bool; aovs::TARGETS.len()], [bool; aovs::TARGETS.len()]),
     ) -> Result<Pending> {
         let ctx = &self.ctx;
         let (w, h) = (scene.camera.width, scene.camera.height);
@@ -604,7 +614,7 @@ impl Renderer {
                     d.mesh.draw(&mut pass);
                 }
             }
-            tg.encode_readback(&mut enc, aovs);
+            tg.encode_readback(&mut enc, read);
             let t0 = std::time::Instant::now();
             let submission = ctx.queue.submit([enc.finish()]);
             Ok(Pending {
@@ -612,6 +622,7 @@ impl Renderer {
                 submission,
                 t0,
                 aovs,
+                read,
             })
         })
     }
@@ -638,4 +649,6 @@ struct Pending {
     submission: wgpu::SubmissionIndex,
     t0: std::time::Instant,
     aovs: Aovs,
+    /// the targets read back
+    read: [bool; aovs::TARGETS.len()],
 }

@@ -126,9 +126,9 @@ impl Targets {
             .collect()
     }
 
-    /// Copy the targets the frame reads and the pass's timestamps into the readback buffers.
-    pub fn encode_readback(&self, enc: &mut wgpu::CommandEncoder, aovs: Aovs) {
-        for ((tg, d), used) in self.targets.iter().zip(&TARGETS).zip(aovs.targets()) {
+    /// Copy the targets `read` and the pass's timestamps into the readback buffers.
+    pub fn encode_readback(&self, enc: &mut wgpu::CommandEncoder, read: [bool; TARGETS.len()]) {
+        for ((tg, d), used) in self.targets.iter().zip(&TARGETS).zip(read) {
             if !used {
                 continue;
             }
@@ -161,10 +161,10 @@ impl Targets {
         ctx: &Context,
         submission: wgpu::SubmissionIndex,
         aovs: Aovs,
+        used: [bool; TARGETS.len()],
         wall_ms: f64,
     ) -> crate::Result<Frame> {
         // one wait for every buffer the frame reads
-        let used = aovs.targets();
         let mut bufs: Vec<&wgpu::Buffer> = self
             .targets
             .iter()
