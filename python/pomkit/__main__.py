@@ -16,6 +16,7 @@ def main(argv=None) -> int:
     b = sub.add_parser("bench", help="speed-versus-accuracy sweep: table and charts")
     b.add_argument("--out", default="pomkit-out/bench")
     b.add_argument("--quick", action="store_true", help="a small sweep (minutes)")
+    b.add_argument("--spp", type=int, default=1, help="samples per pixel of the Pareto sweep's frames (a square: 1, 4, 16...)")
     i = sub.add_parser("info", help="adapters, backend, driver, features and fallbacks, limits, versions (paste it into a bug report)")
     i.add_argument("--adapter", default=None, help="an adapter index, name or backend (default: the best)")
     c = sub.add_parser("choose", help="the cheapest method and settings within an error bound, for your height maps and angles")
@@ -39,7 +40,7 @@ def main(argv=None) -> int:
         if missing:
             print(f"python -m pomkit bench needs {', '.join(missing)}: pip install pomkit[bench]", file=sys.stderr)
             return 2
-        bench.run_bench(a.out, quick=a.quick)
+        bench.run_bench(a.out, quick=a.quick, spp=a.spp)
     elif a.cmd == "choose":
         from ._choose import choose, report, parse_angles
         try:

@@ -250,7 +250,9 @@ def throughput(size: int = 512, frames: int = 64) -> dict[str, Any]:
     }
 
 
-def run_bench(out: str = "pomkit-out/bench", quick: bool = False) -> dict:
+def run_bench(out: str = "pomkit-out/bench", quick: bool = False, spp: int = 1) -> dict:
+    """The bench. `spp`: the Pareto sweep's frames (and its colour reference) at that many samples
+    per pixel, so that FLIP scores carry no aliasing; timings are of the one-sample frames."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -268,7 +270,7 @@ def run_bench(out: str = "pomkit-out/bench", quick: bool = False) -> dict:
     all_methods = [m for ms in fams.values() for m in ms] + preset_methods + defaults
 
     # 1. Pareto: bricks at 60 degrees
-    table = _rows(sweep(all_methods, scenes=("bricks",), angles=(60.0,), settings=dict(size=size, flip=not quick),
+    table = _rows(sweep(all_methods, scenes=("bricks",), angles=(60.0,), settings=dict(size=size, flip=not quick, frame_spp=spp),
                         repeats=3 if quick else 5, progress=True))
     for row in table:
         row["chart"] = "pareto"
