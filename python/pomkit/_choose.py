@@ -86,34 +86,48 @@ class Choice:
         return "\n".join(lines)
 
 
-_ORACLES: dict[str, pk.Frame] = {}
+_RENDERER: list[pk.Renderer] = []
+_REFS: dict[tuple[str, bool], tuple[pk.Frame, pk.Frame | None]] = {}
+
+
+def _renderer() -> pk.Renderer:
+    """One renderer per process (its pipelines and resident maps are reused by every
+    measurement; an executor's worker makes its own)."""
+    if not _RENDERER:
+        _RENDERER.append(pk.Renderer())
+    return _RENDERER[0]
+
+
+def _refs(scene: pk.Scene, want_flip: bool) -> tuple[pk.Frame, pk.Frame | None]:
+    """A case's references, made once whatever the settings measured on it: the oracle, and
+    the mesh's colour when FLIP is bounded."""
+    from ._cache import scene_hash
+    key = (scene_hash(scene, kind="refs"), want_flip)
+    if key not in _REFS:
+        if len(_REFS) > 64:
+            _REFS.clear()
+        cref = _renderer().render(scene, pk.Tessellated(texels_per_vertex=0.5, shadows="none"),
+                                  aovs=("color", "mask")) if want_flip else None
+        _REFS[key] = (pk.exact_uv(scene), cref)
+    return _REFS[key]
 
 
 def _measure_case(job: tuple) -> dict:
-    """One setting on one case (cached): uv p95 against the oracle, FLIP against the mesh, mean
-    fetches, GPU ms (median of interleaved rounds with Flat)."""
+    """One setting on one case (cached on disk): uv p95 against the oracle, FLIP against the
+    mesh, mean fetches, GPU ms (median of interleaved rounds with Flat)."""
     scene, method, want_flip, rounds = job
     from ._cache import cached, scene_hash
     from . import metrics
-    key = scene_hash(scene, kind="choose", method=repr(method), flip=want_flip, rounds=rounds,
-                     adapter=pk.Renderer().info["name"])
+    from .bench import time_methods
+    r = _renderer()
+    key = scene_hash(scene, kind="choose", method=repr(method), flip=want_flip, rounds=rounds, adapter=r.info["name"])
 
     def compute() -> dict:
-        r = pk.Renderer()
-        sk = scene_hash(scene, kind="oracle")
-        if sk not in _ORACLES:  # one oracle per case, whatever the settings measured on it
-            if len(_ORACLES) > 64:
-                _ORACLES.clear()
-            _ORACLES[sk] = pk.exact_uv(scene)
-        ref = _ORACLES[sk]
+        ref, cref = _refs(scene, want_flip)
         f = r.render(scene, method, aovs=("color", "uv", "mask", "fetches"))
         uv = metrics.uv_error(f, ref, scene)["p95"]
-        fl = float("nan")
-        if want_flip:
-            cref = r.render(scene, pk.Tessellated(texels_per_vertex=0.5, shadows="none"), aovs=("color", "mask"))
-            fl = metrics.flip(f, cref)
+        fl = metrics.flip(f, cref) if cref is not None else float("nan")
         fetches = float(f.fetches[f.mask].mean()) if f.mask.any() else 0.0
-        from .bench import time_methods
         t = time_methods(r, scene, [method], min_repeats=rounds, max_repeats=rounds)[0]
         return dict(v=np.array([uv, fl, fetches, t["ms"]], np.float64))
 

@@ -131,10 +131,11 @@ def _aovs(aovs: Aovs) -> Optional[Any]:
 
 
 def _spp(spp: int) -> int:
+    """The type and sign here; which counts are allowed (squares up to 256) is the core's rule
+    (`Renderer::render_many_spp`), raised as a ValueError naming spp."""
     if isinstance(spp, bool) or not isinstance(spp, (int, np.integer)):
         raise TypeError(f"spp: expected a square number of samples per pixel such as 1, 4 or 16, got {spp!r}")
-    k = int(round(float(spp) ** 0.5))
-    if spp < 1 or k * k != spp or k > 16:
+    if not 1 <= spp < 2 ** 32:
         raise ValueError(f"spp: must be a square number from 1 to 256 (1, 4, 9, 16, ...: k x k samples per pixel), got {spp}")
     return int(spp)
 

@@ -43,7 +43,8 @@ def _stats(xs: list[float]) -> dict:
 
 
 def time_methods(r: pk.Renderer, scene: pk.Scene, methods: list, aovs: tuple[pk.AovName, ...] = ("color",), min_repeats: int = 5,
-                 max_repeats: int = 25, rel_tol: float = 0.02, baseline: bool = True) -> list[dict]:
+                 max_repeats: int = 25, rel_tol: float = 0.02, baseline: bool = True,
+                 method_aovs: Optional[list] = None) -> list[dict]:
     """Time `methods` on one scene: one warm-up render each (pipelines, uploads), then rounds in
     which every method renders once, in an order rotated each round (interleaved, so that the
     machine's drift falls on all of them alike). After `min_repeats` rounds, rounds continue
@@ -53,10 +54,16 @@ def time_methods(r: pk.Renderer, scene: pk.Scene, methods: list, aovs: tuple[pk.
     wall time), `call_ms` (median wall time of the Python call), `march_ms` (median cost above
     Flat timed in the same rounds; `baseline=False` skips Flat), `over_first` (the median of
     per-round ratios to the first method: steadier than a ratio of medians on a noisy machine),
-    `repeats` and `timing`."""
+    `repeats`, `timing` and `times` (the ms of each round, for ratios of one's own).
+    `method_aovs`: the AOVs of each method, when they differ (e.g. one method with colour alone
+    and with every AOV); else `aovs` for all."""
     ms = list(methods) + ([pk.Flat()] if baseline else [])
-    for m in ms:
-        r.render(scene, m, aovs=aovs)
+    per = list(method_aovs) if method_aovs is not None else [aovs] * len(methods)
+    if len(per) != len(methods):
+        raise ValueError("method_aovs: one entry per method")
+    per += [aovs] * (len(ms) - len(per))
+    for m, a in zip(ms, per):
+        r.render(scene, m, aovs=a)
     times: list[list[float]] = [[] for _ in ms]
     calls: list[list[float]] = [[] for _ in ms]
     timing = "gpu"
@@ -66,7 +73,7 @@ def time_methods(r: pk.Renderer, scene: pk.Scene, methods: list, aovs: tuple[pk.
         for j in range(n):
             i = (j + k) % n
             t0 = time.perf_counter()
-            f = r.render(scene, ms[i], aovs=aovs)
+            f = r.render(scene, ms[i], aovs=per[i])
             calls[i].append((time.perf_counter() - t0) * 1e3)
             times[i].append(f.time_ms or 0.0)
             timing = f.timing
@@ -82,7 +89,8 @@ def time_methods(r: pk.Renderer, scene: pk.Scene, methods: list, aovs: tuple[pk.
         st = _stats(times[i])
         out.append(dict(ms=st["median"], ms_p25=st["p25"], ms_p75=st["p75"], march_ms=st["median"] - flat,
                         over_first=float(np.median(np.array(times[i]) / np.maximum(first, 1e-9))),
-                        call_ms=float(np.median(calls[i])), repeats=len(times[i]), timing=timing))
+                        call_ms=float(np.median(calls[i])), repeats=len(times[i]), timing=timing,
+                        times=list(times[i])))
     return out
 
 

@@ -10,7 +10,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-__all__ = ["bricks", "cobblestones", "pyramids", "sine", "noise", "spikes", "text", "constant", "ALL"]
+__all__ = ["bricks", "cobblestones", "pyramids", "sine", "noise", "spikes", "text", "constant", "real", "fit", "ALL"]
 
 
 def _check_size(size) -> int:
@@ -196,7 +196,16 @@ def real(name: str, size: Optional[int] = 128) -> np.ndarray:
     normalised as users normalise their maps: min to exactly 0, max to exactly 1."""
     if name not in REAL:
         raise ValueError(f"name: one of {', '.join(REAL)}, got {name!r}")
-    a = _real_source(name)
+    return fit(_real_source(name), size)
+
+
+def fit(a, size: Optional[int] = 128) -> np.ndarray:
+    """Any 2-D array (an elevation model, a photograph's luminance) as a height map: its largest
+    centred square, resampled to `size`² by area averaging (None: kept at its own size and
+    shape), and normalised as users normalise their maps: min to exactly 0, max to exactly 1."""
+    a = np.asarray(a, np.float64)
+    if a.ndim != 2:
+        raise ValueError(f"a: expected a 2-D array, got shape {a.shape}")
     if size is not None:
         size = _check_size(size)
         n = min(a.shape)

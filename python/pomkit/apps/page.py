@@ -64,14 +64,18 @@ def reference(name: str, scene: pk.Scene) -> Optional[np.ndarray]:
     return np.asarray(Image.open(REFS / f"{name}.png").convert("RGB"))
 
 
-def _colormap(x: np.ndarray, vmax: float, mask: np.ndarray) -> np.ndarray:
-    """A heat map (magma-like ramp, black to yellow) of x / vmax in [0, 1]; grey where not mask."""
-    t = np.clip(np.nan_to_num(x / vmax, nan=0.0), 0.0, 1.0)[..., None]
-    stops = np.array([[0, 0, 4], [80, 18, 123], [183, 55, 121], [252, 137, 97], [252, 253, 191]], np.float64)
-    pos = t * (len(stops) - 1)
+def _ramp(t: np.ndarray, stops: np.ndarray) -> np.ndarray:
+    """t in [0, 1] (H, W) through the colour stops, piecewise linear: (H, W, 3)."""
+    pos = np.clip(t, 0.0, 1.0)[..., None] * (len(stops) - 1)
     i = np.clip(np.floor(pos).astype(int), 0, len(stops) - 2)
     f = pos - i
-    c = stops[i[..., 0]] * (1 - f) + stops[i[..., 0] + 1] * f
+    return stops[i[..., 0]] * (1 - f) + stops[i[..., 0] + 1] * f
+
+
+def _colormap(x: np.ndarray, vmax: float, mask: np.ndarray) -> np.ndarray:
+    """A heat map (magma-like ramp, black to yellow) of x / vmax in [0, 1]; grey where not mask."""
+    stops = np.array([[0, 0, 4], [80, 18, 123], [183, 55, 121], [252, 137, 97], [252, 253, 191]], np.float64)
+    c = _ramp(np.nan_to_num(x / vmax, nan=0.0), stops)
     return np.where(mask[..., None], c, 60).astype(np.uint8)
 
 
@@ -80,12 +84,8 @@ def lod_overlay(frame: pk.Frame, levels: float) -> np.ndarray:
     `levels`) over the frame's luminance: it reads at a glance, whatever the albedo."""
     base = frame.to_srgb8().astype(np.float32) / 255.0
     lum = base.mean(-1, keepdims=True)
-    t = np.clip(np.nan_to_num(frame.lod, nan=0.0) / max(levels, 1e-6), 0, 1)[..., None]
     stops = np.array([[0.15, 0.35, 1.0], [0.1, 0.85, 0.4], [1.0, 0.9, 0.1], [1.0, 0.2, 0.15]])
-    pos = t * (len(stops) - 1)
-    i = np.clip(np.floor(pos).astype(int), 0, len(stops) - 2)
-    f = pos - i
-    col = stops[i[..., 0]] * (1 - f) + stops[i[..., 0] + 1] * f
+    col = _ramp(np.nan_to_num(frame.lod, nan=0.0) / max(levels, 1e-6), stops)
     out = np.where(frame.mask[..., None], col * (0.35 + 0.65 * lum), base)
     return (np.clip(out, 0, 1) * 255).astype(np.uint8)
 
@@ -137,7 +137,6 @@ def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: d
         have_flip = False
     for label, make in methods.items():
         m = make()
-        r.render(scene, m, aovs=("color",))
         f = r.render(scene, m, spp=4)
         e = pk.metrics.uv_error(f, uv_ref, scene)
         row = dict(scene=name, method=label, gpu_ms=f.time_ms or float("nan"), uv_p95=e["p95"], mask_iou=e["mask_iou"],

@@ -24,17 +24,11 @@ PLANAR_ANGLES = (45.0, 70.0)
 
 
 def dem(size: int = 512) -> np.ndarray:
-    """The Jacksboro fault DEM from matplotlib's sample data (not pk.textures): its largest
-    centred square, area-resampled to size², normalised to exactly [0, 1]."""
+    """The Jacksboro fault DEM read from matplotlib's sample data (not pk.textures' content),
+    made a height map by `pk.textures.fit` (centred square, area-resampled, [0, 1])."""
     from matplotlib import cbook
-    from PIL import Image
     d: Any = cbook.get_sample_data("jacksboro_fault_dem.npz")  # an NpzFile (np_load=True)
-    a = np.asarray(d["elevation"], np.float64)
-    n = min(a.shape)
-    r0, c0 = (a.shape[0] - n) // 2, (a.shape[1] - n) // 2
-    a = np.asarray(Image.fromarray(a[r0:r0 + n, c0:c0 + n].astype(np.float32)).resize((size, size), Image.Resampling.BOX),
-                   np.float64)
-    return ((a - a.min()) / (a.max() - a.min())).astype(np.float32)
+    return pk.textures.fit(d["elevation"], size)
 
 
 def planar_maps(size: int = 512) -> dict[str, np.ndarray]:
@@ -75,25 +69,17 @@ class Goal:
                 f"{'met' if met else 'NOT met'} (goal {op} {self.bound:g})")
 
 
-def _interleaved(r: pk.Renderer, scene: pk.Scene, runs: list[tuple[pk.Method, Any]], rounds: int) -> list[np.ndarray]:
-    """GPU ms per round for each (method, aovs), interleaved after a warm-up."""
-    for m, a in runs:
-        r.render(scene, m, aovs=a)
-        r.render(scene, m, aovs=a)
-    out: list[list[float]] = [[] for _ in runs]
-    for k in range(rounds):
-        for j in range(len(runs)):
-            i = (j + k) % len(runs)
-            m, a = runs[i]
-            out[i].append(r.render(scene, m, aovs=a).time_ms or 0.0)
-    return [np.array(x) for x in out]
+def _rounds(r: pk.Renderer, scene: pk.Scene, methods: list, rounds: int, method_aovs=None) -> list[np.ndarray]:
+    """GPU ms per interleaved round for each method (`time_methods`, a fixed number of rounds)."""
+    t = time_methods(r, scene, methods, min_repeats=rounds, max_repeats=rounds, baseline=False, method_aovs=method_aovs)
+    return [np.array(x["times"]) for x in t]
 
 
 def fixed_cost(r: pk.Renderer, suite, rounds: int) -> Goal:
     """Flat with every AOV ("all") over Flat with colour alone."""
     per = {}
     for name, sc in suite:
-        col, allv = _interleaved(r, sc, [(pk.Flat(), ("color",)), (pk.Flat(), "all")], rounds)
+        col, allv = _rounds(r, sc, [pk.Flat(), pk.Flat()], rounds, method_aovs=[("color",), "all"])
         per[name] = float(np.median(allv / col))
     return Goal("flat_all_aovs_over_colour_alone", 1.25, per)
 
@@ -118,8 +104,7 @@ def silhouettes(r: pk.Renderer, suite, rounds: int) -> list[Goal]:
     per: dict[str, dict[str, float]] = {k: {} for k in ("pp", "pt", "np", "nt")}
     for name, sc in suite:
         ms = [f() for f in fns.values()]
-        t = _interleaved(r, sc, [(m, ("color",)) for m in ms], rounds)
-        pom, ncs, prism, tess = t
+        pom, ncs, prism, tess = _rounds(r, sc, ms, rounds)
         per["pp"][name] = float(np.median(prism / pom))
         per["pt"][name] = float(np.median(prism / tess))
         per["np"][name] = float(np.median(ncs / pom))
