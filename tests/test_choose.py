@@ -90,3 +90,22 @@ def test_the_command_line_writes_a_report(cache, tmp_path):
                  "--methods", "SteepParallax,Exact", "--out", str(out)]) == 0
     assert (out / "choice.md").read_text().startswith("# pk.choose")
     assert (out / "choice.json").exists()
+
+
+def test_the_cache_tells_backends_apart(cache, monkeypatch):
+    """GL's adapter has the same name as Vulkan's here, and samples differently (exact filtering:
+    four fetches a sample): a measurement is keyed by adapter, backend and driver."""
+    from pomkit import _choose
+    from pomkit._cache import scene_hash
+    seen = []
+    real = scene_hash
+
+    def spy(scene, **kw):
+        seen.append(kw)
+        return real(scene, **kw)
+
+    monkeypatch.setattr("pomkit._cache.scene_hash", spy)
+    pk.choose(heights=pk.textures.bricks(32), max_uv_error=5.0, methods=["Parallax"], angles=(40.0,), resolution=32, rounds=1)
+    info = _choose._renderer().info
+    keys = [k for k in seen if k.get("kind") == "choose"]
+    assert keys and all(info["backend"] in k["adapter"] and info["name"] in k["adapter"] for k in keys)

@@ -120,7 +120,7 @@ def _measure_case(job: tuple) -> dict:
     from . import metrics
     from .bench import time_methods
     r = _renderer()
-    key = scene_hash(scene, kind="choose", method=repr(method), flip=want_flip, rounds=rounds, adapter=r.info["name"])
+    key = scene_hash(scene, kind="choose", method=repr(method), flip=want_flip, rounds=rounds, adapter=f"{r.info['name']} {r.info['backend']} {r.info['driver']}")
 
     def compute() -> dict:
         ref, cref = _refs(scene, want_flip)
