@@ -28,6 +28,7 @@ test: setup-test
 	cargo test --release --lib --tests 2>&1 | tee .cargo-test.log | grep -E "^(test result|running|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
 	$(VENV)/python -m mypy.stubtest pomkit._core --mypy-config-file pyproject.toml
 	$(VENV)/python -m mypy
+	scripts/numpy_floor.sh
 	$(VENV)/python -m pytest tests notebooks --nbmake
 	@echo "== the GL backend (POMKIT_BACKEND=gl): core, method, analytic, differential, shadow and target tests =="
 	POMKIT_BACKEND=gl cargo test --release --test core_render 2>&1 | grep -E "^(test result|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
@@ -44,4 +45,4 @@ bench: setup-bench
 	$(VENV)/python -m pomkit bench
 
 clean:
-	rm -rf target .venv pomkit-out
+	rm -rf target .venv .venv-floor pomkit-out

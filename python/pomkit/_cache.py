@@ -16,7 +16,8 @@ from typing import Callable
 
 import numpy as np
 
-FORMAT = 1
+#: the hash's format: 2 since hashes became the same on every machine (issue 31)
+FORMAT = 2
 
 
 def cache_dir() -> Path:
@@ -25,12 +26,47 @@ def cache_dir() -> Path:
     return d
 
 
+def canonical(x):
+    """A value as the hash reads it: floats to 12 significant digits (0 below 1e-12 in
+    magnitude), so that a parameter computed on another CPU or numpy (a camera placed with
+    np.cos of an angle) hashes the same; tuples, lists and arrays element by element; other
+    values as they are."""
+    if isinstance(x, (bool, np.bool_)):
+        return bool(x)
+    if isinstance(x, (int, np.integer)):
+        return int(x)
+    if isinstance(x, (float, np.floating)):
+        v = float(x)
+        if not np.isfinite(v):
+            return repr(v)
+        return 0.0 if abs(v) < 1e-12 else float(f"{v:.12g}")
+    if isinstance(x, np.ndarray):
+        return [canonical(v) for v in x.tolist()]
+    if isinstance(x, (list, tuple)):
+        return [canonical(v) for v in x]
+    if isinstance(x, dict):
+        return {str(k): canonical(v) for k, v in x.items()}
+    return x
+
+
+def _json(x) -> bytes:
+    return json.dumps(canonical(x), sort_keys=True, default=str).encode()
+
+
+def _array(h, name: str, a: np.ndarray) -> None:
+    """Hash an array's content: its dtype, shape and little-endian bytes."""
+    a = np.ascontiguousarray(a)
+    a = a.astype(a.dtype.newbyteorder("<"), copy=False)
+    h.update(name.encode() + a.dtype.str.encode() + str(a.shape).encode() + a.tobytes())
+
+
 def scene_hash(scene, **settings) -> str:
-    """sha256 over every array and parameter that changes a render."""
+    """sha256 over every array and parameter that changes a render, the same on every machine:
+    parameters canonical (`canonical`), built-in meshes by their recipe (their vertices come from
+    the platform's sinf), arrays by their little-endian bytes. Height maps and albedos are
+    hashed as the float32 arrays the scene holds: pomkit makes those from exactly rounded
+    operations (textures.py, _color.py), so they too are the same everywhere."""
     h = hashlib.sha256()
-    # the scene's parameters as `Scene._describe` gives them, without making the core's copies
-    # of the arrays (they are hashed here from the arrays themselves). A one-object scene without
-    # a transform hashes as scenes did before objects existed, so that cached references stay.
     lights = []
     for l in scene.lights:
         ld = l._describe()
@@ -38,24 +74,20 @@ def scene_hash(scene, **settings) -> str:
         ld.pop("cast_shadows", None)
         ld.pop("shadow_map_size", None)
         lights.append(ld)
-    first = scene.objects[0]
-    d = dict(depth=first.material.depth, tiling=first.material.tiling, camera=scene.camera._describe(),
-             lights=lights, ambient=scene.ambient)
+    h.update(_json(dict(camera=scene.camera._describe(), lights=lights, ambient=scene.ambient)))
     for i, o in enumerate(scene.objects):
         m = o.material
-        if i > 0 or not o.is_identity:
-            h.update(f"object{i}:v2".encode() + np.ascontiguousarray(o.transform).tobytes())
-            h.update(json.dumps(dict(depth=m.depth, tiling=m.tiling)).encode())
-        mesh = o.mesh._arrays()
-        for k in sorted(mesh):
-            a = np.ascontiguousarray(mesh[k])
-            h.update(k.encode() + str(a.dtype).encode() + str(a.shape).encode() + a.tobytes())
+        h.update(f"object{i}".encode() + _json(dict(depth=m.depth, tiling=m.tiling, transform=o.transform)))
+        if o.mesh.recipe is not None:
+            h.update(b"mesh recipe" + _json(o.mesh.recipe))
+        else:
+            mesh = o.mesh._arrays()
+            for k in sorted(mesh):
+                _array(h, k, mesh[k])
         for k, a in (("height", m.height), ("albedo", m.albedo)):
             if a is not None:
-                a = np.ascontiguousarray(a)
-                h.update(k.encode() + str(a.shape).encode() + a.tobytes())
-    h.update(json.dumps(d, sort_keys=True, default=str).encode())
-    h.update(json.dumps(settings, sort_keys=True, default=str).encode())
+                _array(h, k, a)
+    h.update(_json(settings))
     h.update(f"format{FORMAT}".encode())
     return h.hexdigest()[:32]
 

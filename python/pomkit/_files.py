@@ -9,7 +9,7 @@ from typing import Union
 import numpy as np
 
 from . import _core
-from ._scene import srgb_to_linear
+from ._color import srgb_to_linear
 
 __all__ = ["load_height", "load_albedo"]
 
@@ -38,6 +38,7 @@ def load_albedo(path: PathLike) -> np.ndarray:
     linear; float files (OpenEXR, float TIFF) are taken as linear. Alpha is dropped; a grey file
     gives three equal channels."""
     a, bits = _core.load_image(_path(path), "albedo")
-    if bits < 32:
-        a = srgb_to_linear(a).astype(np.float32)
+    if bits < 32:  # the file's codes, decoded by table (the same bits on every CPU)
+        codes = np.rint(np.asarray(a, np.float64) * (255 if bits == 8 else 65535))
+        a = srgb_to_linear(codes.astype(np.uint8 if bits == 8 else np.uint16))
     return np.ascontiguousarray(a, dtype=np.float32)

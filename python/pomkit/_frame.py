@@ -8,7 +8,7 @@ from typing import Literal, Optional, get_args
 import numpy as np
 
 from . import _core
-from ._scene import linear_to_srgb
+from ._color import linear_to_srgb8
 
 __all__ = ["Frame", "AovName", "AOV_NAMES", "COST_AOVS"]
 
@@ -112,7 +112,7 @@ class Frame:
         if not self.has("color"):
             raise AttributeError("color: this frame has no colour (the geometric oracle, or rendered without "
                                  "'color' in aovs=)")
-        return np.round(linear_to_srgb(self.color) * 255.0).astype(np.uint8)
+        return linear_to_srgb8(self.color)
 
     def save(self, path) -> Path:
         """Write the colour as PNG (sRGB) or, for a .npz path, every AOV the frame holds."""

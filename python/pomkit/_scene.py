@@ -17,6 +17,7 @@ import numpy as np
 
 from . import _core
 from . import _validate as _v
+from ._color import linear_to_srgb, srgb_to_linear
 
 __all__ = ["Mesh", "Material", "Camera", "DirectionalLight", "SphereLight", "Object", "Scene"]
 
@@ -62,6 +63,9 @@ class Mesh:
     uv_scale: np.ndarray
     charts: np.ndarray
     kind: str = "arrays"
+    #: how a built-in mesh was made: (kind, a, b, n, m) of the core's generator. Scene hashes
+    #: read this, not the vertices, which come from the platform's sinf and cosf.
+    recipe: Optional[tuple] = None
 
     @classmethod
     def _from_core(cls, arrays, kind: str) -> "Mesh":
@@ -69,12 +73,18 @@ class Mesh:
         return cls(p, n, uv, idx, t, s, c, kind=kind)
 
     @classmethod
+    def _generate(cls, kind: str, a: float, b: float, n: int, m: int) -> "Mesh":
+        mesh = cls._from_core(_core.mesh_generate(kind, a, b, n, m), kind)
+        object.__setattr__(mesh, "recipe", (kind, a, b, n, m))
+        return mesh
+
+    @classmethod
     def plane(cls, size: float = 2.0, segments: int = 1) -> "Mesh":
         """Square in the XZ plane at y = 0, normal +Y, centred at the origin.
 
         u grows with +X and v with +Z, so row 0 of a map is the far edge for a camera on +Z.
         """
-        return cls._from_core(_core.mesh_generate("plane", _pos("size", size), 0.0, _count("segments", segments), 1), "plane")
+        return cls._generate("plane", _pos("size", size), 0.0, _count("segments", segments), 1)
 
     @classmethod
     def sphere(cls, radius: float = 1.0, segments: int = 64, rings: int = 32) -> "Mesh":
@@ -84,7 +94,7 @@ class Mesh:
         from the north pole (+Y, v = 0) to the south pole (v = 1). The poles are rows of
         coincident vertices and u = 0/1 is a seam of duplicated vertices: both are test cases.
         """
-        return cls._from_core(_core.mesh_generate("sphere", _pos("radius", radius), 0.0, _count("segments", segments), _count("rings", rings)), "sphere")
+        return cls._generate("sphere", _pos("radius", radius), 0.0, _count("segments", segments), _count("rings", rings))
 
     @classmethod
     def torus(cls, major: float = 1.0, minor: float = 0.35, segments: int = 64, tube_segments: int = 32) -> "Mesh":
@@ -93,10 +103,7 @@ class Mesh:
         u = angle around the axis / 2pi, v = angle around the tube / 2pi (v = 0 on the outer
         equator, rising toward +Y). Continuous and periodic in both directions.
         """
-        return cls._from_core(
-            _core.mesh_generate("torus", _pos("major", major), _pos("minor", minor), _count("segments", segments), _count("tube_segments", tube_segments)),
-            "torus",
-        )
+        return cls._generate("torus", _pos("major", major), _pos("minor", minor), _count("segments", segments), _count("tube_segments", tube_segments))
 
     @classmethod
     def cylinder(cls, radius: float = 0.5, height: float = 1.5, segments: int = 64, rings: int = 1) -> "Mesh":
@@ -104,15 +111,12 @@ class Mesh:
 
         u = angle / 2pi (u = 0 on +X), v from the top rim (v = 0) to the bottom rim (v = 1).
         """
-        return cls._from_core(
-            _core.mesh_generate("cylinder", _pos("radius", radius), _pos("height", height), _count("segments", segments), _count("rings", rings)),
-            "cylinder",
-        )
+        return cls._generate("cylinder", _pos("radius", radius), _pos("height", height), _count("segments", segments), _count("rings", rings))
 
     @classmethod
     def cube(cls, size: float = 1.5, segments: int = 1) -> "Mesh":
         """Cube of edge `size` centred at the origin; each face carries the whole uv square."""
-        return cls._from_core(_core.mesh_generate("cube", _pos("size", size), 0.0, _count("segments", segments), 1), "cube")
+        return cls._generate("cube", _pos("size", size), 0.0, _count("segments", segments), 1)
 
     @classmethod
     def from_arrays(cls, positions, normals, uvs, indices, tangents=None) -> "Mesh":
@@ -204,16 +208,6 @@ def _normalize_height(h: Any) -> np.ndarray:
     return _readonly(np.ascontiguousarray(out))
 
 
-def srgb_to_linear(x: np.ndarray) -> np.ndarray:
-    x = np.asarray(x, dtype=np.float32)
-    return np.where(x <= 0.04045, x / 12.92, ((x + 0.055) / 1.055) ** 2.4).astype(np.float32)
-
-
-def linear_to_srgb(x: np.ndarray) -> np.ndarray:
-    x = np.clip(np.asarray(x, dtype=np.float32), 0.0, 1.0)
-    return np.where(x <= 0.0031308, x * 12.92, 1.055 * np.power(x, 1 / 2.4) - 0.055).astype(np.float32)
-
-
 def _normalize_albedo(a: Any) -> np.ndarray | None:
     if a is None:
         return None
@@ -224,7 +218,7 @@ def _normalize_albedo(a: Any) -> np.ndarray | None:
         raise ValueError("albedo: the array is empty")
     arr = arr[..., :3]
     if arr.dtype == np.uint8:
-        out = srgb_to_linear(arr.astype(np.float32) / 255.0)
+        out = srgb_to_linear(arr)  # by table: the same bits on every CPU (_color.py)
     elif arr.dtype.kind == "f":
         out = arr.astype(np.float32)
         if not np.all(np.isfinite(out)):

@@ -345,7 +345,7 @@ def _pyrender_render(scene: Scene, resolution: float):
         color, zbuf = rend.render(ps, flags=flags)
     finally:
         rend.delete()
-    lin = srgb_to_linear(color[..., :3].astype(np.float32) / 255.0)
+    lin = srgb_to_linear(np.ascontiguousarray(color[..., :3], np.uint8))
     # z-buffer depth -> distance along the ray
     rays = cam.rays()
     dist = np.where(zbuf > 0, zbuf / np.maximum((rays * f).sum(-1), 1e-9), 0.0).astype(np.float32)

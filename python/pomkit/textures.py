@@ -2,6 +2,13 @@
 
 Every function returns a (size, size) float32 array in [0, 1] (h = 1 is the base surface),
 tiles seamlessly, and is deterministic for a given seed.
+
+The same bits on every machine: the maps are built from exactly rounded operations only (+, -,
+*, /, sqrt, floor, comparisons) and numpy's PCG64 stream. No libm or SIMD transcendental
+(sin, hypot, pow) is called, since those differ between CPUs (numpy dispatches them to SVML
+where AVX-512 is present) and between C libraries; `sine` evaluates its sine as a polynomial,
+`fit` averages areas with prefix sums. tests/test_hashes.py holds the digests. One exception:
+`text` draws with Pillow's font rasteriser, whose glyphs may change with Pillow's version.
 """
 
 from __future__ import annotations
@@ -24,6 +31,35 @@ def _check_size(size) -> int:
 def _grid(size: int):
     c = (np.arange(size, dtype=np.float64) + 0.5) / size
     return np.meshgrid(c, c)  # u (columns), v (rows)
+
+
+def _hypot(x, y):
+    """sqrt(x^2 + y^2) from exactly rounded operations (np.hypot is libm's)."""
+    return np.sqrt(x * x + y * y)
+
+
+def _sin_turns(t):
+    """sin(2 pi t) from exactly rounded operations: t reduced to a quarter turn r in
+    [-1/4, 1/4] (exactly: t - floor(t + 1/2) and a reflection), then the Taylor polynomial of
+    sin(2 pi r) to degree 25 (error below 1e-16), by Horner's rule."""
+    t = np.asarray(t, np.float64)
+    r = t - np.floor(t + 0.5)                      # [-1/2, 1/2)
+    r = np.where(r > 0.25, 0.5 - r, np.where(r < -0.25, -0.5 - r, r))
+    x = 2.0 * 3.141592653589793 * r                # [-pi/2, pi/2]
+    x2 = x * x
+    acc = np.zeros_like(x)
+    for k in range(12, -1, -1):                    # terms x^(2k+1) / (2k+1)!
+        acc = acc * x2 + _SIN_COEF[k]
+    return acc * x
+
+
+# (-1)^k / (2k+1)!, exact rationals rounded once
+_SIN_COEF = []
+_f = 1
+for _k in range(13):
+    _SIN_COEF.append((-1) ** _k / _f)
+    _f *= (2 * _k + 2) * (2 * _k + 3)
+del _f, _k
 
 
 def _smoothstep(e0, e1, x):
@@ -74,7 +110,7 @@ def cobblestones(size: int = 512, cells: int = 12, seed: int = 0, gap: float = 0
     for ox in (-1, 0, 1):
         for oy in (-1, 0, 1):
             for p in pts:
-                dd = np.hypot(u - (p[0] + ox), v - (p[1] + oy))
+                dd = _hypot(u - (p[0] + ox), v - (p[1] + oy))
                 f2 = np.where(dd < f1, f1, np.minimum(f2, dd))
                 f1 = np.minimum(f1, dd)
     edge = (f2 - f1) * cells  # 0 on the cell borders
@@ -96,7 +132,7 @@ def sine(size: int = 512, freq: float = 4.0) -> np.ndarray:
     integer keeps it tileable)."""
     size = _check_size(size)
     u, v = _grid(size)
-    return _finish(0.5 + 0.5 * np.sin(2 * np.pi * freq * u) * np.sin(2 * np.pi * freq * v))
+    return _finish(0.5 + 0.5 * _sin_turns(freq * u) * _sin_turns(freq * v))
 
 
 def noise(size: int = 512, octaves: int = 6, base: int = 4, persistence: float = 0.5, seed: int = 0) -> np.ndarray:
@@ -134,7 +170,7 @@ def spikes(size: int = 512, count: int = 64, radius_texels: float = 1.5, seed: i
     for p in rng.random((count, 2)):
         dx = (u - p[0] + 0.5) % 1.0 - 0.5
         dy = (v - p[1] + 0.5) % 1.0 - 0.5
-        h = np.maximum(h, 1.0 - np.hypot(dx, dy) / r)
+        h = np.maximum(h, 1.0 - _hypot(dx, dy) / r)
     return _finish(h)
 
 
@@ -199,6 +235,22 @@ def real(name: str, size: Optional[int] = 128) -> np.ndarray:
     return fit(_real_source(name), size)
 
 
+def _area_resample(a: np.ndarray, n: int, axis: int) -> np.ndarray:
+    """Resample `a` to `n` samples along `axis` by area averaging (a box filter over each output
+    sample's footprint, fractional at its ends), from the cumulative sum: the integral of the
+    piecewise-constant signal at the footprint's ends, differenced. Sequential sums and exact
+    operations only, so the result is the same on every machine (Pillow's BOX filter was)."""
+    m = a.shape[axis]
+    a = np.moveaxis(a, axis, 0)
+    c = np.concatenate([np.zeros((1,) + a.shape[1:]), np.cumsum(a, axis=0)], axis=0)  # C[i] = sum a[:i]
+    x = np.arange(n + 1, dtype=np.float64) * m / n                                      # footprint ends
+    i = np.minimum(np.floor(x).astype(np.int64), m - 1)
+    f = (x - i)[(...,) + (None,) * (a.ndim - 1)]
+    integral = c[i] + f * a[i]                                                          # int_0^x
+    out = (integral[1:] - integral[:-1]) * (n / m)
+    return np.moveaxis(out, 0, axis)
+
+
 def fit(a, size: Optional[int] = 128) -> np.ndarray:
     """Any 2-D array (an elevation model, a photograph's luminance) as a height map: its largest
     centred square, resampled to `size`² by area averaging (None: kept at its own size and
@@ -211,7 +263,6 @@ def fit(a, size: Optional[int] = 128) -> np.ndarray:
         n = min(a.shape)
         r0, c0 = (a.shape[0] - n) // 2, (a.shape[1] - n) // 2
         a = a[r0:r0 + n, c0:c0 + n]
-        from PIL import Image
-        a = np.asarray(Image.fromarray(a.astype(np.float32)).resize((size, size), Image.Resampling.BOX), np.float64)
+        a = _area_resample(_area_resample(a, size, 0), size, 1)
     lo, hi = float(a.min()), float(a.max())
     return ((a - lo) / (hi - lo) if hi > lo else np.zeros_like(a)).astype(np.float32)

@@ -113,7 +113,7 @@ def _save(img: np.ndarray, path: Path) -> str:
 
 def _flip_map(frame: pk.Frame, ref8: np.ndarray) -> tuple[float, np.ndarray]:
     """FLIP (flip-evaluator, when installed) or, without it, the mean absolute sRGB difference."""
-    ref = pk.Frame._of({"color": pk.srgb_to_linear(ref8.astype(np.float32) / 255.0).astype(np.float32),
+    ref = pk.Frame._of({"color": pk.srgb_to_linear(ref8).astype(np.float32),
                         "mask": np.ones(ref8.shape[:2], bool)})
     try:
         m, e = pk.metrics.flip(frame, ref, image=True)
