@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, field
-from typing import Any, Optional, Sequence
+from typing import Any, Literal, Optional, Sequence
 
 import numpy as np
 
@@ -73,7 +73,7 @@ class Mesh:
         return cls(p, n, uv, idx, t, s, c, kind=kind)
 
     @classmethod
-    def _generate(cls, kind: str, a: float, b: float, n: int, m: int) -> "Mesh":
+    def _generate(cls, kind: 'Literal["plane", "sphere", "torus", "cylinder", "cube"]', a: float, b: float, n: int, m: int) -> "Mesh":
         mesh = cls._from_core(_core.mesh_generate(kind, a, b, n, m), kind)
         object.__setattr__(mesh, "recipe", (kind, a, b, n, m))
         return mesh
