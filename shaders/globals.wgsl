@@ -56,7 +56,7 @@ struct Globals {
     top_max_level: f32,
     // bound on the iterations of every max-mip traversal
     max_iterations: f32,
-    // element offset of each max-pyramid level in max_buf
+    // x offset of each max-pyramid level k >= 1 in max_atlas (heightmap.rs's max_atlas)
     max_offsets: array<vec4<u32>, 4>,
     // the object drawn (one block per object; see object.wgsl): object-to-world matrix, the
     // inverse transpose (normals), the inverse (world-to-object), the eye in object space, the
@@ -81,7 +81,11 @@ struct Globals {
 @group(1) @binding(2) var height_samp: sampler;
 @group(1) @binding(3) var albedo_tex: texture_2d<f32>;
 @group(1) @binding(4) var albedo_samp: sampler;
-// max-mip pyramid, levels back to back: level 0 holds the max of the bilinear field over each
-// cell between texel centres (cell (i, j) spans texel centres i..i+1, j..j+1), level k the max
-// over 2^k x 2^k cells
-@group(1) @binding(5) var<storage, read> max_buf: array<f32>;
+// max-mip pyramid: level 0 holds the max of the bilinear field over each cell between texel
+// centres (cell (i, j) spans texel centres i..i+1, j..j+1), level k the max over 2^k x 2^k
+// cells. Level 0 is a texture of the map's size, levels 1.. lie side by side in an atlas (level
+// k at x = max_offsets[k], y = 0): textures stay within any limit a map within
+// max_texture_dimension_2d does, where one buffer of every level exceeded the storage binding
+// limit from 8192² on.
+@group(1) @binding(5) var max0_tex: texture_2d<f32>;
+@group(1) @binding(6) var max_atlas: texture_2d<f32>;

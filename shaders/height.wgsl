@@ -6,7 +6,7 @@
 // Shader defs: FILTERING (0 hardware, 1 exact).
 #define_import_path pomkit::height
 
-#import pomkit::globals::{G, height_tex, height_samp, albedo_tex, albedo_samp, max_buf}
+#import pomkit::globals::{G, height_tex, height_samp, albedo_tex, albedo_samp, max0_tex, max_atlas}
 #import pomkit::frame::Frame
 #import pomkit::cost::fetched
 
@@ -126,7 +126,7 @@ fn compute_lod(s: vec2<f32>) -> f32 {
     return clamp(lod, 0.0, num_mips() - 1.0);
 }
 
-// ---- the max-mip pyramid (a storage buffer: see maxmip.wgsl) ----
+// ---- the max-mip pyramid (level 0 and an atlas of the levels above: see globals.wgsl) ----
 
 fn max_level_dims(level: i32) -> vec2<i32> {
     return max(vec2<i32>(G.map_size) >> vec2<u32>(u32(level)), vec2<i32>(1));
@@ -134,7 +134,12 @@ fn max_level_dims(level: i32) -> vec2<i32> {
 
 fn max_at(node: vec2<i32>, level: i32) -> f32 {
     let dims = max_level_dims(level);
-    let off = G.max_offsets[level / 4][level % 4];
+    let p = vec2<i32>(wrap_i(node.x, dims.x), wrap_i(node.y, dims.y));
     fetched(1u, 4u);
-    return max_buf[off + u32(wrap_i(node.y, dims.y) * dims.x + wrap_i(node.x, dims.x))];
+    // every load at mip level 0 of its texture (see maxmip.wgsl)
+    if (level == 0) {
+        return textureLoad(max0_tex, p, 0).r;
+    }
+    let off = i32(G.max_offsets[level / 4][level % 4]);
+    return textureLoad(max_atlas, p + vec2<i32>(off, 0), 0).r;
 }

@@ -2,7 +2,7 @@
 // a level-0 upload.
 //   reduce:               level k of the sampling pyramid: the mean of each 2x2 footprint of
 //                         level k - 1 (clamped at odd edges)
-//   max_cells/max_reduce: the max pyramid of Tevs et al. 2008, in a storage buffer (below)
+//   max_cells/max_reduce: the max pyramid of Tevs et al. 2008, in two textures (below)
 
 @group(0) @binding(0) var src: texture_2d<f32>;
 @group(0) @binding(1) var dst: texture_storage_2d<r32float, write>;
@@ -22,23 +22,27 @@ fn reduce(@builtin(global_invocation_id) id: vec3<u32>) {
     textureStore(dst, vec2<i32>(id.xy), vec4<f32>((a + b + c + d) * 0.25, 0.0, 0.0, 0.0));
 }
 
-// ---- the max pyramid in a storage buffer (levels back to back, row-major) ----
-// A buffer, not a texture: the traversal reads a different level in each lane, and a texel
-// fetch whose level varies across lanes was seen returning other lanes' texels on lavapipe.
+// ---- the max pyramid: level 0 in a texture of the map's size, levels 1.. side by side in an
+// atlas (level k at x = its offset, y = 0), so that every level stays within the device's
+// texture limits and no buffer exceeds a binding limit. Every load is at mip level 0 of its
+// texture: on lavapipe a texel fetch whose level varies across lanes returned other lanes'
+// texels (maxmip.wgsl). A level is written to a scratch texture and copied into the atlas, so
+// that no dispatch reads and writes one texture.
 
 struct MaxLevel {
     src_w: u32,
     src_h: u32,
     dst_w: u32,
     dst_h: u32,
+    // x offset of the source level in the source texture (0: the height map or level 0)
     src_off: u32,
-    dst_off: u32,
     pad0: u32,
     pad1: u32,
+    pad2: u32,
 }
 
-@group(1) @binding(0) var level0: texture_2d<f32>;
-@group(1) @binding(1) var<storage, read_write> maxbuf: array<f32>;
+@group(1) @binding(0) var msrc: texture_2d<f32>;
+@group(1) @binding(1) var mdst: texture_storage_2d<r32float, write>;
 @group(1) @binding(2) var<uniform> ML: MaxLevel;
 
 // level 0: the max of the four texel centres around each cell (wrapping)
@@ -49,9 +53,9 @@ fn max_cells(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let x1 = (id.x + 1u) % ML.dst_w;
     let y1 = (id.y + 1u) % ML.dst_h;
-    let v = max(max(textureLoad(level0, vec2<u32>(id.x, id.y), 0).r, textureLoad(level0, vec2<u32>(x1, id.y), 0).r),
-                max(textureLoad(level0, vec2<u32>(id.x, y1), 0).r, textureLoad(level0, vec2<u32>(x1, y1), 0).r));
-    maxbuf[ML.dst_off + id.y * ML.dst_w + id.x] = v;
+    let v = max(max(textureLoad(msrc, vec2<u32>(id.x, id.y), 0).r, textureLoad(msrc, vec2<u32>(x1, id.y), 0).r),
+                max(textureLoad(msrc, vec2<u32>(id.x, y1), 0).r, textureLoad(msrc, vec2<u32>(x1, y1), 0).r));
+    textureStore(mdst, vec2<u32>(id.xy), vec4<f32>(v, 0.0, 0.0, 0.0));
 }
 
 // level k from level k - 1: 2x2 max, clamped at odd edges
@@ -60,12 +64,11 @@ fn max_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= ML.dst_w || id.y >= ML.dst_h) {
         return;
     }
-    let x0 = min(2u * id.x, ML.src_w - 1u);
-    let x1 = min(2u * id.x + 1u, ML.src_w - 1u);
+    let x0 = ML.src_off + min(2u * id.x, ML.src_w - 1u);
+    let x1 = ML.src_off + min(2u * id.x + 1u, ML.src_w - 1u);
     let y0 = min(2u * id.y, ML.src_h - 1u);
     let y1 = min(2u * id.y + 1u, ML.src_h - 1u);
-    let o = ML.src_off;
-    let v = max(max(maxbuf[o + y0 * ML.src_w + x0], maxbuf[o + y0 * ML.src_w + x1]),
-                max(maxbuf[o + y1 * ML.src_w + x0], maxbuf[o + y1 * ML.src_w + x1]));
-    maxbuf[ML.dst_off + id.y * ML.dst_w + id.x] = v;
+    let v = max(max(textureLoad(msrc, vec2<u32>(x0, y0), 0).r, textureLoad(msrc, vec2<u32>(x1, y0), 0).r),
+                max(textureLoad(msrc, vec2<u32>(x0, y1), 0).r, textureLoad(msrc, vec2<u32>(x1, y1), 0).r));
+    textureStore(mdst, vec2<u32>(id.xy), vec4<f32>(v, 0.0, 0.0, 0.0));
 }

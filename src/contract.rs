@@ -328,6 +328,8 @@ pub enum ResourceKind {
     Storage,
     /// `texture_2d<u32>`
     TextureUint,
+    /// `texture_2d<f32>`, unfilterable (read with textureLoad)
+    TextureFloat,
 }
 
 /// One built resource, bound in the order its method declares.
@@ -353,9 +355,10 @@ pub struct BuildInputs<'a> {
     /// compiled builder pipelines, made once per renderer
     pub builders: &'a Builders,
     pub object: &'a Object,
-    /// the object's height map: its size and max pyramid (levels back to back)
+    /// the object's height map on the GPU: its size, and its max pyramid's level 0 and atlas
+    /// (`heightmap::GpuHeight`'s `max0_view` and `max_atlas_view`)
     pub height_size: (u32, u32),
-    pub height_max: &'a wgpu::Buffer,
+    pub height_max: [&'a wgpu::TextureView; 2],
     /// the mesh this method draws for the object (the base mesh, or its own geometry)
     pub mesh: &'a GpuMesh,
 }

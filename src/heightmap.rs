@@ -76,15 +76,22 @@ pub fn cell_max_pyramid(map: &HeightMap) -> Vec<Vec<f32>> {
     })
 }
 
-/// The height map on the GPU: the sampling texture (mean mips) and the max-mip texture.
+/// The height map on the GPU: the sampling texture (mean mips) and the max pyramid.
 pub struct GpuHeight {
     pub width: u32,
     pub height: u32,
     pub mips: u32,
     pub tex: wgpu::Texture,
     pub view: wgpu::TextureView,
-    /// the max pyramid, levels back to back (offsets from `max_offsets`)
-    pub max_buf: wgpu::Buffer,
+    /// the max pyramid's level 0 (the map's size)
+    pub max0: wgpu::Texture,
+    pub max0_view: wgpu::TextureView,
+    /// its levels 1.. side by side (`max_atlas`)
+    pub max_atlas: wgpu::Texture,
+    pub max_atlas_view: wgpu::TextureView,
+    /// level k >= 1 of the max pyramid is reduced into this (level 1's size) and copied into the
+    /// atlas, so that no dispatch reads and writes one texture
+    max_scratch: wgpu::Texture,
     /// Where the adapter cannot write a mip level through a storage view (GL: see
     /// `Capabilities::storage_mip_views`): one single-level texture per level k >= 1, written
     /// by the reduce pass from the previous one and copied into level k. Allocated with the map,
@@ -92,25 +99,43 @@ pub struct GpuHeight {
     scratch: Vec<wgpu::Texture>,
 }
 
-/// Element offset of each level of the max pyramid in its buffer, and the total length.
-pub fn max_offsets(w: u32, h: u32) -> (Vec<u32>, u32) {
-    let mut off = Vec::new();
-    let mut acc = 0;
-    for k in 0..mip_count(w, h) {
-        off.push(acc);
-        let (lw, lh) = level_size(w, h, k);
-        acc += lw * lh;
+/// Where the max pyramid's levels 1.. lie in its atlas: level k at x = `offsets[k]`, y = 0
+/// (`offsets[0]` = 0 is level 0's own texture), and the atlas's size. Side by side, the levels
+/// of a map within a device's texture limit fit the limit too: their widths sum to less than
+/// the map's width plus the number of levels.
+pub fn max_atlas(w: u32, h: u32) -> (Vec<u32>, (u32, u32)) {
+    let n = mip_count(w, h);
+    let mut off = vec![0];
+    let mut x = 0;
+    for k in 1..n {
+        off.push(x);
+        x += level_size(w, h, k).0;
     }
-    (off, acc)
+    (off, (x.max(1), level_size(w, h, 1).1))
 }
 
-/// `max_offsets` as the uniform table the shaders index (`array<vec4<u32>, 4>`, 16 levels).
+/// The atlas offsets as the uniform table the shaders index (`array<vec4<u32>, 4>`, 16 levels).
 pub fn max_offset_table(w: u32, h: u32) -> [[u32; 4]; 4] {
     let mut t = [[0u32; 4]; 4];
-    for (k, v) in max_offsets(w, h).0.iter().enumerate().take(16) {
+    for (k, v) in max_atlas(w, h).0.iter().enumerate().take(16) {
         t[k / 4][k % 4] = *v;
     }
     t
+}
+
+/// GPU bytes the height map takes, as a multiple of its float32 level 0: the mean pyramid
+/// (4/3), the max pyramid's level 0 (1), its atlas (about 1/2) and the scratch level (1/4).
+pub fn gpu_bytes(w: u32, h: u32) -> u64 {
+    let l0 = w as u64 * h as u64 * 4;
+    let mean: u64 = (0..mip_count(w, h))
+        .map(|k| {
+            let (a, b) = level_size(w, h, k);
+            a as u64 * b as u64 * 4
+        })
+        .sum();
+    let (_, (aw, ah)) = max_atlas(w, h);
+    let (sw, sh) = level_size(w, h, 1);
+    mean + l0 + aw as u64 * ah as u64 * 4 + sw as u64 * sh as u64 * 4
 }
 
 /// The highest max-mip level whose nodes tile the map exactly (its size divides both sides).
@@ -156,7 +181,7 @@ impl MipBuilder {
                 label: Some("max pyramid"),
                 entries: &[
                     layout::texture(0, cs, unfilterable),
-                    layout::buffer(1, cs, wgpu::BufferBindingType::Storage { read_only: false }),
+                    layout::storage_texture(1, cs, wgpu::TextureFormat::R32Float),
                     layout::buffer(2, cs, wgpu::BufferBindingType::Uniform),
                 ],
             });
@@ -209,13 +234,27 @@ impl MipBuilder {
     pub fn create(&self, ctx: &Context, map: &HeightMap) -> Result<GpuHeight> {
         let g = ctx.scoped(|| {
             let tex = Self::texture(ctx, "height", map);
-            let (_, len) = max_offsets(map.width, map.height);
-            let max_buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("height max pyramid"),
-                size: len as u64 * 4,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
+            use wgpu::TextureUsages as U;
+            let r32 = wgpu::TextureFormat::R32Float;
+            let (_, atlas) = max_atlas(map.width, map.height);
+            let max0 = ctx.texture_2d(
+                "height max level 0",
+                (map.width, map.height),
+                r32,
+                U::TEXTURE_BINDING | U::STORAGE_BINDING | U::COPY_SRC,
+            );
+            let max_atlas = ctx.texture_2d(
+                "height max atlas",
+                atlas,
+                r32,
+                U::TEXTURE_BINDING | U::COPY_DST | U::COPY_SRC,
+            );
+            let max_scratch = ctx.texture_2d(
+                "height max scratch",
+                level_size(map.width, map.height, 1),
+                r32,
+                U::STORAGE_BINDING | U::COPY_SRC,
+            );
             let scratch = if ctx.caps.storage_mip_views {
                 Vec::new()
             } else {
@@ -238,7 +277,11 @@ impl MipBuilder {
                 mips: mip_count(map.width, map.height),
                 view: tex.create_view(&Default::default()),
                 tex,
-                max_buf,
+                max0_view: max0.create_view(&Default::default()),
+                max0,
+                max_atlas_view: max_atlas.create_view(&Default::default()),
+                max_atlas,
+                max_scratch,
                 scratch,
             })
         })?;
@@ -249,71 +292,27 @@ impl MipBuilder {
     /// Read a pyramid back (tests): `max` selects the max-mip texture, else the sampling one.
     pub fn read_back(&self, ctx: &Context, g: &GpuHeight, max: bool) -> Result<Vec<Vec<f32>>> {
         if max {
-            let (offs, len) = max_offsets(g.width, g.height);
-            let buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("max readback"),
-                size: len as u64 * 4,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            let mut enc = ctx.device.create_command_encoder(&Default::default());
-            enc.copy_buffer_to_buffer(&g.max_buf, 0, &buf, 0, len as u64 * 4);
-            ctx.queue.submit([enc.finish()]);
-            let raw = ctx.read_buffer(&buf)?;
-            let all: &[f32] = bytemuck::cast_slice(&raw);
-            return Ok((0..g.mips as usize)
-                .map(|k| {
-                    let (w, h) = level_size(g.width, g.height, k as u32);
-                    all[offs[k] as usize..(offs[k] + w * h) as usize].to_vec()
-                })
-                .collect());
-        }
-        let tex = &g.tex;
-        let mut out = Vec::new();
-        for k in 0..g.mips {
-            let (w, h) = level_size(g.width, g.height, k);
-            let row = (w as u64 * 4).div_ceil(256) * 256;
-            let buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("mip readback"),
-                size: row * h as u64,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            let mut enc = ctx.device.create_command_encoder(&Default::default());
-            enc.copy_texture_to_buffer(
-                wgpu::TexelCopyTextureInfo {
-                    texture: tex,
-                    mip_level: k,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
-                },
-                wgpu::TexelCopyBufferInfo {
-                    buffer: &buf,
-                    layout: wgpu::TexelCopyBufferLayout {
-                        offset: 0,
-                        bytes_per_row: Some(row as u32),
-                        rows_per_image: Some(h),
-                    },
-                },
-                wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: 1,
-                },
-            );
-            ctx.queue.submit([enc.finish()]);
-            let raw = ctx.read_buffer(&buf)?;
-            let mut lvl = Vec::with_capacity((w * h) as usize);
-            for y in 0..h as usize {
-                let r: &[f32] =
-                    bytemuck::cast_slice(&raw[y * row as usize..y * row as usize + 4 * w as usize]);
-                lvl.extend_from_slice(r);
+            let (offs, (aw, ah)) = max_atlas(g.width, g.height);
+            let mut out = vec![read_r32(ctx, &g.max0, 0, (g.width, g.height))?];
+            if g.mips > 1 {
+                let atlas = read_r32(ctx, &g.max_atlas, 0, (aw, ah))?;
+                for k in 1..g.mips {
+                    let (w, h) = level_size(g.width, g.height, k);
+                    let x0 = offs[k as usize] as usize;
+                    let mut lvl = Vec::with_capacity((w * h) as usize);
+                    for y in 0..h as usize {
+                        let row = y * aw as usize + x0;
+                        lvl.extend_from_slice(&atlas[row..row + w as usize]);
+                    }
+                    out.push(lvl);
+                }
             }
-            out.push(lvl);
+            return Ok(out);
         }
-        Ok(out)
+        (0..g.mips)
+            .map(|k| read_r32(ctx, &g.tex, k, level_size(g.width, g.height, k)))
+            .collect()
     }
-
     /// Replace the map's texels (same size) and rebuild both pyramids on the GPU.
     pub fn update(&self, ctx: &Context, g: &GpuHeight, map: &HeightMap) -> Result<()> {
         if map.width != g.width || map.height != g.height {
@@ -394,56 +393,117 @@ impl MipBuilder {
                     );
                 }
             }
-            // the max pyramid: cell maxima, then 2x2 max levels, one dispatch per level
-            let (offs, _) = max_offsets(map.width, map.height);
-            let l0 = level(&g.tex, 0);
+            // the max pyramid: cell maxima into level 0, then each 2x2 max level into the
+            // scratch texture and from there into its place in the atlas
+            let (offs, _) = max_atlas(map.width, map.height);
+            let scratch_view = g.max_scratch.create_view(&Default::default());
             for k in 0..g.mips {
                 let (sw, sh) = level_size(map.width, map.height, k.saturating_sub(1));
                 let (dw, dh) = level_size(map.width, map.height, k);
-                let params: [u32; 8] = [
-                    sw,
-                    sh,
-                    dw,
-                    dh,
-                    offs[k.saturating_sub(1) as usize],
-                    offs[k as usize],
-                    0,
-                    0,
-                ];
+                let src_off = if k >= 2 { offs[k as usize - 1] } else { 0 };
+                let params: [u32; 8] = [sw, sh, dw, dh, src_off, 0, 0, 0];
                 let ubuf = ctx.upload(
                     "max level",
                     bytemuck::cast_slice(&params),
                     wgpu::BufferUsages::UNIFORM,
                 );
-                let bg = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("max level"),
-                    layout: &self.max_layout,
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: wgpu::BindingResource::TextureView(&l0),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: g.max_buf.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 2,
-                            resource: ubuf.as_entire_binding(),
-                        },
-                    ],
-                });
-                let pipe = if k == 0 {
-                    &self.max_cells
-                } else {
-                    &self.max_reduce
+                use wgpu::BindingResource as R;
+                let (src, dst, pipe) = match k {
+                    0 => (level(&g.tex, 0), &g.max0_view, &self.max_cells),
+                    1 => (g.max0_view.clone(), &scratch_view, &self.max_reduce),
+                    _ => (g.max_atlas_view.clone(), &scratch_view, &self.max_reduce),
                 };
+                let bg = ctx.bind_group(
+                    "max level",
+                    &self.max_layout,
+                    vec![R::TextureView(&src), R::TextureView(dst), ubuf.as_entire_binding()],
+                );
                 Context::dispatch_8x8(&mut enc, "max level", pipe, 1, &bg, (dw, dh));
+                if k >= 1 {
+                    enc.copy_texture_to_texture(
+                        g.max_scratch.as_image_copy(),
+                        wgpu::TexelCopyTextureInfo {
+                            texture: &g.max_atlas,
+                            mip_level: 0,
+                            origin: wgpu::Origin3d {
+                                x: offs[k as usize],
+                                y: 0,
+                                z: 0,
+                            },
+                            aspect: wgpu::TextureAspect::All,
+                        },
+                        wgpu::Extent3d {
+                            width: dw,
+                            height: dh,
+                            depth_or_array_layers: 1,
+                        },
+                    );
+                }
             }
             ctx.queue.submit([enc.finish()]);
             Ok(())
         })
     }
+}
+
+/// Write `w x h` float32 texels (as bytes, row-major) to level 0 of an R32Float texture.
+pub fn write_r32(ctx: &Context, tex: &wgpu::Texture, bytes: &[u8], (w, h): (u32, u32)) {
+    ctx.queue.write_texture(
+        tex.as_image_copy(),
+        bytes,
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(4 * w),
+            rows_per_image: Some(h),
+        },
+        wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+    );
+}
+
+/// Read a `w x h` region at the origin of one mip level of an R32Float texture (tests, builds).
+pub fn read_r32(ctx: &Context, tex: &wgpu::Texture, mip_level: u32, (w, h): (u32, u32)) -> Result<Vec<f32>> {
+    let row = (w as u64 * 4).div_ceil(256) * 256;
+    let buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("r32 readback"),
+        size: row * h as u64,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    enc.copy_texture_to_buffer(
+        wgpu::TexelCopyTextureInfo {
+            texture: tex,
+            mip_level,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buf,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row as u32),
+                rows_per_image: Some(h),
+            },
+        },
+        wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+    );
+    ctx.queue.submit([enc.finish()]);
+    ctx.map_read(&buf, |raw| {
+        let mut out = Vec::with_capacity((w * h) as usize);
+        for y in 0..h as usize {
+            let r = &raw[y * row as usize..y * row as usize + 4 * w as usize];
+            out.extend_from_slice(bytemuck::cast_slice::<u8, f32>(r));
+        }
+        out
+    })
 }
 
 #[cfg(test)]
@@ -460,5 +520,18 @@ mod tests {
         assert_eq!(p.len(), 2);
         assert!((p[1][0] - 0.5).abs() < 1e-7);
         assert_eq!(max_pyramid(&m)[1][0], 1.0);
+    }
+
+    #[test]
+    fn the_max_atlas_fits_within_the_map_width_plus_its_levels() {
+        for (w, h) in [(1, 1), (1, 16384), (16384, 1), (16384, 16384), (16383, 9000), (3, 5)] {
+            let (offs, (aw, ah)) = max_atlas(w, h);
+            assert_eq!(offs.len() as u32, mip_count(w, h));
+            assert!(aw <= w.max(1) + mip_count(w, h) && aw <= 16384, "{w}x{h}: {aw}");
+            assert_eq!(ah, level_size(w, h, 1).1);
+            for k in 1..offs.len() {
+                assert_eq!(offs[k] + level_size(w, h, k as u32).0, *offs.get(k + 1).unwrap_or(&aw));
+            }
+        }
     }
 }

@@ -11,6 +11,7 @@ pub mod gpu;
 pub mod heightmap;
 pub mod imageio;
 pub mod mesh;
+pub mod progress;
 pub mod methods;
 pub mod render;
 pub mod scene;

@@ -242,6 +242,17 @@ pub struct Camera {
     pub fov_y: f64,
     pub width: u32,
     pub height: u32,
+    /// When set, the image is one window of a larger one: its `width` x `height` pixels are
+    /// those from `origin` of a `full`-sized image of the same camera (tiled passes of a
+    /// supersampled frame). None: the whole image.
+    pub window: Option<Window>,
+}
+
+/// Where a camera's image lies in the full image it is a window of.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Window {
+    pub full: (u32, u32),
+    pub origin: (u32, u32),
 }
 
 /// Orthonormal camera basis (right, up, back) in f64.
@@ -298,6 +309,14 @@ impl Camera {
         Ok(())
     }
 
+    /// The full image's size and this image's origin in it.
+    pub fn full(&self) -> ((u32, u32), (u32, u32)) {
+        match self.window {
+            Some(w) => (w.full, w.origin),
+            None => ((self.width, self.height), (0, 0)),
+        }
+    }
+
     pub fn basis(&self) -> CameraBasis {
         let eye = DVec3::from(self.eye);
         let forward = (DVec3::from(self.target) - eye).normalize();
@@ -309,14 +328,18 @@ impl Camera {
             right,
             up,
             tan_half_y: (self.fov_y.to_radians() * 0.5).tan(),
-            aspect: self.width as f64 / self.height as f64,
+            aspect: {
+                let ((fw, fh), _) = self.full();
+                fw as f64 / fh as f64
+            },
         }
     }
 
     /// Unit direction of the ray through the centre of pixel (row i, column j).
     pub fn ray_dir(&self, b: &CameraBasis, i: u32, j: u32) -> DVec3 {
-        let x = ((j as f64 + 0.5) / self.width as f64) * 2.0 - 1.0;
-        let y = 1.0 - ((i as f64 + 0.5) / self.height as f64) * 2.0;
+        let ((fw, fh), (x0, y0)) = self.full();
+        let x = (((x0 + j) as f64 + 0.5) / fw as f64) * 2.0 - 1.0;
+        let y = 1.0 - (((y0 + i) as f64 + 0.5) / fh as f64) * 2.0;
         (b.forward + b.right * (x * b.tan_half_y * b.aspect) + b.up * (y * b.tan_half_y))
             .normalize()
     }
@@ -344,7 +367,19 @@ impl Camera {
             DVec4::new(0.0, 0.0, r, -1.0),
             DVec4::new(0.0, 0.0, r * near, 0.0),
         );
-        (proj * view).as_mat4()
+        // a window: the full image's clip space, scaled and shifted so that the window's pixels
+        // fill [-1, 1]
+        let ((fw, fh), (x0, y0)) = self.full();
+        let (sx, sy) = (fw as f64 / self.width as f64, fh as f64 / self.height as f64);
+        let cx = (2.0 * x0 as f64 + self.width as f64) / fw as f64 - 1.0;
+        let cy = 1.0 - (2.0 * y0 as f64 + self.height as f64) / fh as f64;
+        let crop = DMat4::from_cols(
+            DVec4::new(sx, 0.0, 0.0, 0.0),
+            DVec4::new(0.0, sy, 0.0, 0.0),
+            DVec4::new(0.0, 0.0, 1.0, 0.0),
+            DVec4::new(-sx * cx, -sy * cy, 0.0, 1.0),
+        );
+        (crop * proj * view).as_mat4()
     }
 }
 

@@ -30,6 +30,10 @@ pub const LIBRARY: &[(&str, &str)] = &[
         include_str!("../shaders/object.wgsl"),
     ),
     ("shaders/cost.wgsl", include_str!("../shaders/cost.wgsl")),
+    (
+        "shaders/max_tables.wgsl",
+        include_str!("../shaders/max_tables.wgsl"),
+    ),
     ("shaders/aov.wgsl", include_str!("../shaders/aov.wgsl")),
     ("shaders/frame.wgsl", include_str!("../shaders/frame.wgsl")),
     (

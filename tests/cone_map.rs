@@ -26,6 +26,7 @@ fn cone_map(r: &Renderer, map: HeightMap, cones: Cones) -> Vec<[f32; 2]> {
             fov_y: 30.0,
             width: 8,
             height: 8,
+            window: None,
         },
         vec![],
         [0.0; 3],
@@ -41,8 +42,10 @@ fn cone_map(r: &Renderer, map: HeightMap, cones: Cones) -> Vec<[f32; 2]> {
         PerPixel::off(),
     );
     match r.method_resources(&scene, &m).unwrap().as_slice() {
-        [Resident::Buffer(b)] => read_cone_map(&r.ctx, b).unwrap(),
-        other => panic!("ConeStep declares one buffer, got {other:?}"),
+        [Resident::Texture(b), Resident::Texture(w)] => {
+            read_cone_map(&r.ctx, &[b.clone(), w.clone()]).unwrap()
+        }
+        other => panic!("ConeStep declares two textures, got {other:?}"),
     }
 }
 

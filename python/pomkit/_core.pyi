@@ -2,7 +2,7 @@
 as the dict `pomkit.Scene._describe()` returns, methods as the dataclasses of pomkit._methods
 (extracted field by field into the core's typed `Method`)."""
 
-from typing import Any, Literal, Optional, Sequence, TypedDict, final, type_check_only
+from typing import Any, Callable, Literal, Optional, Sequence, TypedDict, final, type_check_only
 
 import numpy as np
 
@@ -10,7 +10,7 @@ from ._methods import Method
 
 __all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "CONE_KINDS", "DeviceLostError", "FILTERING_KINDS", "GpuError", "HeightData", "MAX_LIGHTS",
            "MAX_STEPS_LIMIT", "MeshData", "NCS_MAP_SIZE", "NoAdapterError", "REFINE_KINDS", "Renderer", "SHADOW_KINDS",
-           "__version__", "adapters", "exact_uv", "load_image", "mesh_from_arrays", "mesh_generate", "tessellate"]
+           "__version__", "adapters", "exact_uv", "load_image", "mesh_from_arrays", "mesh_generate", "set_cache_dir", "set_progress_hook", "tessellate"]
 __version__: str
 NCS_MAP_SIZE: int
 MAX_LIGHTS: int
@@ -147,3 +147,5 @@ def mesh_from_arrays(positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray
 def mesh_generate(kind: Literal["plane", "sphere", "torus", "cylinder", "cube"], a: float, b: float, n1: int,
                   n2: int) -> tuple[np.ndarray, ...]: ...
 def load_image(path: Any, kind: Literal["height", "albedo"]) -> tuple[np.ndarray, int]: ...
+def set_progress_hook(hook: Optional[Callable[[str, int, int], None]]) -> None: ...
+def set_cache_dir(path: Optional[str]) -> None: ...

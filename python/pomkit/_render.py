@@ -9,7 +9,7 @@ from typing import Any, Iterable, Literal, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _core
+from . import _core, _progress
 from ._frame import AOV_NAMES, AovName, Frame
 from ._methods import Method
 from ._scene import Material, Scene
@@ -36,6 +36,7 @@ class Renderer:
             raise TypeError(f"adapter: expected a name or an index, got {type(adapter).__name__}")
         self._r = _core.Renderer(None if adapter is None else str(adapter))
         self.info: _core.RendererInfo = self._r.info()
+        _progress.install()
 
     def __repr__(self) -> str:
         i = self.info

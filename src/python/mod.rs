@@ -3,6 +3,7 @@
 
 mod frame;
 mod io;
+mod progress;
 mod methods;
 mod scene;
 
@@ -286,6 +287,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene::mesh_generate, m)?)?;
     m.add_function(wrap_pyfunction!(tessellate, m)?)?;
     m.add_function(wrap_pyfunction!(io::load_image, m)?)?;
+    m.add_function(wrap_pyfunction!(progress::set_progress_hook, m)?)?;
+    m.add_function(wrap_pyfunction!(progress::set_cache_dir, m)?)?;
     m.add("GpuError", m.py().get_type::<GpuError>())?;
     m.add("DeviceLostError", m.py().get_type::<DeviceLostError>())?;
     m.add("NoAdapterError", m.py().get_type::<NoAdapterError>())?;

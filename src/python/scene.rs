@@ -258,6 +258,7 @@ pub fn scene_from_py(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
         fov_y: item(cam, "fov_y")?.extract()?,
         width: item(cam, "width")?.extract()?,
         height: item(cam, "height")?.extract()?,
+        window: None,
     };
     let mut lights = Vec::new();
     let ls = item(d, "lights")?;

@@ -447,6 +447,12 @@ impl Frame {
     /// the one-sample frame's (its pixel centre), so that they keep their per-pixel meaning
     /// exactly. GPU and wall time are the two passes' sums.
     pub fn supersampled(big: Frame, k: u32, plain: Option<Frame>) -> Frame {
+        Frame::reduced(big, k).with_plain(plain)
+    }
+
+    /// `big` (k x k samples per pixel) reduced to its pixels: colour the mean of each pixel's
+    /// samples, coverage the fraction that hit; AOVs of another source are dropped.
+    pub fn reduced(big: Frame, k: u32) -> Frame {
         let (k, bw) = (k as usize, big.width as usize);
         let (w, h) = (bw / k, big.height as usize / k);
         let mean = |v: &[f32], comps: usize| -> Vec<f32> {
@@ -463,29 +469,77 @@ impl Frame {
             let n = (k * k) as f64;
             out.into_iter().map(|x| (x / n) as f32).collect()
         };
-        let mut aovs = big.aovs;
-        let (mut gpu, mut wall) = (big.gpu_ms, big.wall_ms);
-        let mut rest: Vec<Option<AovData>> = vec![None; AOVS.len()];
-        if let Some(p) = plain {
-            debug_assert_eq!((p.width as usize, p.height as usize), (w, h));
-            aovs = Aovs(aovs.0 | p.aovs.0);
-            gpu = gpu.zip(p.gpu_ms).map(|(a, b)| a + b);
-            wall += p.wall_ms;
-            rest = p.data;
-        }
+        let mut aovs = Aovs(0);
         let data = AOVS
             .iter()
-            .zip(big.data.into_iter().zip(rest))
-            .map(|(a, (d, r))| match (a.source, d) {
+            .enumerate()
+            .zip(big.data)
+            .map(|((i, a), d)| match (a.source, d) {
                 (Source::ColorRgb | Source::Coverage, Some(AovData::F32(v))) => {
+                    aovs.0 |= 1 << i;
                     Some(AovData::F32(mean(&v, a.comps)))
                 }
-                _ => r,
+                _ => None,
             })
             .collect();
         Frame {
             width: w as u32,
             height: h as u32,
+            aovs,
+            data,
+            gpu_ms: big.gpu_ms,
+            wall_ms: big.wall_ms,
+        }
+    }
+
+    /// This frame's AOVs with `plain`'s added where this frame has none (the one-sample pass of
+    /// a supersampled frame); GPU and wall time are the sums.
+    pub fn with_plain(mut self, plain: Option<Frame>) -> Frame {
+        if let Some(p) = plain {
+            debug_assert_eq!((p.width, p.height), (self.width, self.height));
+            self.aovs = Aovs(self.aovs.0 | p.aovs.0);
+            self.gpu_ms = self.gpu_ms.zip(p.gpu_ms).map(|(a, b)| a + b);
+            self.wall_ms += p.wall_ms;
+            for (d, r) in self.data.iter_mut().zip(p.data) {
+                if d.is_none() {
+                    *d = r;
+                }
+            }
+        }
+        self
+    }
+
+    /// A `width` x `height` frame from float AOVs rendered in tiles, each tile at its pixel
+    /// origin (x, y); GPU and wall time are the tiles' sums.
+    pub fn tiled(width: u32, height: u32, tiles: Vec<((u32, u32), Frame)>) -> Frame {
+        let (w, h) = (width as usize, height as usize);
+        let mut data: Vec<Option<AovData>> = vec![None; AOVS.len()];
+        let mut aovs = Aovs(0);
+        let (mut gpu, mut wall) = (Some(0.0), 0.0);
+        for ((x0, y0), t) in tiles {
+            aovs = Aovs(aovs.0 | t.aovs.0);
+            gpu = gpu.zip(t.gpu_ms).map(|(a, b)| a + b);
+            wall += t.wall_ms;
+            let tw = t.width as usize;
+            for ((a, d), src) in AOVS.iter().zip(data.iter_mut()).zip(t.data) {
+                let Some(src) = src else { continue };
+                let AovData::F32(v) = src else {
+                    panic!("Frame::tiled pastes float AOVs only ({})", a.name)
+                };
+                let c = a.comps;
+                let dst = match d.get_or_insert_with(|| AovData::F32(vec![0.0; w * h * c])) {
+                    AovData::F32(dst) => dst,
+                    _ => unreachable!(),
+                };
+                for (r, row) in v.chunks(tw * c).enumerate() {
+                    let o = ((y0 as usize + r) * w + x0 as usize) * c;
+                    dst[o..o + row.len()].copy_from_slice(row);
+                }
+            }
+        }
+        Frame {
+            width,
+            height,
             aovs,
             data,
             gpu_ms: gpu,

@@ -36,6 +36,10 @@ use targets::Targets;
 
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
+/// Samples a side of one supersampled pass at most: larger frames render their samples in tiles
+/// (`Renderer::render_many_spp`). 4096² samples are 320 MiB of targets and readback.
+pub const SPP_TILE_SAMPLES: u32 = 4096;
+
 /// Samplers, and the stand-in bound where a frame has no shadow map.
 struct Fixed {
     height_sampler: wgpu::Sampler,
@@ -200,7 +204,7 @@ impl Renderer {
                     builders: &self.builders,
                     object: obj,
                     height_size: (height.width, height.height),
-                    height_max: &height.max_buf,
+                    height_max: [&height.max0_view, &height.max_atlas_view],
                     mesh: &mesh,
                 };
                 Some(res.method(r.as_ref(), &inputs)?)
@@ -246,10 +250,15 @@ impl Renderer {
         let maxd = lim.max_texture_dimension_2d;
         let dims = |arg: &str, what: &str, w: u32, h: u32| -> Result<()> {
             if w > maxd || h > maxd {
+                let way_out = if arg == "width" {
+                    "lower the resolution (spp= renders its samples in tiles)".to_string()
+                } else {
+                    format!("crop it to at most {maxd} a side, or resample it: pk.textures.fit({arg}, {}) gives its centred square at that size", w.min(h).min(maxd))
+                };
                 return Err(Error::limit(
                     arg,
                     format!(
-                        "{what} {w}x{h} exceeds the device's max_texture_dimension_2d = {maxd}"
+                        "{what} {w}x{h} exceeds the device's max_texture_dimension_2d = {maxd}; {way_out}"
                     ),
                 ));
             }
@@ -320,41 +329,88 @@ impl Renderer {
         if k == 1 {
             return self.render_many(scenes, method, aovs);
         }
-        let maxd = self.ctx.limits.max_texture_dimension_2d;
-        let big: Vec<Scene> = scenes
-            .iter()
-            .map(|s| {
-                let mut s = s.clone();
-                let (w, h) = (s.camera.width as u64 * k as u64, s.camera.height as u64 * k as u64);
-                if w > maxd as u64 || h > maxd as u64 {
-                    return Err(Error::limit(
-                        "spp",
-                        format!(
-                            "{}x{} pixels at spp={spp} is a {w}x{h} pass, over the device's max_texture_dimension_2d = {maxd}; lower spp or the resolution",
-                            s.camera.width, s.camera.height
-                        ),
-                    ));
-                }
-                s.camera.width = w as u32;
-                s.camera.height = h as u32;
-                Ok(s)
-            })
-            .collect::<Result<_>>()?;
         // colour and coverage from the samples; the other AOVs from a one-sample pass
         let (ss, rest) = aovs.split_supersampled();
-        let plain = match rest {
+        let plain: Vec<Option<Frame>> = match rest {
             Some(a) => self.render_many(scenes, method, a)?.into_iter().map(Some).collect(),
             None => vec![None; scenes.len()],
         };
-        let bigs = match ss {
-            Some(a) => self.render_many(&big, method, a)?,
-            None => return Ok(plain.into_iter().flatten().collect()),
+        let Some(ss) = ss else {
+            return Ok(plain.into_iter().flatten().collect());
         };
-        Ok(bigs
-            .into_iter()
+        let tile = self.spp_tile(k);
+        let untiled = scenes
+            .iter()
+            .all(|s| s.camera.width <= tile && s.camera.height <= tile);
+        if untiled {
+            let big: Vec<Scene> = scenes.iter().map(|s| Self::samples(s, k, None)).collect();
+            let bigs = self.render_many(&big, method, ss)?;
+            return Ok(bigs
+                .into_iter()
+                .zip(plain)
+                .map(|(b, p)| Frame::supersampled(b, k, p))
+                .collect());
+        }
+        // past the tile's size: the samples in tiles of at most `tile` pixels a side (windows
+        // of the full camera), each reduced to its pixels before the next, so that memory is
+        // bounded by one tile's k² samples whatever the frame's size
+        scenes
+            .iter()
             .zip(plain)
-            .map(|(b, p)| Frame::supersampled(b, k, p))
-            .collect())
+            .map(|(s, p)| Ok(self.render_tiled(s, method, ss, k, tile)?.with_plain(p)))
+            .collect()
+    }
+
+    /// The supersampled colour and coverage (`aovs`) of `scene` at k x k samples per pixel,
+    /// rendered in tiles of `tile` pixels a side (windows of the full camera), each reduced to
+    /// its pixels before the next: memory is bounded by one tile's k² samples whatever the
+    /// frame's size. Equal to one pass over the whole frame up to rasterisation rounding.
+    pub fn render_tiled(
+        &self,
+        scene: &Scene,
+        method: &Method,
+        aovs: Aovs,
+        k: u32,
+        tile: u32,
+    ) -> Result<Frame> {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        let tile = tile.max(1);
+        let mut tiles = Vec::new();
+        for y0 in (0..h).step_by(tile as usize) {
+            for x0 in (0..w).step_by(tile as usize) {
+                let rect = (x0, y0, tile.min(w - x0), tile.min(h - y0));
+                let big = Self::samples(scene, k, Some(rect));
+                let f = self
+                    .render_many(std::slice::from_ref(&big), method, aovs)?
+                    .pop()
+                    .expect("one frame");
+                tiles.push(((x0, y0), Frame::reduced(f, k)));
+            }
+        }
+        Ok(Frame::tiled(w, h, tiles))
+    }
+
+    /// Pixels a side of one supersampled pass at k x k samples per pixel: its k² samples within
+    /// `SPP_TILE_SAMPLES` (and the device's texture limit) a side.
+    fn spp_tile(&self, k: u32) -> u32 {
+        (SPP_TILE_SAMPLES.min(self.ctx.limits.max_texture_dimension_2d) / k).max(1)
+    }
+
+    /// The scene of `s`'s samples at k x k per pixel: its camera k times as fine, over the whole
+    /// image or over the window `rect` (x, y, w, h in pixels).
+    fn samples(s: &Scene, k: u32, rect: Option<(u32, u32, u32, u32)>) -> Scene {
+        let mut s = s.clone();
+        let (w, h) = (s.camera.width, s.camera.height);
+        if let Some((x0, y0, tw, th)) = rect {
+            s.camera.window = Some(crate::scene::Window {
+                full: (w * k, h * k),
+                origin: (x0 * k, y0 * k),
+            });
+            (s.camera.width, s.camera.height) = (tw * k, th * k);
+        } else {
+            (s.camera.width, s.camera.height) = (w * k, h * k);
+        }
+        s
     }
 
     /// Render many frames with one method, pipelined: frame i+1 is submitted before frame i is
@@ -537,7 +593,8 @@ impl Renderer {
                         R::Sampler(&f.height_sampler),
                         R::TextureView(&albedo),
                         R::Sampler(&f.albedo_sampler),
-                        height.max_buf.as_entire_binding(),
+                        R::TextureView(&height.max0_view),
+                        R::TextureView(&height.max_atlas_view),
                     ],
                 );
                 let mut m = vec![params.as_entire_binding()];

@@ -127,7 +127,8 @@ impl Pipelines {
                     samp(2, filterable),
                     tex(3, true),
                     samp(4, true),
-                    layout::buffer(5, vf, wgpu::BufferBindingType::Storage { read_only: true }),
+                    tex(5, false),
+                    tex(6, false),
                 ],
             });
             Ok(Self {
@@ -166,6 +167,9 @@ impl Pipelines {
                     layout::buffer(b, vf, wgpu::BufferBindingType::Storage { read_only: true })
                 }
                 ResourceKind::TextureUint => layout::texture(b, vf, wgpu::TextureSampleType::Uint),
+                ResourceKind::TextureFloat => {
+                    layout::texture(b, vf, wgpu::TextureSampleType::Float { filterable: false })
+                }
             });
         }
         let l = ctx.scoped(|| {

@@ -22,9 +22,10 @@
 #import pomkit::maxmip::{cell_intersect, maxmip_traverse, positive_start}
 #import pomkit::height::{height_at, wrap_i}
 
-// the method's own resource (group 2, binding 1): the cone map, (base, w) per cell, row-major
-// (cone_map.wgsl)
-@group(2) @binding(1) var<storage, read> cone_buf: array<vec2<f32>>;
+// the method's own resources (group 2, bindings 1 and 2): the cone map, base and w per cell, in
+// two textures of the map's size (cone_map.wgsl)
+@group(2) @binding(1) var cone_base: texture_2d<f32>;
+@group(2) @binding(2) var cone_w: texture_2d<f32>;
 
 // the cell the ray at p travels through next (on a boundary: the one ahead along dir)
 fn cell_ahead(p: vec2<f32>, dir: vec2<f32>) -> vec2<i32> {
@@ -34,8 +35,9 @@ fn cell_ahead(p: vec2<f32>, dir: vec2<f32>) -> vec2<i32> {
 // (base, w) of a cell
 fn cone_of(c: vec2<i32>) -> vec2<f32> {
     let d = vec2<i32>(G.map_size);
-    fetched(1u, 8u);
-    return cone_buf[wrap_i(c.y, d.y) * d.x + wrap_i(c.x, d.x)];
+    let p = vec2<i32>(wrap_i(c.x, d.x), wrap_i(c.y, d.y));
+    fetched(2u, 8u);
+    return vec2<f32>(textureLoad(cone_base, p, 0).r, textureLoad(cone_w, p, 0).r);
 }
 
 // how far (in height drop) the ray at height 1 - t may go under the cone without meeting the

@@ -30,15 +30,15 @@ crate::option_enum!(
     }
 );
 
-/// The cone map of an object's height map: one (base, w) pair of f32 per cell, a storage buffer
-/// at group 2, binding 1 (`cone_buf` in cone_step.wgsl). Keyed by the map's content and the
-/// kind of cones, so a height update (a new key) builds it anew.
+/// The cone map of an object's height map: one (base, w) pair of f32 per cell, two textures at
+/// group 2, bindings 1 and 2 (`cone_base`, `cone_w` in cone_step.wgsl). Keyed by the map's
+/// content and the kind of cones, so a height update (a new key) builds it anew.
 #[derive(Debug)]
 pub struct ConeMapResource(pub Cones);
 
 impl MethodResources for ConeMapResource {
     fn layout(&self) -> Vec<ResourceKind> {
-        vec![ResourceKind::Storage]
+        vec![ResourceKind::TextureFloat, ResourceKind::TextureFloat]
     }
     fn key(&self, object: &Object) -> u64 {
         hash_bytes(&[
@@ -51,9 +51,8 @@ impl MethodResources for ConeMapResource {
         let pass = inputs
             .builders
             .get("cone map", || cone_map::pass(inputs.ctx, inputs.composer))?;
-        Ok(vec![Resident::Buffer(cone_map::build(
-            &pass, inputs, self.0,
-        )?)])
+        let maps = cone_map::build(&pass, inputs, self.0, self.key(inputs.object))?;
+        Ok(maps.into_iter().map(Resident::Texture).collect())
     }
 }
 

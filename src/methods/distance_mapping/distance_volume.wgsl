@@ -7,29 +7,32 @@
 // underestimate of the distance to the bilinear field, so a sphere of that radius about any
 // point of the voxel, less the voxel's half diagonal, holds no surface.
 
+#import pomkit::max_tables::max_node
+
 struct VolumeParams {
+    // the first row of this dispatch's band (gpu::TablePass::run), in rows of y * slices
+    band_row: u32,
+    slices: u32,
     // volume size in voxels (x, y) and slices (z)
     size: vec2<u32>,
-    slices: u32,
     radius: i32,
-    // element offset of the level's nodes in the max pyramid
+    // the level's x offset in the max pyramid's atlas, and the level
     offset: u32,
+    level: u32,
     pad0: u32,
-    pad1: u32,
-    pad2: u32,
 }
 
-@group(0) @binding(0) var<storage, read> maxb: array<f32>;
-@group(0) @binding(1) var<uniform> P: VolumeParams;
+@group(0) @binding(2) var<uniform> P: VolumeParams;
 // 4 header floats (size x, size y, slices, level), then the voxels, x fastest, then y, then z
-@group(0) @binding(2) var<storage, read_write> vol: array<f32>;
+@group(0) @binding(3) var<storage, read_write> vol: array<f32>;
 
 fn wrap(a: i32, n: i32) -> i32 {
     return ((a % n) + n) % n;
 }
 
 @compute @workgroup_size(8, 8)
-fn build(@builtin(global_invocation_id) id: vec3<u32>) {
+fn build(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let id = vec2<u32>(gid.x, gid.y + P.band_row);
     let w = i32(P.size.x);
     let h = i32(P.size.y);
     let d = i32(P.slices);
@@ -47,10 +50,10 @@ fn build(@builtin(global_invocation_id) id: vec3<u32>) {
         if (dy >= best) {
             continue;
         }
-        let row = u32(wrap(j + dj, h)) * P.size.x;
+        let row = wrap(j + dj, h);
         for (var di = -r; di <= r; di = di + 1) {
             let dx = max(f32(abs(di)) - 0.5, 0.0);
-            let top = maxb[P.offset + row + u32(wrap(i + di, w))] * f32(d);
+            let top = max_node(vec2<i32>(wrap(i + di, w), row), P.level, P.offset) * f32(d);
             let dz = max(pz - top, 0.0);
             best = min(best, length(vec3<f32>(dx, dy, dz)));
         }

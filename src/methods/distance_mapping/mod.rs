@@ -7,7 +7,7 @@ mod volume;
 
 use super::{check_range, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::contract::{BuildInputs, MethodResources, Resident, ResourceKind};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::scene::{hash_bytes, Object};
 use std::sync::Arc;
 
@@ -52,6 +52,21 @@ impl MethodResources for DistanceVolume {
         })?;
         let (w, h) = inputs.height_size;
         let l = Layout::of(w, h, self.slices, MAX_VOXELS);
+        let lim = inputs.ctx.limits.max_storage_buffer_binding_size as u64;
+        if l.bytes() > lim {
+            // only maps whose sides no power of two divides are read at level 0
+            return Err(Error::limit(
+                "height",
+                format!(
+                    "DistanceMapping's volume of a {w}x{h} map is {}x{}x{} voxels ({} bytes), over the device's max_storage_buffer_binding_size = {lim}: a map whose sides no power of two divides is read at full resolution. Resample it to even sides (pk.textures.fit(height, {})) or lower slices",
+                    l.size.0,
+                    l.size.1,
+                    l.slices,
+                    l.bytes(),
+                    (w.max(h) / 2 * 2).max(2)
+                ),
+            ));
+        }
         Ok(vec![Resident::Buffer(volume::build(
             &pass, inputs, l, RADIUS,
         )?)])

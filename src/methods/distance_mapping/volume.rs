@@ -2,8 +2,8 @@
 
 use crate::contract::{BuildInputs, Composer};
 use crate::error::Result;
-use crate::gpu::{Context, TablePass};
-use crate::heightmap::{level_size, max_offsets, top_maxmip_level};
+use crate::gpu::{Context, TableOut, TablePass, TableTarget};
+use crate::heightmap::{level_size, max_atlas, top_maxmip_level};
 
 pub const VOLUME_SHADER: &str = include_str!("distance_volume.wgsl");
 
@@ -41,11 +41,13 @@ impl Layout {
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct VolumeParams {
-    size: [u32; 2],
+    band_row: u32,
     slices: u32,
+    size: [u32; 2],
     radius: i32,
     offset: u32,
-    pad: [u32; 3],
+    level: u32,
+    pad: u32,
 }
 
 /// The distance volume's pass (distance_volume.wgsl), made once per renderer.
@@ -56,6 +58,7 @@ pub fn pass(ctx: &Context, lib: &dyn Composer) -> Result<TablePass> {
         "distance volume",
         lib.compose_pass(VOLUME_SHADER, file)?,
         "build",
+        &[TableOut::Buffer],
     )
 }
 
@@ -89,19 +92,23 @@ pub fn build(
             .write_buffer(&buf, 0, bytemuck::cast_slice(&header));
         Ok(buf)
     })?;
+    let (w, h) = inputs.height_size;
     let p = VolumeParams {
-        size: [l.size.0, l.size.1],
+        band_row: 0,
         slices: l.slices,
+        size: [l.size.0, l.size.1],
         radius: radius as i32,
-        offset: max_offsets(inputs.height_size.0, inputs.height_size.1).0[l.level as usize],
-        pad: [0; 3],
+        offset: max_atlas(w, h).0[l.level as usize],
+        level: l.level,
+        pad: 0,
     };
     pass.run(
         ctx,
         inputs.height_max,
         bytemuck::bytes_of(&p),
-        &buf,
+        &[TableTarget::Buffer(&buf)],
         (l.size.0, l.size.1 * l.slices),
+        &mut |done, total| crate::progress::report("distance volume", done as u64, total as u64),
     )?;
     Ok(buf)
 }

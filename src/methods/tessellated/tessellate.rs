@@ -136,7 +136,17 @@ pub fn tessellate(mesh: &Mesh, mat: &Material, texels_per_vertex: f64) -> Result
     };
     let check = |n: usize| -> Result<()> {
         if n > MAX_VERTICES {
-            return Err(Error::limit("resolution", format!("the displaced mesh would need {n} vertices (limit {MAX_VERTICES}); lower the resolution or the map size")));
+            // vertices grow as 1/tpv²: the least tpv that fits, rounded up to 2 decimals
+            let fit = (tpv * (n as f64 / MAX_VERTICES as f64).sqrt() * 100.0).ceil() / 100.0;
+            return Err(Error::limit(
+                "texels_per_vertex",
+                format!(
+                    "the displaced mesh of a {}x{} map at {tpv} texels per vertex needs {n} vertices, over pomkit's limit of {MAX_VERTICES}; use at least {fit} texels per vertex (pk.Tessellated(texels_per_vertex={fit}), or resolution={:.4} for pk.reference), or resample the map with pk.textures.fit",
+                    hm.width,
+                    hm.height,
+                    1.0 / fit
+                ),
+            ));
         }
         Ok(())
     };

@@ -1,0 +1,76 @@
+//! Progress of long builds, and where they are kept on disk.
+//!
+//! A method's builder (the cone map, the distance volume) reports the rows it has done to the
+//! hook the caller set (the Python layer sets one that shows a tqdm bar once a build has run
+//! for 2 s). A build that took longer than `KEEP_AFTER` is kept in the cache directory the
+//! caller set (Python's `pomkit._cache.cache_dir()`), keyed by what it is built from and by the
+//! builder's own source, and read from there next time instead of being built again.
+
+use std::path::PathBuf;
+use std::sync::{Arc, RwLock};
+use std::time::Duration;
+
+/// A build that took longer than this is kept on disk.
+pub const KEEP_AFTER: Duration = Duration::from_secs(1);
+
+pub type Hook = Arc<dyn Fn(&str, u64, u64) + Send + Sync>;
+
+static HOOK: RwLock<Option<Hook>> = RwLock::new(None);
+static DIR: RwLock<Option<PathBuf>> = RwLock::new(None);
+
+/// Set (or clear) the hook told `(label, done, total)` as a build goes.
+pub fn set_hook(hook: Option<Hook>) {
+    if let Ok(mut h) = HOOK.write() {
+        *h = hook;
+    }
+}
+
+/// Tell the hook, if any, that `done` of `total` units of the build `label` are done.
+pub fn report(label: &str, done: u64, total: u64) {
+    let hook = HOOK.read().ok().and_then(|h| h.clone());
+    if let Some(h) = hook {
+        h(label, done, total);
+    }
+}
+
+/// Set (or clear) the directory long builds are kept in.
+pub fn set_cache_dir(dir: Option<PathBuf>) {
+    if let Ok(mut d) = DIR.write() {
+        *d = dir;
+    }
+}
+
+fn path(kind: &str, key: u64) -> Option<PathBuf> {
+    DIR.read()
+        .ok()
+        .and_then(|d| d.clone())
+        .map(|d| d.join(format!("{kind}-{key:016x}.bin")))
+}
+
+/// The bytes kept for (`kind`, `key`), if any and of the expected length (a short or damaged
+/// file is removed and built again).
+pub fn load(kind: &str, key: u64, len: usize) -> Option<Vec<u8>> {
+    let p = path(kind, key)?;
+    let bytes = std::fs::read(&p).ok()?;
+    let (head, body) = bytes.split_at_checked(16)?;
+    let ok = head[..8] == *b"pomkit01" && head[8..] == key.to_le_bytes() && body.len() == len;
+    if !ok {
+        let _ = std::fs::remove_file(&p);
+        return None;
+    }
+    Some(body.to_vec())
+}
+
+/// Keep `bytes` for (`kind`, `key`) (written beside and renamed, so that a reader never sees a
+/// partial file). Failing to keep a build is not an error.
+pub fn store(kind: &str, key: u64, bytes: &[u8]) {
+    let Some(p) = path(kind, key) else { return };
+    let tmp = p.with_extension(format!("tmp{}", std::process::id()));
+    let mut out = Vec::with_capacity(bytes.len() + 16);
+    out.extend_from_slice(b"pomkit01");
+    out.extend_from_slice(&key.to_le_bytes());
+    out.extend_from_slice(bytes);
+    if std::fs::write(&tmp, &out).is_ok() && std::fs::rename(&tmp, &p).is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+}

@@ -1,0 +1,109 @@
+"""Maps of any size up to the device's max_texture_dimension_2d render with every method, and
+past a limit a ValueError names the limit, the size asked for and the way out; supersampling has
+no size ceiling (issue 31).
+
+Each size case renders a small frame (the map's size is what is tested). Hypothesis draws sizes
+from 1 to the limit on each axis, up to 2^22 texels (so that a case takes seconds); the explicit
+cases reach the limit on one axis, and 8192² with the oracle. scripts/large_maps.py measures
+8192² and 16384² with every method (time, peak RSS).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import pomkit as pk
+from pomkit._methods import ALL_METHODS
+
+R = pk.Renderer()
+LIMIT = R.info["max_texture_dimension_2d"]
+# the words a clear error holds: a limit's name, and a way out
+WAYS_OUT = ("pk.textures.fit", "crop", "texels_per_vertex", "resample", "lower")
+
+
+def _scene(h: np.ndarray, size: int = 12, mesh=None) -> pk.Scene:
+    return pk.Scene(mesh=mesh or pk.Mesh.plane(2.0), material=pk.Material(h, depth=0.08),
+                    camera=pk.Camera.look_at((0.0, 1.2, 1.2), fov_y=30.0, width=size, height=size),
+                    lights=[pk.DirectionalLight((-0.3, -1.0, -0.2), 3.0)])
+
+
+def _map(w: int, h: int, seed: int = 0) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    return rng.random((h, w), dtype=np.float32)
+
+
+def _renders_or_says_why(scene: pk.Scene, method: pk.Method) -> str:
+    try:
+        f = R.render(scene, method, aovs=("color", "mask"))
+    except ValueError as e:
+        msg = str(e)
+        assert "max_" in msg or "limit" in msg, f"{method!r}: a ValueError that names no limit: {msg}"
+        assert any(w in msg for w in WAYS_OUT), f"{method!r}: a ValueError with no way out: {msg}"
+        return "refused"
+    assert f.mask.any(), f"{method!r}: nothing hit"
+    assert np.isfinite(f.color).all() and (f.color >= 0).all(), f"{method!r}: colour not finite"
+    return "rendered"
+
+
+@st.composite
+def _sizes(draw):
+    w = draw(st.integers(1, LIMIT))
+    h = draw(st.integers(1, min(LIMIT, (1 << 22) // w)))
+    return (h, w) if draw(st.booleans()) else (w, h)
+
+
+@settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.too_slow], derandomize=True)
+@given(size=_sizes(), method=st.sampled_from(ALL_METHODS))
+def test_any_size_renders_with_any_method(size, method):
+    w, h = size
+    outcome = _renders_or_says_why(_scene(_map(w, h)), method())
+    # only an odd-sized map's distance volume may be refused (its level-0 volume)
+    if outcome == "refused":
+        assert method is pk.DistanceMapping and (w % 2 or h % 2), (w, h, method)
+
+
+@pytest.mark.parametrize("shape", [(LIMIT, 1), (1, LIMIT), (37, LIMIT), (LIMIT, 3)])
+@pytest.mark.parametrize("method", ALL_METHODS, ids=lambda m: m.__name__)
+def test_the_limit_on_one_axis(shape, method):
+    w, h = shape
+    outcome = _renders_or_says_why(_scene(_map(w, h)), method())
+    if outcome == "refused":
+        assert method is pk.DistanceMapping and (w % 2 or h % 2)
+
+
+def test_one_past_the_limit_is_a_clear_error():
+    for shape in ((1, LIMIT + 1), (LIMIT + 1, 8)):
+        with pytest.raises(ValueError, match=r"height: height map .* exceeds the device's max_texture_dimension_2d") as e:
+            R.render(_scene(np.zeros(shape, np.float32)), pk.POM())
+        assert "pk.textures.fit" in str(e.value) and "crop" in str(e.value)
+
+
+def test_8192_exact_meets_the_oracle():
+    """Issue 31's check: Exact within 0.01 texel p99 of the oracle on an 8192² map."""
+    h = pk.textures.fit(pk.textures.noise(512), None)
+    big = np.kron(h, np.ones((16, 16), np.float32))  # 8192², plateaus 16 texels wide
+    big = np.clip(big + 0.02 * _map(8192, 8192), 0, 1)
+    scene = _scene(big, size=48)
+    f = R.render(scene, pk.Exact(), aovs=("uv", "mask"))
+    o = pk.exact_uv(scene)
+    err = pk.metrics.uv_error(f, o, scene)
+    assert err["mask_iou"] > 0.99 and err["p99"] < 0.01, err
+
+
+def test_tessellated_names_the_texels_per_vertex_that_fits():
+    with pytest.raises(ValueError, match=r"texels_per_vertex: .* use at least ([0-9.]+) texels per vertex") as e:
+        R.render(_scene(np.zeros((8192, 8192), np.float32)), pk.Tessellated(1.0), aovs=("mask",))
+    fit = float(str(e.value).split("use at least ")[1].split()[0])
+    assert 1.0 < fit < 2.0
+
+
+def test_supersampling_at_any_size():
+    """spp=256 at 1024² (a 16384² sample grid, rendered in tiles) gives one frame, its colour
+    finite and its coverage a fraction (tests/core_render.rs holds tiles equal to one pass)."""
+    h = pk.textures.bricks(128)
+    big = R.render(_scene(h, size=1024), pk.POM(), spp=256, aovs=("color", "coverage"))
+    assert big.color.shape == (1024, 1024, 3) and np.isfinite(big.color).all()
+    assert 0.9 < big.coverage.mean() <= 1.0
