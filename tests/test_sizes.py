@@ -107,3 +107,68 @@ def test_supersampling_at_any_size():
     big = R.render(_scene(h, size=1024), pk.POM(), spp=256, aovs=("color", "coverage"))
     assert big.color.shape == (1024, 1024, 3) and np.isfinite(big.color).all()
     assert 0.9 < big.coverage.mean() <= 1.0
+
+
+CONE_CASE = r"""
+import hashlib, sys
+import numpy as np
+import pomkit as pk
+from pomkit import _core
+sys.path.insert(0, sys.argv[1])
+from test_sizes import _map, _scene
+r = pk.Renderer()
+seen = []
+_core.set_progress_hook(lambda label, done, total: seen.append(label))
+f = r.render(_scene(_map(4096, 4096, seed=5), size=32), pk.ConeStep(), aovs=("uv", "mask"))
+print(hashlib.sha256(np.nan_to_num(f.uv).tobytes()).hexdigest(), seen.count("cone map"))
+"""
+
+
+def test_a_long_cone_map_build_reports_progress_and_is_kept(tmp_path):
+    """A 4096² cone map takes seconds here: the build reports its rows (the first process) and is
+    kept on disk by content; a second process reads it (no build, so no report) and renders the
+    same frame; a damaged file is built again."""
+    import os
+    import subprocess
+    import sys
+    env = dict(os.environ, POMKIT_CACHE=str(tmp_path))
+    run = lambda: subprocess.run([sys.executable, "-c", CONE_CASE, os.path.dirname(__file__)], env=env,
+                                 capture_output=True, text=True, timeout=600)
+    a = run()
+    assert a.returncode == 0, a.stderr[-2000:]
+    digest, reports = a.stdout.split()
+    assert int(reports) >= 2  # the start and the bands
+    kept = list(tmp_path.glob("cone-map-*.bin"))
+    assert len(kept) == 1 and kept[0].stat().st_size == 16 + 4096 * 4096 * 8
+    b = run()
+    assert b.returncode == 0 and b.stdout.split() == [digest, "0"], b.stdout + b.stderr[-2000:]
+    kept[0].write_bytes(kept[0].read_bytes()[:1000])  # damaged: removed and built again
+    c = run()
+    assert c.returncode == 0 and c.stdout.split()[0] == digest and int(c.stdout.split()[1]) >= 2
+
+
+def test_a_bar_only_after_two_seconds(monkeypatch):
+    from pomkit import _progress
+    made = []
+
+    class Bar:
+        n = 0
+
+        def __init__(self, total, initial, **kw):
+            self.total, self.n = total, initial
+            made.append(self)
+
+        def update(self, k):
+            self.n += k
+
+        def close(self):
+            self.closed = True
+
+    clock = iter([0.0, 0.5, 1.0, 2.5, 3.0, 4.0])
+    monkeypatch.setattr(_progress.time, "monotonic", lambda: next(clock))
+    monkeypatch.setattr(_progress, "_bar", lambda label, total, done: Bar(total, done))
+    for done in (0, 10, 20, 30, 40):
+        _progress.report("cone map", done, 50)
+    assert len(made) == 1 and made[0].n == 40  # made at 2.5 s (30 rows), updated after
+    _progress.report("cone map", 50, 50)
+    assert made[0].closed and "cone map" not in _progress._builds

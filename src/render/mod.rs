@@ -270,7 +270,7 @@ impl Renderer {
         if bytes > lim.max_buffer_size {
             return Err(Error::limit(
                 "width",
-                format!("frame {}x{} needs a {bytes}-byte readback buffer; the device's max_buffer_size is {}", cam.width, cam.height, lim.max_buffer_size),
+                format!("frame {}x{} needs a {bytes}-byte readback buffer; the device's max_buffer_size is {}: lower the resolution (spp= renders its samples in tiles)", cam.width, cam.height, lim.max_buffer_size),
             ));
         }
         for o in &scene.objects {
@@ -285,7 +285,7 @@ impl Renderer {
                 return Err(Error::limit(
                     "mesh",
                     format!(
-                        "vertex buffer of {vbytes} bytes exceeds max_buffer_size = {}",
+                        "vertex buffer of {vbytes} bytes exceeds the device's max_buffer_size = {}: split the mesh into several pk.Object, or decimate it",
                         lim.max_buffer_size
                     ),
                 ));

@@ -42,10 +42,14 @@ impl MethodGeometry for PrismShell {
             || std::mem::size_of_val(data.as_slice()) as u64
                 > ctx.limits.max_storage_buffer_binding_size as u64
         {
+            let dbytes = std::mem::size_of_val(data.as_slice()) as u64;
             return Err(Error::limit(
                 "mesh",
                 format!(
-                    "the prisms need {vbytes} bytes of vertices; over the device's buffer limits"
+                    "the prisms of {} triangles need {vbytes} bytes of vertices and {dbytes} of prism data, over the device's max_buffer_size = {} or max_storage_buffer_binding_size = {}; render a mesh with fewer triangles (split it into several pk.Object, or decimate it)",
+                    mesh.indices.len() / 3,
+                    ctx.limits.max_buffer_size,
+                    ctx.limits.max_storage_buffer_binding_size
                 ),
             ));
         }
