@@ -416,7 +416,11 @@ impl MipBuilder {
                 let bg = ctx.bind_group(
                     "max level",
                     &self.max_layout,
-                    vec![R::TextureView(&src), R::TextureView(dst), ubuf.as_entire_binding()],
+                    vec![
+                        R::TextureView(&src),
+                        R::TextureView(dst),
+                        ubuf.as_entire_binding(),
+                    ],
                 );
                 Context::dispatch_8x8(&mut enc, "max level", pipe, 1, &bg, (dw, dh));
                 if k >= 1 {
@@ -465,7 +469,12 @@ pub fn write_r32(ctx: &Context, tex: &wgpu::Texture, bytes: &[u8], (w, h): (u32,
 }
 
 /// Read a `w x h` region at the origin of one mip level of an R32Float texture (tests, builds).
-pub fn read_r32(ctx: &Context, tex: &wgpu::Texture, mip_level: u32, (w, h): (u32, u32)) -> Result<Vec<f32>> {
+pub fn read_r32(
+    ctx: &Context,
+    tex: &wgpu::Texture,
+    mip_level: u32,
+    (w, h): (u32, u32),
+) -> Result<Vec<f32>> {
     let row = (w as u64 * 4).div_ceil(256) * 256;
     let buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("r32 readback"),
@@ -524,13 +533,26 @@ mod tests {
 
     #[test]
     fn the_max_atlas_fits_within_the_map_width_plus_its_levels() {
-        for (w, h) in [(1, 1), (1, 16384), (16384, 1), (16384, 16384), (16383, 9000), (3, 5)] {
+        for (w, h) in [
+            (1, 1),
+            (1, 16384),
+            (16384, 1),
+            (16384, 16384),
+            (16383, 9000),
+            (3, 5),
+        ] {
             let (offs, (aw, ah)) = max_atlas(w, h);
             assert_eq!(offs.len() as u32, mip_count(w, h));
-            assert!(aw <= w.max(1) + mip_count(w, h) && aw <= 16384, "{w}x{h}: {aw}");
+            assert!(
+                aw <= w.max(1) + mip_count(w, h) && aw <= 16384,
+                "{w}x{h}: {aw}"
+            );
             assert_eq!(ah, level_size(w, h, 1).1);
             for k in 1..offs.len() {
-                assert_eq!(offs[k] + level_size(w, h, k as u32).0, *offs.get(k + 1).unwrap_or(&aw));
+                assert_eq!(
+                    offs[k] + level_size(w, h, k as u32).0,
+                    *offs.get(k + 1).unwrap_or(&aw)
+                );
             }
         }
     }

@@ -370,7 +370,10 @@ impl Camera {
         // a window: the full image's clip space, scaled and shifted so that the window's pixels
         // fill [-1, 1]
         let ((fw, fh), (x0, y0)) = self.full();
-        let (sx, sy) = (fw as f64 / self.width as f64, fh as f64 / self.height as f64);
+        let (sx, sy) = (
+            fw as f64 / self.width as f64,
+            fh as f64 / self.height as f64,
+        );
         let cx = (2.0 * x0 as f64 + self.width as f64) / fw as f64 - 1.0;
         let cy = 1.0 - (2.0 * y0 as f64 + self.height as f64) / fh as f64;
         let crop = DMat4::from_cols(

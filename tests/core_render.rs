@@ -141,14 +141,29 @@ fn a_supersampled_frame_in_tiles_equals_one_pass() {
         PerPixel::off(),
     );
     let aovs = Aovs::parse(&["color", "coverage"]).unwrap();
-    let one = r.render_many_spp(std::slice::from_ref(&s), &m, aovs, 16).unwrap().remove(0);
+    let one = r
+        .render_many_spp(std::slice::from_ref(&s), &m, aovs, 16)
+        .unwrap()
+        .remove(0);
     let tiled = r.render_tiled(&s, &m, aovs, 4, 10).unwrap();
     for name in ["color", "coverage"] {
         let (a, b) = (one.f32s(name), tiled.f32s(name));
         assert_eq!(a.len(), b.len());
-        let worst = a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
-        let mean = a.iter().zip(b).map(|(x, y)| (x - y).abs() as f64).sum::<f64>() / a.len() as f64;
-        assert!(worst < 0.1 && mean < 1e-3, "{name}: worst {worst}, mean {mean}");
+        let worst = a
+            .iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0f32, f32::max);
+        let mean = a
+            .iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs() as f64)
+            .sum::<f64>()
+            / a.len() as f64;
+        assert!(
+            worst < 0.1 && mean < 1e-3,
+            "{name}: worst {worst}, mean {mean}"
+        );
     }
     assert!(one.f32s("coverage").iter().sum::<f32>() > 100.0);
 }

@@ -547,7 +547,9 @@ impl TablePass {
                     TableOut::Buffer => {
                         layout::buffer(b, cs, wgpu::BufferBindingType::Storage { read_only: false })
                     }
-                    TableOut::R32Float => layout::storage_texture(b, cs, wgpu::TextureFormat::R32Float),
+                    TableOut::R32Float => {
+                        layout::storage_texture(b, cs, wgpu::TextureFormat::R32Float)
+                    }
                 });
             }
             let layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

@@ -3,8 +3,8 @@
 
 mod frame;
 mod io;
-mod progress;
 mod methods;
+mod progress;
 mod scene;
 
 use crate::error::Error;
@@ -96,9 +96,8 @@ impl PyRenderer {
         let aovs = aovs_from_py(aovs)?;
         let scene = scene_from_py(scene)?;
         let r = self.inner.clone();
-        let mut frames = py.detach(move || {
-            r.render_many_spp(std::slice::from_ref(&scene), &method, aovs, spp)
-        })?;
+        let mut frames =
+            py.detach(move || r.render_many_spp(std::slice::from_ref(&scene), &method, aovs, spp))?;
         frame_to_py(py, frames.pop().expect("one frame"))
     }
 

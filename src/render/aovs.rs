@@ -397,7 +397,9 @@ impl Frame {
                             })
                             .collect(),
                     ),
-                    Source::ColorLow28 => AovData::U32(where_hit(&|i| t.px(k, i)[3] & 0x0fff_ffff, 0)),
+                    Source::ColorLow28 => {
+                        AovData::U32(where_hit(&|i| t.px(k, i)[3] & 0x0fff_ffff, 0))
+                    }
                     Source::ColorHigh4 => AovData::U8(
                         where_hit(&|i| (t.px(k, i)[3] & !HIT_BIT) >> 28, 0)
                             .into_iter()
@@ -556,7 +558,12 @@ mod tests {
     fn every_aov_decodes_to_its_declared_type_and_size() {
         let (w, h) = (3u32, 2u32);
         let n = 6;
-        let color = [1.0f32.to_bits(), 0.5f32.to_bits(), 0.25f32.to_bits(), 7 | (2 << 28)];
+        let color = [
+            1.0f32.to_bits(),
+            0.5f32.to_bits(),
+            0.25f32.to_bits(),
+            7 | (2 << 28),
+        ];
         // pixel 0 misses (no hit bit)
         let colors: Vec<u32> = (0..n)
             .flat_map(|i| {
@@ -570,7 +577,9 @@ mod tests {
             // pixel 0 misses (distance -1)
             Some(
                 (0..n)
-                    .flat_map(|i| [0.1f32, 0.2, if i == 0 { -1.0 } else { 2.0 }, 0.5].map(f32::to_bits))
+                    .flat_map(|i| {
+                        [0.1f32, 0.2, if i == 0 { -1.0 } else { 2.0 }, 0.5].map(f32::to_bits)
+                    })
                     .collect(),
             ),
             Some(vec![4; n]),
@@ -597,9 +606,15 @@ mod tests {
             Some(&AovData::I32(vec![-1, 4, 4, 4, 4, 4]))
         );
         assert_eq!(&f.f32s("color")[..3], &[1.0, 0.5, 0.25]);
-        assert_eq!(f.get("fetches"), Some(&AovData::U32(vec![0, 9, 9, 9, 9, 9])));
+        assert_eq!(
+            f.get("fetches"),
+            Some(&AovData::U32(vec![0, 9, 9, 9, 9, 9]))
+        );
         assert_eq!(f.f32s("coverage"), &[0.0, 1.0, 1.0, 1.0, 1.0, 1.0]);
-        assert_eq!(f.get("bytes"), Some(&AovData::U32(vec![0, 36, 36, 36, 36, 36])));
+        assert_eq!(
+            f.get("bytes"),
+            Some(&AovData::U32(vec![0, 36, 36, 36, 36, 36]))
+        );
         assert_eq!(
             Aovs::parse(&["color"]).unwrap().targets(),
             [true, false, false, false]
@@ -608,13 +623,24 @@ mod tests {
             Aovs::parse(&["fetches"]).unwrap().targets(),
             [true, false, false, true]
         );
-        assert_eq!(written([true, false, true, false], false), [true, true, true, false]);
-        assert_eq!(written([true, false, true, false], true), [true, false, true, false]);
+        assert_eq!(
+            written([true, false, true, false], false),
+            [true, true, true, false]
+        );
+        assert_eq!(
+            written([true, false, true, false], true),
+            [true, false, true, false]
+        );
         let all = Aovs::STANDARD;
         assert_eq!(all.targets_for(1), [true, true, false, false]);
         assert_eq!(all.targets_for(2), [true, true, true, false]);
         // one object: the id is 0 wherever hit without its target
-        let t1 = Texels([Some([0, 0, 0, HIT_BIT, 0, 0, 0, 0].to_vec()), None, None, None]);
+        let t1 = Texels([
+            Some([0, 0, 0, HIT_BIT, 0, 0, 0, 0].to_vec()),
+            None,
+            None,
+            None,
+        ]);
         let f1 = Frame::decode(2, 1, Aovs::parse(&["object"]).unwrap(), &t1, None, 0.0);
         assert_eq!(f1.get("object"), Some(&AovData::I32(vec![0, -1])));
     }
@@ -632,7 +658,9 @@ mod tests {
             .collect();
         let geo = |n: usize, miss: usize| -> Vec<u32> {
             (0..n)
-                .flat_map(|i| [i as f32, 0.0, if i == miss { -1.0 } else { 2.0 }, 0.0].map(f32::to_bits))
+                .flat_map(|i| {
+                    [i as f32, 0.0, if i == miss { -1.0 } else { 2.0 }, 0.0].map(f32::to_bits)
+                })
                 .collect()
         };
         let t = Texels([Some(color), Some(geo(n, 0)), None, None]);
@@ -640,7 +668,12 @@ mod tests {
             .unwrap()
             .split_supersampled();
         let big = Frame::decode(w, h, ss.unwrap(), &t, Some(1.5), 2.0);
-        let t1 = Texels([Some([0, 0, 0, HIT_BIT].repeat(2)), Some(geo(2, 9)), Some(vec![5, 7]), None]);
+        let t1 = Texels([
+            Some([0, 0, 0, HIT_BIT].repeat(2)),
+            Some(geo(2, 9)),
+            Some(vec![5, 7]),
+            None,
+        ]);
         let plain = Frame::decode(2, 1, rest.unwrap(), &t1, Some(0.5), 1.0);
         let f = Frame::supersampled(big, 2, Some(plain));
         assert_eq!((f.width, f.height), (2, 1));

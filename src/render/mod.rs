@@ -332,7 +332,11 @@ impl Renderer {
         // colour and coverage from the samples; the other AOVs from a one-sample pass
         let (ss, rest) = aovs.split_supersampled();
         let plain: Vec<Option<Frame>> = match rest {
-            Some(a) => self.render_many(scenes, method, a)?.into_iter().map(Some).collect(),
+            Some(a) => self
+                .render_many(scenes, method, a)?
+                .into_iter()
+                .map(Some)
+                .collect(),
             None => vec![None; scenes.len()],
         };
         let Some(ss) = ss else {
@@ -486,7 +490,8 @@ impl Renderer {
         self.ctx.scoped(|| {
             self.ctx.wait_for(Some(p.submission.clone()))?;
             let wall_ms = p.t0.elapsed().as_secs_f64() * 1e3;
-            p.targets.read(&self.ctx, p.submission, p.aovs, p.read, wall_ms)
+            p.targets
+                .read(&self.ctx, p.submission, p.aovs, p.read, wall_ms)
         })
     }
 

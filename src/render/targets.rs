@@ -6,8 +6,8 @@
 use super::DEPTH_FORMAT;
 use crate::gpu::Context;
 
-pub use super::aovs::{Aovs, Frame, TARGETS};
 use super::aovs::Texels;
+pub use super::aovs::{Aovs, Frame, TARGETS};
 
 /// One render target and its readback buffer.
 pub struct Target {

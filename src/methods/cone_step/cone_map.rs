@@ -26,7 +26,13 @@ struct ConeParams {
 /// The cone map's pass (cone_map.wgsl), made once per renderer.
 pub fn pass(ctx: &Context, lib: &dyn Composer) -> Result<TablePass> {
     let module = lib.compose_pass(CONE_MAP_SHADER, "src/methods/cone_step/cone_map.wgsl")?;
-    TablePass::new(ctx, "cone map", module, "build", &[TableOut::R32Float, TableOut::R32Float])
+    TablePass::new(
+        ctx,
+        "cone map",
+        module,
+        "build",
+        &[TableOut::R32Float, TableOut::R32Float],
+    )
 }
 
 /// The cone map of an object's resident height map (its max pyramid current): two R32Float
@@ -51,7 +57,9 @@ pub fn build(
         Ok(["cone base", "cone w"]
             .map(|l| ctx.texture_2d(l, (w, h), wgpu::TextureFormat::R32Float, usage)))
     })?;
-    let views = textures.each_ref().map(|t| t.create_view(&Default::default()));
+    let views = textures
+        .each_ref()
+        .map(|t| t.create_view(&Default::default()));
     if let Some(kept) = progress::load("cone-map", key, texels * 8) {
         ctx.scoped(|| {
             for (t, half) in textures.iter().zip(kept.chunks(texels * 4)) {
@@ -81,7 +89,10 @@ pub fn build(
         ctx,
         inputs.height_max,
         bytemuck::bytes_of(&p),
-        &[TableTarget::Texture(&views[0]), TableTarget::Texture(&views[1])],
+        &[
+            TableTarget::Texture(&views[0]),
+            TableTarget::Texture(&views[1]),
+        ],
         (w, h),
         &mut |done, total| progress::report("cone map", done as u64, total as u64),
     )?;
@@ -99,7 +110,9 @@ pub fn build(
 /// Read a cone map back (tests): (base, w) per cell, row-major.
 pub fn read_cone_map(ctx: &Context, maps: &[wgpu::TextureView]) -> Result<Vec<[f32; 2]>> {
     let [base, slope] = maps else {
-        return Err(crate::error::Error::Gpu("a cone map is two textures".into()));
+        return Err(crate::error::Error::Gpu(
+            "a cone map is two textures".into(),
+        ));
     };
     let tex = |v: &wgpu::TextureView| v.texture().clone();
     let (b, s) = (tex(base), tex(slope));
