@@ -34,11 +34,13 @@ pub struct OracleFrame {
     pub visibility: Vec<f64>,
 }
 
-struct Tri {
+pub(crate) struct Tri {
     p0: DVec3,
     e1: DVec3,
     e2: DVec3,
-    n: DVec3,
+    pub(crate) n: DVec3,
+    pub(crate) dpdu: DVec3,
+    pub(crate) dpdv: DVec3,
     uv0: DVec2,
     d1: DVec2,
     d2: DVec2,
@@ -49,68 +51,107 @@ struct Tri {
 /// Upper bound on cells walked per ray (a ray at 89.99 degrees over a 4k map stays below it).
 pub const MAX_CELLS: u32 = 4_000_000;
 
+/// A planar scene's one object, ready for exact rays: its triangles' affine frames and its
+/// material. Shared by the oracle's frame (`exact_hits`) and the exact image
+/// (`exact_image::render_exact`).
+pub(crate) struct Oracle<'a> {
+    pub(crate) tris: Vec<Tri>,
+    pub(crate) mat: &'a crate::scene::Material,
+}
+
+impl<'a> Oracle<'a> {
+    pub(crate) fn new(scene: &'a Scene, what: &str) -> Result<Oracle<'a>> {
+        scene.validate()?;
+        let obj = scene.only_object(what)?;
+        if !obj.transform.is_identity() {
+            return Err(Error::arg(
+                "transform",
+                format!("{what} takes an untransformed object; bake the transform into the mesh"),
+            ));
+        }
+        let m = &obj.mesh;
+        let p = |i: u32| {
+            let a = m.positions[i as usize];
+            DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)
+        };
+        let q = |i: u32| {
+            let a = m.uvs[i as usize];
+            DVec2::new(a[0] as f64, a[1] as f64)
+        };
+        let mut tris = Vec::new();
+        for t in m.indices.chunks_exact(3) {
+            let (p0, p1, p2) = (p(t[0]), p(t[1]), p(t[2]));
+            let (e1, e2) = (p1 - p0, p2 - p0);
+            let mut n = e1.cross(e2);
+            if n.length() < 1e-14 {
+                continue;
+            }
+            n = n.normalize();
+            let vn = {
+                let a = m.normals[t[0] as usize];
+                DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)
+            };
+            if n.dot(vn) < 0.0 {
+                n = -n;
+            }
+            let (d1, d2) = (q(t[1]) - q(t[0]), q(t[2]) - q(t[0]));
+            let Some((dpdu, dpdv)) = crate::mesh::uv_derivatives(e1, e2, d1, d2) else {
+                continue;
+            };
+            // columns dP/du, dP/dv, N: its inverse maps a world direction to (du, dv, dn)
+            let basis = DMat3::from_cols(dpdu, dpdv, n);
+            if basis.determinant().abs() < 1e-18 {
+                continue;
+            }
+            tris.push(Tri {
+                p0,
+                e1,
+                e2,
+                n,
+                dpdu,
+                dpdv,
+                uv0: q(t[0]),
+                d1,
+                d2,
+                to_tex: basis.inverse(),
+            });
+        }
+        if tris.is_empty() {
+            return Err(Error::arg(
+                "mesh",
+                "no triangle with usable positions and uvs",
+            ));
+        }
+        Ok(Oracle {
+            tris,
+            mat: &obj.material,
+        })
+    }
+
+    /// The exact first hit of the ray from `eye` along the unit `dir`.
+    pub(crate) fn trace(&self, eye: DVec3, dir: DVec3) -> Option<OracleHit<'_>> {
+        let m = self.mat;
+        trace(
+            eye,
+            dir,
+            &self.tris,
+            &m.height,
+            m.depth as f64,
+            m.tiling as f64,
+        )
+    }
+
+    /// Whether the ray from the hit along the world direction `l` leaves the shell.
+    pub(crate) fn reaches(&self, hit: &OracleHit, l: DVec3, bias: f64) -> bool {
+        let m = self.mat;
+        light_reaches(hit, l, &m.height, m.depth as f64, m.tiling as f64, bias)
+    }
+}
+
 /// The oracle's frame. `light_bias` (shell depths, >= 0) raises the light rays: a blocker must
 /// rise more than it above the ray (0: the exact field; the GPU's exact shadows use 1e-4).
 pub fn exact_hits(scene: &Scene, light_bias: f64) -> Result<OracleFrame> {
-    scene.validate()?;
-    let obj = scene.only_object("the CPU oracle (exact_uv)")?;
-    if !obj.transform.is_identity() {
-        return Err(Error::arg(
-            "transform",
-            "the CPU oracle (exact_uv) takes an untransformed object; bake the transform into the mesh",
-        ));
-    }
-    let m = &obj.mesh;
-    let p = |i: u32| {
-        let a = m.positions[i as usize];
-        DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)
-    };
-    let q = |i: u32| {
-        let a = m.uvs[i as usize];
-        DVec2::new(a[0] as f64, a[1] as f64)
-    };
-    let mut tris = Vec::new();
-    for t in m.indices.chunks_exact(3) {
-        let (p0, p1, p2) = (p(t[0]), p(t[1]), p(t[2]));
-        let (e1, e2) = (p1 - p0, p2 - p0);
-        let mut n = e1.cross(e2);
-        if n.length() < 1e-14 {
-            continue;
-        }
-        n = n.normalize();
-        let vn = {
-            let a = m.normals[t[0] as usize];
-            DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)
-        };
-        if n.dot(vn) < 0.0 {
-            n = -n;
-        }
-        let (d1, d2) = (q(t[1]) - q(t[0]), q(t[2]) - q(t[0]));
-        let Some((dpdu, dpdv)) = crate::mesh::uv_derivatives(e1, e2, d1, d2) else {
-            continue;
-        };
-        // columns dP/du, dP/dv, N: its inverse maps a world direction to (du, dv, dn)
-        let basis = DMat3::from_cols(dpdu, dpdv, n);
-        if basis.determinant().abs() < 1e-18 {
-            continue;
-        }
-        tris.push(Tri {
-            p0,
-            e1,
-            e2,
-            n,
-            uv0: q(t[0]),
-            d1,
-            d2,
-            to_tex: basis.inverse(),
-        });
-    }
-    if tris.is_empty() {
-        return Err(Error::arg(
-            "mesh",
-            "no triangle with usable positions and uvs",
-        ));
-    }
+    let oracle = Oracle::new(scene, "the CPU oracle (exact_uv)")?;
     let cam = &scene.camera;
     let basis = cam.basis();
     let (w, h) = (cam.width, cam.height);
@@ -131,7 +172,6 @@ pub fn exact_hits(scene: &Scene, light_bias: f64) -> Result<OracleFrame> {
         .unwrap_or(1)
         .min(8);
     let rows_per = (h as usize).div_ceil(threads);
-    let mat = &obj.material;
     std::thread::scope(|sc| {
         let mut uv_rest: &mut [f64] = &mut out.uv;
         let mut d_rest: &mut [f64] = &mut out.depth;
@@ -156,21 +196,14 @@ pub fn exact_hits(scene: &Scene, light_bias: f64) -> Result<OracleFrame> {
             let (v_c, e) = std::mem::take(&mut v_rest).split_at_mut(cnt);
             v_rest = e;
             let light_dirs = &light_dirs;
-            let tris = &tris;
+            let oracle = &oracle;
             let basis = &basis;
             sc.spawn(move || {
                 for i in r0..r1 {
                     for j in 0..w as usize {
                         let dir = cam.ray_dir(basis, i as u32, j as u32);
                         let idx = (i - r0) * w as usize + j;
-                        if let Some(hit) = trace(
-                            basis.eye,
-                            dir,
-                            tris,
-                            &mat.height,
-                            mat.depth as f64,
-                            mat.tiling as f64,
-                        ) {
+                        if let Some(hit) = oracle.trace(basis.eye, dir) {
                             uv_c[idx * 2] = hit.uv.x;
                             uv_c[idx * 2 + 1] = hit.uv.y;
                             d_c[idx] = hit.dist;
@@ -179,16 +212,7 @@ pub fn exact_hits(scene: &Scene, light_bias: f64) -> Result<OracleFrame> {
                             if !light_dirs.is_empty() {
                                 let lit = light_dirs
                                     .iter()
-                                    .filter(|l| {
-                                        light_reaches(
-                                            &hit,
-                                            **l,
-                                            &mat.height,
-                                            mat.depth as f64,
-                                            mat.tiling as f64,
-                                            light_bias,
-                                        )
-                                    })
+                                    .filter(|l| oracle.reaches(&hit, **l, light_bias))
                                     .count();
                                 v_c[idx] = lit as f64 / light_dirs.len() as f64;
                             }
@@ -203,13 +227,14 @@ pub fn exact_hits(scene: &Scene, light_bias: f64) -> Result<OracleFrame> {
 
 /// A pixel's exact hit: uv (mesh space), distance, cells walked, and what the light test needs
 /// (the texture-space point and height, the triangle's world-to-texture map).
-struct OracleHit<'a> {
-    uv: DVec2,
-    dist: f64,
-    cells: u32,
-    s: DVec2,
-    h: f64,
-    tri: &'a Tri,
+pub(crate) struct OracleHit<'a> {
+    pub(crate) uv: DVec2,
+    pub(crate) dist: f64,
+    pub(crate) cells: u32,
+    /// texture-space point (uv * tiling) and height
+    pub(crate) s: DVec2,
+    pub(crate) h: f64,
+    pub(crate) tri: &'a Tri,
 }
 
 fn trace<'a>(
@@ -295,7 +320,12 @@ fn first_light_directions(scene: &Scene) -> Vec<DVec3> {
     if diameter <= 0.0 {
         return vec![to_light];
     }
-    let tan_r = (0.5 * diameter).to_radians().tan();
+    disk_directions(to_light, (0.5 * diameter).to_radians().tan())
+}
+
+/// 64 directions over a disk of angular radius atan(`tan_r`) about the unit `to_light` (a
+/// stratified 8x8 grid, concentric map), spread on the plane perpendicular to it.
+pub(crate) fn disk_directions(to_light: DVec3, tan_r: f64) -> Vec<DVec3> {
     let a = if to_light.y.abs() < 0.9 {
         DVec3::Y
     } else {
@@ -303,11 +333,19 @@ fn first_light_directions(scene: &Scene) -> Vec<DVec3> {
     };
     let e1 = to_light.cross(a).normalize();
     let e2 = to_light.cross(e1);
+    stratified_disk()
+        .into_iter()
+        .map(|d| (to_light + (e1 * d.x + e2 * d.y) * tan_r).normalize())
+        .collect()
+}
+
+/// 64 points on the unit disk: the centres of a stratified 8x8 grid, by Shirley and Chiu's
+/// concentric map (their density uniform, their order row by row).
+pub(crate) fn stratified_disk() -> Vec<DVec2> {
     let k = 8;
     let mut out = Vec::with_capacity(k * k);
     for i in 0..k {
         for j in 0..k {
-            // Shirley-Chiu concentric map of the cell centre onto the unit disk
             let a = 2.0 * (i as f64 + 0.5) / k as f64 - 1.0;
             let b = 2.0 * (j as f64 + 0.5) / k as f64 - 1.0;
             let (r, phi) = if a.abs() > b.abs() {
@@ -318,8 +356,7 @@ fn first_light_directions(scene: &Scene) -> Vec<DVec3> {
                     std::f64::consts::FRAC_PI_2 - std::f64::consts::FRAC_PI_4 * (a / b),
                 )
             };
-            let off = (e1 * phi.cos() + e2 * phi.sin()) * (r * tan_r);
-            out.push((to_light + off).normalize());
+            out.push(DVec2::new(r * phi.cos(), r * phi.sin()));
         }
     }
     out

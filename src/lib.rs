@@ -7,6 +7,7 @@
 pub mod contract;
 pub mod error;
 pub mod exact;
+pub mod exact_image;
 pub mod gpu;
 pub mod heightmap;
 pub mod imageio;

@@ -61,16 +61,23 @@ pub fn load(kind: &str, key: u64, len: usize) -> Option<Vec<u8>> {
     Some(body.to_vec())
 }
 
-/// Keep `bytes` for (`kind`, `key`) (written beside and renamed, so that a reader never sees a
-/// partial file). Failing to keep a build is not an error.
-pub fn store(kind: &str, key: u64, bytes: &[u8]) {
+/// Keep `parts`, one after the other, for (`kind`, `key`): streamed to a file beside and
+/// renamed, so that a reader never sees a partial file and no copy of the whole is made.
+/// Failing to keep a build is not an error.
+pub fn store(kind: &str, key: u64, parts: &[&[u8]]) {
+    use std::io::Write;
     let Some(p) = path(kind, key) else { return };
     let tmp = p.with_extension(format!("tmp{}", std::process::id()));
-    let mut out = Vec::with_capacity(bytes.len() + 16);
-    out.extend_from_slice(b"pomkit01");
-    out.extend_from_slice(&key.to_le_bytes());
-    out.extend_from_slice(bytes);
-    if std::fs::write(&tmp, &out).is_ok() && std::fs::rename(&tmp, &p).is_err() {
+    let write = || -> std::io::Result<()> {
+        let mut f = std::io::BufWriter::new(std::fs::File::create(&tmp)?);
+        f.write_all(b"pomkit01")?;
+        f.write_all(&key.to_le_bytes())?;
+        for part in parts {
+            f.write_all(part)?;
+        }
+        f.into_inner().map_err(|e| e.into_error())?.sync_all()
+    };
+    if write().is_err() || std::fs::rename(&tmp, &p).is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
 }

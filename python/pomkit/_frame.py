@@ -36,13 +36,16 @@ class Frame:
     wall_ms: wall time of submit-and-wait (always measured)
     timing: "gpu" when gpu_ms holds a timestamp measurement, "wall" when only wall_ms exists;
             `time_ms` gives whichever is there.
+    noise_floor: a reference's own FLIP noise, the floor under any score against it: 0.0 for
+            `pk.reference.render_exact` (deterministic), the seed-against-seed FLIP for
+            `render_mitsuba(..., noise_floor=True)`, None where it is unknown (a rendered frame).
 
     A frame holds the AOVs it was rendered with (`aovs`); reading another raises an
     AttributeError that names the `aovs=` argument of `Renderer.render`.
     """
 
     def __init__(self, *, method: str = "", gpu_ms: Optional[float] = None, wall_ms: Optional[float] = None,
-                 timing: Optional[str] = None, **arrays: Optional[np.ndarray]):
+                 timing: Optional[str] = None, noise_floor: Optional[float] = None, **arrays: Optional[np.ndarray]):
         unknown = set(arrays) - set(AOV_NAMES) - set(DERIVED_NAMES)
         if unknown:
             raise TypeError(f"Frame: unknown AOVs {sorted(unknown)}; known: {AOV_NAMES + DERIVED_NAMES}")
@@ -51,6 +54,7 @@ class Frame:
         self.gpu_ms = gpu_ms
         self.wall_ms = wall_ms
         self.timing = timing if timing is not None else ("gpu" if gpu_ms is not None else "wall")
+        self.noise_floor = noise_floor
 
     @classmethod
     def _of(cls, arrays: dict[str, Optional[np.ndarray]], *, method: str = "", gpu_ms: Optional[float] = None,

@@ -211,11 +211,15 @@ def compare(frame: Frame, reference: Frame, scene: Scene, *, band: int = 4, visi
 
     FLIP needs colour in both frames (flip-evaluator: the `reference` extra); uv needs uv in both.
     Returns a flat dict: flip, flip_interior, flip_silhouette, uv_p50_interior, uv_p95_interior,
-    uv_p99_interior, uv_p95_silhouette, mask_iou, interior_px, silhouette_px, and shadow_iou,
+    uv_p99_interior, uv_p95_silhouette, mask_iou, interior_px, silhouette_px, flip_floor (the
+    reference's `noise_floor`: 0 for `render_exact`, NaN when unknown), and shadow_iou,
     shadow_vis_error, shadow_false_shadow, shadow_false_light when given."""
     reg = regions(frame, reference, band)
     out: dict = dict(mask_iou=mask_iou(frame, reference), interior_px=int(reg["interior"].sum()),
                      silhouette_px=int(reg["silhouette"].sum()))
+    # the reference's own noise: the floor under every FLIP against it (0 for render_exact)
+    floor = getattr(reference, "noise_floor", None)
+    out["flip_floor"] = float("nan") if floor is None else float(floor)
     if frame.has("color") and reference.has("color"):
         whole, emap = flip(frame, reference, image=True)
         out["flip"] = whole

@@ -194,6 +194,37 @@ def _bsdf(mi, m: Material):
     return mi.load_dict({"type": "diffuse", "reflectance": refl})
 
 
+def render_exact(scene: Scene, spp: int = 16, cache: bool = True) -> Frame:
+    """The noise-free reference image of a planar scene: every sample's hit is the float64
+    oracle's (`pk.exact_uv`), shaded in float64 with the reference shading of
+    docs/conventions.md (the normal from central differences of the bilinear field at level 0,
+    the albedo bilinear at level 0, each light times the fraction of 64 stratified directions
+    over its disk that leave the shell, ambient times the fraction of 64 cosine-weighted
+    directions that do). `spp` samples per pixel on the grid of `render(spp=)` (a square, 1 to
+    256), colour box-filtered (a miss is black) and `coverage` the fraction that hit; uv, depth,
+    mask, visibility (the first directional light's, at the pixel centre) and object (0 where
+    hit, -1 elsewhere) are the oracle's at the pixel centre. Deterministic, so `noise_floor` is
+    0.0; no mesh is built, so any map size the oracle walks works. Cached on disk by the scene's
+    hash. Planar meshes of one untransformed object; a curved mesh raises a ValueError naming
+    `render_mitsuba`. `Frame.wall_ms` is the time the render took (stored with it in the cache)."""
+    if isinstance(spp, bool) or not isinstance(spp, int) or spp < 1:
+        raise ValueError(f"spp: must be a positive square integer (1, 4, 9, 16, ...), got {spp!r}")
+    key = scene_hash(scene, kind="exact", spp=spp)
+
+    def compute():
+        t0 = time.perf_counter()
+        d = _core.render_exact(scene._describe(), spp)
+        o = _core.exact_uv(scene._describe(), 0.0)
+        return dict(color=d["color"], coverage=d["coverage"], uv=o["uv"].astype(np.float32),
+                    depth=o["depth"].astype(np.float32), mask=o["mask"], visibility=o["visibility"].astype(np.float32),
+                    object=np.where(o["mask"], 0, -1).astype(np.int32), ms=np.array(1e3 * (time.perf_counter() - t0)))
+
+    a = cached("exact", key, compute, use_cache=cache)
+    arrays = {k: a[k] for k in ("color", "coverage", "uv", "depth", "mask", "visibility", "object")}
+    return Frame(method=f"render_exact spp={spp} (took {float(a['ms']):.0f} ms)", wall_ms=float(a["ms"]), timing="wall",
+                 noise_floor=0.0, **arrays)
+
+
 def render_mitsuba(scene: Scene, spp: int = 64, seed: int = 0, variant: str | None = None,
                    resolution: float = 2.0, cache: bool = True) -> Frame:
     """Mitsuba 3's render of the displaced mesh: colour from the `direct` integrator (`spp`

@@ -1,12 +1,14 @@
 """pytest helpers for your own test suite (registered as the `pomkit` pytest plugin).
 
     def test_my_method(reference_frame):
-        ref = reference_frame(scene, kind="mitsuba")      # cached on disk
-        frame = pk.Renderer().render(scene, pk.POM())
-        pk.testing.assert_close(frame, ref, scene=scene, uv_p95=0.5, flip=0.05)
+        ref = reference_frame(scene, kind="render_exact", spp=16)   # noise-free, cached on disk
+        frame = pk.Renderer().render(scene, pk.POM(), spp=16)
+        pk.testing.assert_close(frame, ref, scene=scene, uv_p95=0.5, flip_interior=0.02)
 
 `assert_close` fails with the measured numbers and writes a side-by-side image (frame | ref |
-error) to $POMKIT_DIFF_DIR (default ./pomkit-out/diffs).
+error) to $POMKIT_DIFF_DIR (default ./pomkit-out/diffs), named after the test that failed.
+A FLIP tolerance below the reference's own noise (`Frame.noise_floor`: 0 for `render_exact`,
+the seed-against-seed FLIP for Mitsuba when measured) is refused: it could only pass by luck.
 """
 
 from __future__ import annotations
@@ -41,7 +43,7 @@ def _diff_image(frame: Frame, ref: Frame, name: str) -> Path:
 def assert_close(frame: Frame, ref: Frame, scene: Optional[Scene] = None, *, uv_p95: Optional[float] = None,
                  uv_p99: Optional[float] = None, flip: Optional[float] = None, iou: Optional[float] = None,
                  objects: Optional[float] = None, flip_interior: Optional[float] = None,
-                 flip_silhouette: Optional[float] = None, name: str = "assert_close") -> dict:
+                 flip_silhouette: Optional[float] = None, name: Optional[str] = None) -> dict:
     """Check a frame against a reference. Each given tolerance is asserted (uv in texels, needs
     `scene`; in a scene of several objects, per object where both frames hit the same one);
     `objects` is the least fraction of the pixels both cover where the two `object` AOVs agree
@@ -51,7 +53,18 @@ def assert_close(frame: Frame, ref: Frame, scene: Optional[Scene] = None, *, uv_
     all and names the side-by-side diff image."""
     from . import metrics
 
+    if name is None:  # the running test's id, so that two failures do not share one image
+        test = os.environ.get("PYTEST_CURRENT_TEST", "assert_close").split(" ")[0]
+        name = "".join(c if c.isalnum() or c in "-_." else "_" for c in test.split("::", 1)[-1])
+    floor = getattr(ref, "noise_floor", None)
+    for k, tol in (("flip", flip), ("flip_interior", flip_interior), ("flip_silhouette", flip_silhouette)):
+        if tol is not None and floor is not None and tol < floor:
+            raise ValueError(f"{k}: a tolerance of {tol} is below the reference's own noise (noise_floor "
+                             f"{floor:.4f}, its FLIP against itself at another seed): it would pass or fail by "
+                             f"chance; use a tolerance above it, or the noise-free pk.reference.render_exact")
     got: dict = {"mask_iou": metrics.mask_iou(frame, ref)}
+    if floor is not None:
+        got["flip_floor"] = float(floor)
     fails = []
     if uv_p95 is not None or uv_p99 is not None:
         if scene is None:
@@ -95,13 +108,17 @@ def _reference(scene: Scene, kind: str = "mitsuba", **kw) -> Frame:
         return reference.render_mitsuba(scene, **kw)
     if kind == "pyrender":
         return reference.render_pyrender(scene, **kw)
+    if kind == "render_exact":
+        return reference.render_exact(scene, **kw)
     if kind == "exact":
         from ._render import exact_uv
         return exact_uv(scene)
-    raise ValueError(f"kind: must be 'mitsuba', 'pyrender' or 'exact', got {kind!r}")
+    raise ValueError(f"kind: must be 'render_exact', 'mitsuba', 'pyrender' or 'exact' (the geometric oracle), got {kind!r}")
 
 
 @pytest.fixture
 def reference_frame():
-    """A function (scene, kind="mitsuba", **settings) -> Frame, cached on disk by scene hash."""
+    """A function (scene, kind="mitsuba", **settings) -> Frame, cached on disk by scene hash:
+    "render_exact" (the noise-free colour reference, planar meshes), "mitsuba", "pyrender", or
+    "exact" (the geometric oracle `pk.exact_uv`: uv, depth, mask, visibility)."""
     return _reference

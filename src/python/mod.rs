@@ -225,6 +225,24 @@ fn exact_uv<'py>(
     Ok(d)
 }
 
+/// The exact image (`exact_image.rs`): dict with color (H, W, 3) f32 and coverage (H, W) f32
+/// from k x k exact samples per pixel shaded with the reference shading.
+#[pyfunction]
+#[pyo3(signature = (scene, spp))]
+fn render_exact<'py>(
+    py: Python<'py>,
+    scene: &Bound<'py, PyDict>,
+    spp: u32,
+) -> PyResult<Bound<'py, PyDict>> {
+    let scene = scene_from_py(scene)?;
+    let o = py.detach(move || crate::exact_image::render_exact(&scene, spp))?;
+    let (h, w) = (o.height as usize, o.width as usize);
+    let d = PyDict::new(py);
+    d.set_item("color", nd_array(py, (h, w, 3), o.color)?)?;
+    d.set_item("coverage", nd_array(py, (h, w), o.coverage)?)?;
+    Ok(d)
+}
+
 /// The displaced surface of object `object` of `scene` as arrays (positions, shading normals,
 /// uvs, faces) in object space, with `texels_per_vertex` lattice spacing.
 #[pyfunction]
@@ -282,6 +300,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyAlbedoData>()?;
     m.add_function(wrap_pyfunction!(adapters, m)?)?;
     m.add_function(wrap_pyfunction!(exact_uv, m)?)?;
+    m.add_function(wrap_pyfunction!(render_exact, m)?)?;
     m.add_function(wrap_pyfunction!(scene::mesh_from_arrays, m)?)?;
     m.add_function(wrap_pyfunction!(scene::mesh_generate, m)?)?;
     m.add_function(wrap_pyfunction!(tessellate, m)?)?;

@@ -98,11 +98,13 @@ pub fn build(
     )?;
     ctx.wait()?;
     if t0.elapsed() > progress::KEEP_AFTER {
-        let mut bytes = Vec::with_capacity(texels * 8);
-        for t in &textures {
-            bytes.extend_from_slice(bytemuck::cast_slice(&read_r32(ctx, t, 0, (w, h))?));
-        }
-        progress::store("cone-map", key, &bytes);
+        let base = read_r32(ctx, &textures[0], 0, (w, h))?;
+        let slope = read_r32(ctx, &textures[1], 0, (w, h))?;
+        progress::store(
+            "cone-map",
+            key,
+            &[bytemuck::cast_slice(&base), bytemuck::cast_slice(&slope)],
+        );
     }
     Ok(views)
 }

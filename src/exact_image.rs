@@ -1,0 +1,303 @@
+//! The exact image: a noise-free reference for colour (`pk.reference.render_exact`). Every
+//! sample's hit is the float64 oracle's (exact.rs), shaded in float64 with the reference shading
+//! of docs/conventions.md:
+//!
+//! - normal: of the displaced surface S(u, v) = P + depth (h - 1) N, with the derivatives of h
+//!   taken as central differences one texel apart of the bilinear field at level 0, at the hit;
+//! - albedo: bilinear at level 0 (repeating), at the hit;
+//! - a light: E max(0, N.L) times the fraction of its disk whose rays leave the shell unblocked
+//!   (64 stratified directions over the disk of a directional light's `angular_diameter`, or of
+//!   a sphere light's apparent radius; one direction for a point); a sphere light's E is I / r²;
+//! - ambient: albedo * ambient * ao, ao the fraction of 64 cosine-weighted directions about the
+//!   shading normal that leave the shell (a direction below the base plane is blocked).
+//!
+//! Samples: k x k per pixel on the grid of `render(spp=)` (the pixel centres of a k-times finer
+//! camera); colour is their mean (a miss is black), coverage the fraction that hit. A pixel's
+//! samples share the direction sets: sample q traces the directions d with d mod k² = q, so
+//! that each pixel averages every direction once however many samples it has.
+
+use crate::error::{Error, Result};
+use crate::exact::{disk_directions, stratified_disk, Oracle, OracleHit};
+use crate::scene::{Albedo, Light, Scene};
+use glam::{DVec2, DVec3};
+
+/// Directions in a light's disk set and in the ambient set.
+pub const DIRECTIONS: usize = 64;
+
+/// The exact image: per pixel, colour (RGB) and coverage from the samples.
+#[derive(Clone, Debug)]
+pub struct ExactImage {
+    pub width: u32,
+    pub height: u32,
+    pub color: Vec<f32>,
+    pub coverage: Vec<f32>,
+}
+
+/// 64 cosine-weighted directions about +z: the stratified disk lifted to the hemisphere
+/// (Malley's method).
+fn cosine_directions() -> Vec<DVec3> {
+    stratified_disk()
+        .into_iter()
+        .map(|d| DVec3::new(d.x, d.y, (1.0 - d.length_squared()).max(0.0).sqrt()))
+        .collect()
+}
+
+fn albedo_at(a: &Option<crate::scene::Shared<Albedo>>, s: DVec2) -> DVec3 {
+    let Some(a) = a else {
+        return DVec3::splat(0.5);
+    };
+    let (w, h) = (a.width as i64, a.height as i64);
+    let x = s.x * w as f64 - 0.5;
+    let y = s.y * h as f64 - 0.5;
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    let at = |i: i64, j: i64| {
+        let t = a.data[(j.rem_euclid(h) * w + i.rem_euclid(w)) as usize];
+        DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64)
+    };
+    let (i, j) = (x0 as i64, y0 as i64);
+    (at(i, j) * (1.0 - fx) + at(i + 1, j) * fx) * (1.0 - fy)
+        + (at(i, j + 1) * (1.0 - fx) + at(i + 1, j + 1) * fx) * fy
+}
+
+/// The reference shading normal at a hit (see the module's doc).
+fn shading_normal(o: &Oracle, hit: &OracleHit) -> DVec3 {
+    let hm = &o.mat.height;
+    let (depth, tiling) = (o.mat.depth as f64, o.mat.tiling as f64);
+    let (ex, ey) = (1.0 / hm.width as f64, 1.0 / hm.height as f64);
+    let s = hit.s;
+    // dh/du = tiling dh/ds, by central differences one texel apart
+    let hu = tiling * (hm.sample(s.x + ex, s.y) - hm.sample(s.x - ex, s.y)) / (2.0 * ex);
+    let hv = tiling * (hm.sample(s.x, s.y + ey) - hm.sample(s.x, s.y - ey)) / (2.0 * ey);
+    let t = hit.tri;
+    let n = (t.dpdu + t.n * (depth * hu)).cross(t.dpdv + t.n * (depth * hv));
+    let n = n.normalize_or_zero();
+    if n.dot(t.n) < 0.0 {
+        -n
+    } else {
+        n
+    }
+}
+
+/// The directions sample q of n traces from a set: those with index = q mod n (every one when
+/// n = 1; one, cycling, when n > the set's size).
+fn share(set: &[DVec3], q: usize, n: usize) -> impl Iterator<Item = &DVec3> {
+    let len = set.len();
+    let (start, step) = if n >= len { (q % len, len) } else { (q, n) };
+    set.iter().skip(start).step_by(step.max(1))
+}
+
+/// The exact image of a planar scene at `spp` samples per pixel (a square, 1 to 256).
+pub fn render_exact(scene: &Scene, spp: u32) -> Result<ExactImage> {
+    let k = (spp as f64).sqrt().round() as u32;
+    if spp == 0 || k * k != spp || k > 16 {
+        return Err(Error::arg(
+            "spp",
+            format!("must be a square number of samples per pixel from 1 to 256, got {spp}"),
+        ));
+    }
+    let oracle = Oracle::new(scene, "render_exact")?;
+    let obj = &scene.objects[0];
+    // a curved mesh's triangles are not its surface: the oracle's planar base would be wrong
+    let m = &obj.mesh;
+    for t in m.indices.chunks_exact(3) {
+        let p = |i: u32| DVec3::from(m.positions[i as usize].map(|x| x as f64));
+        let n = (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0]));
+        if n.length() < 1e-14 {
+            continue;
+        }
+        let n = n.normalize();
+        for &i in t {
+            let vn = DVec3::from(m.normals[i as usize].map(|x| x as f64)).normalize_or_zero();
+            if vn.dot(n).abs() < 1.0 - 1e-6 {
+                return Err(Error::arg(
+                    "mesh",
+                    "render_exact takes planar meshes (every vertex normal its triangle's normal: a plane, a cube, a flat mesh); for a curved mesh use pk.reference.render_mitsuba",
+                ));
+            }
+        }
+    }
+    let cam = &scene.camera;
+    let (w, h) = (cam.width, cam.height);
+    let mut fine = cam.clone();
+    (fine.width, fine.height, fine.window) = (w * k, h * k, None);
+    let basis = fine.basis();
+    let cosines = cosine_directions();
+    let ambient = DVec3::from(scene.ambient.map(|x| x as f64));
+    let n_px = (w * h) as usize;
+    let mut color = vec![0.0f32; n_px * 3];
+    let mut coverage = vec![0.0f32; n_px];
+    let threads = std::thread::available_parallelism()
+        .map(|x| x.get())
+        .unwrap_or(1)
+        .min(8);
+    let rows_per = (h as usize).div_ceil(threads);
+    let n = (k * k) as usize;
+    std::thread::scope(|sc| {
+        let mut c_rest: &mut [f32] = &mut color;
+        let mut v_rest: &mut [f32] = &mut coverage;
+        for t in 0..threads {
+            let (r0, r1) = (t * rows_per, ((t + 1) * rows_per).min(h as usize));
+            if r0 >= r1 {
+                break;
+            }
+            let cnt = (r1 - r0) * w as usize;
+            let (cc, a) = std::mem::take(&mut c_rest).split_at_mut(cnt * 3);
+            c_rest = a;
+            let (vc, b) = std::mem::take(&mut v_rest).split_at_mut(cnt);
+            v_rest = b;
+            let (oracle, basis, fine, cosines) = (&oracle, &basis, &fine, &cosines);
+            sc.spawn(move || {
+                for i in r0..r1 {
+                    for j in 0..w as usize {
+                        let mut sum = DVec3::ZERO;
+                        let mut hits = 0;
+                        for q in 0..n {
+                            let (si, sj) = (
+                                (i * k as usize + q / k as usize) as u32,
+                                (j * k as usize + q % k as usize) as u32,
+                            );
+                            let dir = fine.ray_dir(basis, si, sj);
+                            let Some(hit) = oracle.trace(basis.eye, dir) else {
+                                continue;
+                            };
+                            hits += 1;
+                            sum += shade(
+                                scene,
+                                oracle,
+                                &hit,
+                                basis.eye + dir * hit.dist,
+                                ambient,
+                                cosines,
+                                q,
+                                n,
+                            );
+                        }
+                        let px = (i - r0) * w as usize + j;
+                        let c = sum / n as f64;
+                        cc[px * 3..px * 3 + 3]
+                            .copy_from_slice(&[c.x as f32, c.y as f32, c.z as f32]);
+                        vc[px] = hits as f32 / n as f32;
+                    }
+                }
+            });
+        }
+    });
+    Ok(ExactImage {
+        width: w,
+        height: h,
+        color,
+        coverage,
+    })
+}
+
+/// The reference shading of one sample's hit (world point `p`): sample `q` of `n` traces its
+/// share of each direction set.
+#[allow(clippy::too_many_arguments)]
+fn shade(
+    scene: &Scene,
+    o: &Oracle,
+    hit: &OracleHit,
+    p: DVec3,
+    ambient: DVec3,
+    cosines: &[DVec3],
+    q: usize,
+    n: usize,
+) -> DVec3 {
+    let nrm = shading_normal(o, hit);
+    let albedo = albedo_at(&o.mat.albedo, hit.s);
+    let mut direct = DVec3::ZERO;
+    for l in &scene.lights {
+        let (to_light, e, tan_r) = match l {
+            Light::Directional {
+                direction,
+                irradiance,
+                angular_diameter,
+                ..
+            } => (
+                -DVec3::from(*direction).normalize(),
+                DVec3::from(irradiance.map(|x| x as f64)),
+                (0.5 * angular_diameter).to_radians().tan(),
+            ),
+            Light::Sphere {
+                position,
+                radius,
+                intensity,
+            } => {
+                let d = DVec3::from(*position) - p;
+                let r2 = d.length_squared().max(1e-24);
+                (
+                    d / r2.sqrt(),
+                    DVec3::from(intensity.map(|x| x as f64)) / r2,
+                    radius / (r2 - radius * radius).max(1e-24).sqrt(),
+                )
+            }
+        };
+        let ndl = nrm.dot(to_light);
+        if ndl <= 0.0 {
+            continue;
+        }
+        let set = if tan_r > 0.0 {
+            disk_directions(to_light, tan_r)
+        } else {
+            vec![to_light]
+        };
+        let (mut lit, mut all) = (0usize, 0usize);
+        for d in share(&set, q, n) {
+            all += 1;
+            lit += o.reaches(hit, *d, 0.0) as usize;
+        }
+        direct += e * ndl * (lit as f64 / all.max(1) as f64);
+    }
+    let mut ao = 1.0;
+    if ambient.max_element() > 0.0 {
+        // the cosine set about the shading normal
+        let a = if nrm.x.abs() < 0.9 {
+            DVec3::X
+        } else {
+            DVec3::Y
+        };
+        let t = nrm.cross(a).normalize();
+        let b = nrm.cross(t);
+        let (mut open, mut all) = (0usize, 0usize);
+        for d in share(cosines, q, n) {
+            all += 1;
+            let wd = t * d.x + b * d.y + nrm * d.z;
+            open += o.reaches(hit, wd, 0.0) as usize;
+        }
+        ao = open as f64 / all.max(1) as f64;
+    }
+    albedo / std::f64::consts::PI * direct + albedo * ambient * ao
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_direction_once_per_pixel() {
+        let set: Vec<DVec3> = (0..64).map(|i| DVec3::new(i as f64, 0.0, 0.0)).collect();
+        for n in [1usize, 4, 16, 64, 256] {
+            let mut seen = vec![0; 64];
+            for q in 0..n {
+                for d in share(&set, q, n) {
+                    seen[d.x as usize] += 1;
+                }
+            }
+            let want = (n / 64).max(1);
+            assert!(seen.iter().all(|&c| c == want), "n = {n}: {seen:?}");
+        }
+    }
+
+    #[test]
+    fn cosine_directions_are_unit_and_cosine_weighted() {
+        let c = cosine_directions();
+        assert_eq!(c.len(), DIRECTIONS);
+        assert!(c
+            .iter()
+            .all(|d| (d.length() - 1.0).abs() < 1e-12 && d.z > 0.0));
+        // E[cos] under a cosine-weighted density is 2/3
+        let mean = c.iter().map(|d| d.z).sum::<f64>() / c.len() as f64;
+        assert!((mean - 2.0 / 3.0).abs() < 0.01, "{mean}");
+    }
+}

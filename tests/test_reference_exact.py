@@ -1,0 +1,104 @@
+"""pk.reference.render_exact: the noise-free reference image (issue 30). Its shading is the
+definition of docs/conventions.md ("The reference shading"); these tests hold it to analytic
+cases, to pomkit's own exact method on the GPU, and to Mitsuba where the conventions must meet.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import pomkit as pk
+from pomkit import reference as R
+
+RENDERER = pk.Renderer()
+
+
+def _plane(height, *, theta=45.0, size=64, light=(-0.3, -1.0, -0.2), diameter=0.0, ambient=0.0, albedo=None,
+           depth=0.08, tiling=1.0):
+    t = math.radians(theta)
+    return pk.Scene(mesh=pk.Mesh.plane(2.0), material=pk.Material(height, depth=depth, albedo=albedo, tiling=tiling),
+                    camera=pk.Camera.look_at((0.0, 1.6 * math.cos(t), 1.6 * math.sin(t)), up=(0, 0, -1), fov_y=30.0,
+                                             width=size, height=size),
+                    lights=[pk.DirectionalLight(light, 3.0, angular_diameter=diameter)] if light else [],
+                    ambient=ambient)
+
+
+@pytest.mark.parametrize("diameter", [0.0, 4.0])
+def test_a_flat_field_is_lambert_exactly(tmp_path, monkeypatch, diameter):
+    """h = 0.6 everywhere: every sample hits a plane with the base normal, no ray is blocked,
+    ao = 1, so colour = albedo/pi E max(0, N.L) + albedo ambient, to float rounding."""
+    monkeypatch.setenv("POMKIT_CACHE", str(tmp_path))
+    s = _plane(np.full((16, 16), 0.6, np.float32), diameter=diameter, ambient=0.1)
+    f = R.render_exact(s, spp=4)
+    l = np.array([-0.3, -1.0, -0.2])
+    ndl = max(0.0, float(-l[1] / np.linalg.norm(l)))
+    want = 0.5 / math.pi * 3.0 * ndl + 0.5 * 0.1
+    inner = f.coverage == 1.0
+    assert inner.mean() > 0.9 and f.noise_floor == 0.0
+    assert np.allclose(f.color[inner], want, rtol=1e-6), (f.color[inner].min(), f.color[inner].max(), want)
+    assert np.array_equal(f.mask, f.object == 0) and f.visibility[f.mask].min() == 1.0
+
+
+def test_deterministic_and_cached(tmp_path, monkeypatch):
+    monkeypatch.setenv("POMKIT_CACHE", str(tmp_path))
+    s = _plane(pk.textures.bricks(64), diameter=3.0, ambient=0.1, size=32)
+    a = R.render_exact(s, spp=4)
+    b = R.render_exact(s, spp=4, cache=False)
+    assert np.array_equal(a.color, b.color) and len(list(tmp_path.glob("exact-*.npz"))) == 1
+
+
+def test_occlusion_darkens_the_grooves_only(tmp_path, monkeypatch):
+    """Ambient alone on bricks: ao = 1 on the flat brick tops far from the mortar (colour =
+    albedo ambient), and below 1 in the mortar joints."""
+    monkeypatch.setenv("POMKIT_CACHE", str(tmp_path))
+    h = pk.textures.bricks(64)
+    s = _plane(h, light=None, ambient=1.0, theta=0.0 + 1e-3, size=64, depth=0.1)
+    f = R.render_exact(s, spp=1)
+    col = f.color[..., 0][f.mask]
+    uv = f.uv[f.mask]
+    hh = h[np.clip((uv[:, 1] * 64).astype(int), 0, 63), np.clip((uv[:, 0] * 64).astype(int), 0, 63)]
+    assert col.max() <= 0.5 + 1e-6
+    assert np.median(col[hh < 0.4]) < 0.45 < np.median(col[hh > 0.95])
+
+
+def test_a_curved_mesh_is_refused_with_the_way_out():
+    s = pk.Scene(mesh=pk.Mesh.sphere(), material=pk.Material(np.full((8, 8), 0.5, np.float32)),
+                 camera=pk.Camera.look_at((0, 0, 3), width=16, height=16))
+    with pytest.raises(ValueError, match="render_mitsuba"):
+        R.render_exact(s, spp=1, cache=False)
+
+
+@pytest.mark.parametrize("name", ["bricks", "cobblestones", "terrain", "gravel"])
+@pytest.mark.parametrize("theta", [30.0, 70.0])
+def test_the_gpu_exact_method_meets_it(tmp_path, monkeypatch, name, theta):
+    """Exact (level-0 normal and albedo, exact hard shadows) against render_exact with a point
+    light, both at spp 16: the same hits, the same shading, so only float32 rounding (and
+    grazing light rays decided differently) remains. Interior FLIP <= 0.003 (issue 30's bound)."""
+    monkeypatch.setenv("POMKIT_CACHE", str(tmp_path))
+    h = pk.textures.real(name, 128) if name in pk.textures.REAL else getattr(pk.textures, name)(128)
+    s = _plane(h, theta=theta, size=96, light=(-0.3, -1.0, -0.2))
+    ref = R.render_exact(s, spp=16)
+    f = RENDERER.render(s, pk.Exact(shadows="exact", mip_filtering=False), spp=16)
+    c = pk.metrics.compare(f, ref, s)
+    assert c["flip_interior"] <= 0.003, c
+
+
+def test_assert_close_refuses_a_tolerance_below_the_floor():
+    c = np.full((8, 8, 3), 0.2, np.float32)
+    ref = pk.Frame(color=c, mask=np.ones((8, 8), bool), noise_floor=0.04)
+    with pytest.raises(ValueError, match="below the reference's own noise"):
+        pk.testing.assert_close(pk.Frame(color=c, mask=np.ones((8, 8), bool)), ref, flip=0.01)
+    got = pk.testing.assert_close(pk.Frame(color=c, mask=np.ones((8, 8), bool)), ref, flip=0.05)
+    assert got["flip_floor"] == 0.04 and got["flip"] == 0.0
+
+
+def test_each_failing_test_writes_its_own_diff_image(tmp_path, monkeypatch):
+    monkeypatch.setenv("POMKIT_DIFF_DIR", str(tmp_path))
+    ref = pk.Frame(color=np.zeros((8, 8, 3), np.float32), mask=np.ones((8, 8), bool))
+    bad = pk.Frame(color=np.ones((8, 8, 3), np.float32), mask=np.ones((8, 8), bool))
+    with pytest.raises(AssertionError, match="test_each_failing_test_writes_its_own_diff_image"):
+        pk.testing.assert_close(bad, ref, flip=0.1)
+    assert [p.name for p in tmp_path.iterdir()] == ["test_each_failing_test_writes_its_own_diff_image.png"]
