@@ -27,7 +27,9 @@ struct View {
     light_count: f32,
     // constant environment radiance
     ambient: vec3<f32>,
-    pad_v: f32,
+    // k of a supersampled pass's k x k samples per pixel (1 otherwise): the exact shadows share
+    // their direction sets among a pixel's samples (shadows.wgsl's sample_share)
+    spp_k: f32,
     lights: array<Light, MAX_LIGHTS>,
     // the shadow map: light view-projection, index of the shadowed light (-1: none), world size
     // of a shadow-map texel, map size in texels

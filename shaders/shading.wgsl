@@ -1,6 +1,8 @@
 // shading.wgsl: Lambertian shading with the shared light model (docs/conventions.md):
 //     L = albedo/pi * sum(E * max(0, N.L) * visibility) + albedo * ambient * ao
-// with the visibility from the method's shadow kind and the AO from the horizon estimate.
+// with the visibility from the method's shadow kind and the AO from the horizon estimate, or,
+// with exact shadows, both by exact traversals over the reference's direction sets
+// (docs/conventions.md, "The reference shading").
 //
 // Shader defs: SHADOWS (0 none, 1 hard, 2 soft, 3 horizon, 4 exact); TESSELLATED (the displaced
 // mesh: visibility from the shadow map, no AO).
@@ -10,7 +12,7 @@
 #import pomkit::frame::Frame
 #import pomkit::height::albedo_at
 #import pomkit::lights::{LightSample, light_sample}
-#import pomkit::shadows::{ShadowResult, shadow_march, exact_shadow, shadow_map_visibility}
+#import pomkit::shadows::{ShadowResult, shadow_march, exact_shadow, exact_ao, shadow_map_visibility}
 #import pomkit::horizon::{horizon_shadow, horizon_ao}
 #import pomkit::object::dir_to_object
 
@@ -18,13 +20,20 @@
 // the scene's shadow map where it has one for this light (CAST_SHADOWS; Tessellated's own
 // shadows are that map). `p` and `n` are in world space; the self-shadow marches run in the
 // object's texture space, so the light's direction goes to object space first.
-fn light_visibility(f: Frame, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, i: u32, ls: LightSample, lod: f32, self_shadows: bool) -> ShadowResult {
+fn light_visibility(f: Frame, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, i: u32, ls: LightSample, lod: f32, self_shadows: bool, px: vec2<f32>) -> ShadowResult {
     var r: ShadowResult;
     r.visibility = 1.0;
     r.steps = 0.0;
 #ifdef TESSELLATED
     if (self_shadows) {
+#if SHADOWS == 4
+        // the mesh's exact self-shadows: the traversal from its point of the field
+        var lo = ls;
+        lo.dir = dir_to_object(ls.dir);
+        r = exact_shadow(f, s, h, lo, px);
+#else
         r.visibility = shadow_map_visibility(i, p, n, 1e-5);
+#endif
     }
 #else
 #if SHADOWS != 0
@@ -35,7 +44,7 @@ fn light_visibility(f: Frame, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, 
         r = horizon_shadow(f, s, h, lo);
 #else
 #if SHADOWS == 4
-        r = exact_shadow(f, s, h, lo);
+        r = exact_shadow(f, s, h, lo, px);
 #else
         r = shadow_march(f, s, h, lo, lod);
 #endif
@@ -69,18 +78,25 @@ fn shade(f: Frame, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, lod: f32, w
         if (ndl <= 0.0) {
             continue;
         }
-        let r = light_visibility(f, s, h, p, n, i, ls, lod, with_shadows);
+        let r = light_visibility(f, s, h, p, n, i, ls, lod, with_shadows, px);
         o.steps = o.steps + r.steps;
         sum = sum + ls.e * ndl * r.visibility;
     }
     var ao = 1.0;
-#ifndef TESSELLATED
     if (with_shadows && G.ao_directions > 0.0 && any(V.ambient > vec3<f32>(0.0))) {
+#if SHADOWS == 4
+        // exact shadows come with the reference's exact AO (64 cosine-weighted directions)
+        let a = exact_ao(f, s, h, n, px);
+#else
+#ifdef TESSELLATED
+        let a = vec2<f32>(1.0, 0.0);
+#else
         let a = horizon_ao(f, s, h, px);
+#endif
+#endif
         ao = a.x;
         o.steps = o.steps + a.y;
     }
-#endif
     o.color = albedo / PI * sum + albedo * V.ambient * ao;
     return o;
 }

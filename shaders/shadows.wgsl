@@ -18,6 +18,7 @@
 #import pomkit::cost::fetched
 #import pomkit::lights::LightSample
 #import pomkit::maxmip::{maxmip_traverse, positive_start}
+#import pomkit::object::dir_to_object
 
 struct ShadowResult {
     visibility: f32,
@@ -126,9 +127,12 @@ fn shadow_map_visibility(light: u32, p: vec3<f32>, n: vec3<f32>, bias: f32) -> f
 // and leaves the shell EXACT_SHADOW_BIAS below its top: a blocker must rise more than the bias
 // above the ray. On the bilinear field this misses no blocker taller than 1e-4 of the shell.
 const EXACT_SHADOW_BIAS: f32 = 1e-4;
-fn exact_shadow(f: Frame, s: vec2<f32>, h_march: f32, ls: LightSample) -> ShadowResult {
+// One exact ray from the surface at (s, h_march) along the object-space direction `dir`:
+// visibility 1 if it leaves the shell, 0 if the field blocks it (or it points below the base
+// plane, where the tiled field continues).
+fn exact_ray(f: Frame, s: vec2<f32>, h_march: f32, dir: vec3<f32>) -> ShadowResult {
     var r: ShadowResult;
-    let l_ts = to_texture_space(f, ls.dir);
+    let l_ts = to_texture_space(f, dir);
     if (l_ts.z <= 1e-7) {
         r.visibility = 0.0;
         r.steps = 0.0;
@@ -154,4 +158,90 @@ fn exact_shadow(f: Frame, s: vec2<f32>, h_march: f32, ls: LightSample) -> Shadow
     r.visibility = select(1.0, 0.0, tr.hit);
     r.steps = tr.iters;
     return r;
+}
+
+// ---- the reference's direction sets (src/exact.rs, src/exact_image.rs; docs/conventions.md,
+// "The reference shading"): 64 points of a stratified 8 x 8 grid on the unit disk (Shirley and
+// Chiu's concentric map), and a pixel's samples sharing them ----
+
+const REFERENCE_DIRECTIONS: u32 = 64u;
+
+fn stratified_disk(i: u32) -> vec2<f32> {
+    let a = 2.0 * (f32(i / 8u) + 0.5) / 8.0 - 1.0;
+    let b = 2.0 * (f32(i % 8u) + 0.5) / 8.0 - 1.0;
+    var r = b;
+    var phi = 0.5 * PI - 0.25 * PI * (a / b);
+    if (abs(a) > abs(b)) {
+        r = a;
+        phi = 0.25 * PI * (b / a);
+    }
+    return vec2<f32>(r * cos(phi), r * sin(phi));
+}
+
+// The directions this sample traces of a set of 64: (first, stride). Sample q of a pixel's n
+// (a supersampled pass knows its k x k grid: V.spp_k; the sample is the fragment's place in it)
+// traces the indices d = q mod n, so that a pixel averages every direction once.
+fn sample_share(px: vec2<f32>) -> vec2<u32> {
+    let k = u32(max(V.spp_k, 1.0));
+    let n = k * k;
+    let q = (u32(px.y) % k) * k + (u32(px.x) % k);
+    if (n >= REFERENCE_DIRECTIONS) {
+        return vec2<u32>(q % REFERENCE_DIRECTIONS, REFERENCE_DIRECTIONS);
+    }
+    return vec2<u32>(q, n);
+}
+
+// A unit vector's two perpendiculars, chosen as src/exact.rs chooses them (the disk's axes).
+fn perpendiculars(v: vec3<f32>, pick_y: bool) -> mat2x3<f32> {
+    var a = vec3<f32>(1.0, 0.0, 0.0);
+    if (pick_y) {
+        a = vec3<f32>(0.0, 1.0, 0.0);
+    }
+    let e1 = normalize(cross(v, a));
+    return mat2x3<f32>(e1, cross(v, e1));
+}
+
+// Exact shadows: the traversal along the light ray; visible if it leaves the shell. A light with
+// a disk (a directional light's angular diameter, a sphere light's apparent radius) is the
+// fraction of the reference's 64 directions over it that leave the shell, this sample tracing
+// its share (`sample_share`).
+fn exact_shadow(f: Frame, s: vec2<f32>, h_march: f32, ls: LightSample, px: vec2<f32>) -> ShadowResult {
+    if (ls.tan_radius <= 0.0) {
+        return exact_ray(f, s, h_march, ls.dir);
+    }
+    let e = perpendiculars(ls.dir, abs(ls.dir.y) < 0.9);
+    let sh = sample_share(px);
+    var r: ShadowResult;
+    r.steps = 0.0;
+    var lit = 0.0;
+    var all = 0.0;
+    for (var d = sh.x; d < REFERENCE_DIRECTIONS; d = d + sh.y) {
+        let o = stratified_disk(d) * ls.tan_radius;
+        let one = exact_ray(f, s, h_march, normalize(ls.dir + e[0] * o.x + e[1] * o.y));
+        lit = lit + one.visibility;
+        all = all + 1.0;
+        r.steps = r.steps + one.steps;
+    }
+    r.visibility = lit / max(all, 1.0);
+    return r;
+}
+
+// Exact ambient occlusion: the fraction of the reference's 64 cosine-weighted directions about
+// the world shading normal `n` (the disk lifted to the hemisphere) that leave the shell, this
+// sample tracing its share. (visibility, steps)
+fn exact_ao(f: Frame, s: vec2<f32>, h_march: f32, n: vec3<f32>, px: vec2<f32>) -> vec2<f32> {
+    let e = perpendiculars(n, !(abs(n.x) < 0.9));
+    let sh = sample_share(px);
+    var open = 0.0;
+    var all = 0.0;
+    var steps = 0.0;
+    for (var d = sh.x; d < REFERENCE_DIRECTIONS; d = d + sh.y) {
+        let o = stratified_disk(d);
+        let z = sqrt(max(1.0 - dot(o, o), 0.0));
+        let one = exact_ray(f, s, h_march, dir_to_object(normalize(e[0] * o.x + e[1] * o.y + n * z)));
+        open = open + one.visibility;
+        all = all + 1.0;
+        steps = steps + one.steps;
+    }
+    return vec2<f32>(open / max(all, 1.0), steps);
 }

@@ -110,7 +110,8 @@ fn fs_main(in: VertexOut) -> FsOut {
 #endif
 #ifdef TESSELLATED
     // base frame, height-field normal at the rasterised uv, level 0: this is the true surface
-    let sh = shade(f, s0, 1.0, p_base, normal_to_world(height_normal(f, s0, 0.0)), lod, true, px);
+    // (h = 0: the exact shadows start from the field's own height at s0)
+    let sh = shade(f, s0, 0.0, p_base, normal_to_world(height_normal(f, s0, 0.0)), lod, true, px);
     color = sh.color;
     steps = sh.steps;
 #endif

@@ -246,6 +246,9 @@ pub struct Camera {
     /// those from `origin` of a `full`-sized image of the same camera (tiled passes of a
     /// supersampled frame). None: the whole image.
     pub window: Option<Window>,
+    /// k when this image's pixels are the k x k samples of a supersampled frame's pixels (the
+    /// exact shadows share their directions among them), 1 otherwise.
+    pub samples: u32,
 }
 
 /// Where a camera's image lies in the full image it is a window of.

@@ -27,6 +27,7 @@ fn cone_map(r: &Renderer, map: HeightMap, cones: Cones) -> Vec<[f32; 2]> {
             width: 8,
             height: 8,
             window: None,
+            samples: 1,
         },
         vec![],
         [0.0; 3],

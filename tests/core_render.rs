@@ -27,6 +27,7 @@ fn scene(height: HeightMap, theta_deg: f64, size: u32) -> Scene {
             width: size,
             height: size,
             window: None,
+            samples: 1,
         },
         vec![Light::Directional {
             direction: [-0.3, -1.0, -0.2],

@@ -10,10 +10,13 @@ Every per-pixel method (Parallax, SteepParallax, POM, Relief, Exact) also takes,
            "soft" (penumbra estimate from the light's angular diameter) |
            "horizon" (max-mip horizon angle, Dachsbacher & Tatarchuk 2007) |
            "exact" (the max-mip traversal along the light ray from the height field at the hit:
-           no false shadow and no false light on the bilinear field; hard-edged)
+           no false shadow and no false light on the bilinear field; a light with a disk is the
+           fraction of the reference's 64 directions over it, shared among a pixel's samples)
   filtering: "hardware" (the sampler's bilinear filter) | "exact" (four loads, float32 lerp)
   mip_filtering: sample the footprint's mip level (True) or level 0 (False)
-  ao_directions: 0, 4 or 8 horizon directions for ambient occlusion of Scene.ambient
+  ao_directions: 0, 4 or 8 horizon directions for ambient occlusion of Scene.ambient; with
+           shadows="exact", any value above 0 turns on the exact AO of the reference shading
+           (64 cosine-weighted directions by exact traversals, shared among a pixel's samples)
   horizon_samples: samples at 2^k texels, k < horizon_samples, for "horizon" shadows and AO
 """
 
@@ -394,14 +397,18 @@ class Tessellated(Method):
 
     shadows: "hard" (default) tests the first directional light against a 2048^2 shadow map of
     the displaced mesh itself (3x3 PCF, boundaries good to ~1.5 shadow-map texels, no area-light
-    penumbra); "none" turns it off. Other lights are unshadowed; no ambient occlusion."""
+    penumbra; other lights unshadowed; no ambient occlusion); "exact" gives the mesh the
+    reference's exact self-shadows and AO (docs/conventions.md, "The reference shading": every
+    light's disk and the ambient by exact max-mip walks from each fragment's point of the field),
+    so that against `pk.reference.render_exact` a shadow difference is the method's, not the
+    shadow map's; "none" turns shadows off."""
 
     texels_per_vertex: float = 1.0
-    shadows: Literal["none", "hard"] = "hard"
+    shadows: Literal["none", "hard", "exact"] = "hard"
     _kind = "Tessellated"
 
     def __post_init__(self):
-        _choice(self, "shadows", ("none", "hard"))
+        _choice(self, "shadows", ("none", "hard", "exact"))
         _real_field(self, "texels_per_vertex", 1 / 64, 1024)
 
 

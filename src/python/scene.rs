@@ -259,6 +259,7 @@ pub fn scene_from_py(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
         width: item(cam, "width")?.extract()?,
         height: item(cam, "height")?.extract()?,
         window: None,
+        samples: 1,
     };
     let mut lights = Vec::new();
     let ls = item(d, "lights")?;

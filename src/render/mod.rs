@@ -404,6 +404,7 @@ impl Renderer {
     /// image or over the window `rect` (x, y, w, h in pixels).
     fn samples(s: &Scene, k: u32, rect: Option<(u32, u32, u32, u32)>) -> Scene {
         let mut s = s.clone();
+        s.camera.samples = k;
         let (w, h) = (s.camera.width, s.camera.height);
         if let Some((x0, y0, tw, th)) = rect {
             s.camera.window = Some(crate::scene::Window {

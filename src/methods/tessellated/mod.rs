@@ -64,18 +64,31 @@ impl Unit for Tessellated {
                 texels_per_vertex: 1.0,
                 shadows: Shadows::Hard,
             },
+            Tessellated {
+                texels_per_vertex: 1.0,
+                shadows: Shadows::Exact,
+            },
         ]
     }
     const PER_PIXEL: bool = false;
     fn spec(&self, _: &PerPixel) -> Spec {
+        // exact shadows come with the reference's exact AO (shadows.wgsl's exact_ao)
+        let ao_directions = if self.shadows == Shadows::Exact {
+            64
+        } else {
+            0
+        };
         let mut s = Spec::shade_only(
             "TESSELLATED",
-            PerPixel::off().with_shadows(self.shadows),
+            PerPixel {
+                ao_directions,
+                ..PerPixel::off().with_shadows(self.shadows)
+            },
             Geometry::Own(Arc::new(DisplacedMesh {
                 texels_per_vertex: self.texels_per_vertex,
             })),
         );
-        s.shadow_map_self = self.shadows != Shadows::None;
+        s.shadow_map_self = self.shadows == Shadows::Hard;
         s
     }
     fn validate(&self) -> Result<()> {
@@ -87,10 +100,10 @@ impl Unit for Tessellated {
                 format!("must lie in [1/64, 1024], got {}", self.texels_per_vertex),
             ));
         }
-        if !matches!(self.shadows, Shadows::None | Shadows::Hard) {
+        if !matches!(self.shadows, Shadows::None | Shadows::Hard | Shadows::Exact) {
             return Err(Error::arg(
                 "shadows",
-                "Tessellated has 'none' or 'hard' (a shadow map of the displaced mesh)",
+                "Tessellated has 'none', 'hard' (a shadow map of the displaced mesh) or 'exact' (the max-mip traversal from its points, and exact AO)",
             ));
         }
         Ok(())
