@@ -92,7 +92,7 @@ class Renderer:
         ok = a.mask & b.mask & (cb > 1e-12)
         vis = np.full(ca.shape, np.nan, np.float32)
         vis[ok] = np.clip(ca[ok] / cb[ok], 0.0, 1.0)
-        arrays = {k: frame._arrays[k] for k in frame.aovs}
+        arrays: dict[str, Any] = {k: frame._arrays[k] for k in frame.aovs}
         return Frame(**arrays, visibility=vis, gpu_ms=frame.gpu_ms, wall_ms=frame.wall_ms, timing=frame.timing,
                      method=frame.method)
 
