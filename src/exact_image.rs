@@ -88,7 +88,9 @@ fn share(set: &[DVec3], q: usize, n: usize) -> impl Iterator<Item = &DVec3> {
 }
 
 /// The exact image of a planar scene at `spp` samples per pixel (a square, 1 to 256).
-pub fn render_exact(scene: &Scene, spp: u32) -> Result<ExactImage> {
+/// `shadows` false leaves out the light and ambient rays (every light fully visible, ao = 1):
+/// the colour of the displacement alone, for methods measured without shadows.
+pub fn render_exact(scene: &Scene, spp: u32, shadows: bool) -> Result<ExactImage> {
     let k = (spp as f64).sqrt().round() as u32;
     if spp == 0 || k * k != spp || k > 16 {
         return Err(Error::arg(
@@ -192,7 +194,7 @@ pub fn render_exact(scene: &Scene, spp: u32) -> Result<ExactImage> {
 }
 
 /// The reference shading of one sample's hit (world point `p`): sample `q` of `n` traces its
-/// share of each direction set.
+/// share of each direction set (none without `shadows`).
 #[allow(clippy::too_many_arguments)]
 fn shade(
     scene: &Scene,
@@ -201,8 +203,8 @@ fn shade(
     p: DVec3,
     ambient: DVec3,
     cosines: &[DVec3],
-    q: usize,
-    n: usize,
+    (q, n): (usize, usize),
+    shadows: bool,
 ) -> DVec3 {
     let nrm = shading_normal(o, hit);
     let albedo = albedo_at(&o.mat.albedo, hit.s);
@@ -237,6 +239,10 @@ fn shade(
         if ndl <= 0.0 {
             continue;
         }
+        if !shadows {
+            direct += e * ndl;
+            continue;
+        }
         let set = if tan_r > 0.0 {
             disk_directions(to_light, tan_r)
         } else {
@@ -250,7 +256,7 @@ fn shade(
         direct += e * ndl * (lit as f64 / all.max(1) as f64);
     }
     let mut ao = 1.0;
-    if ambient.max_element() > 0.0 {
+    if shadows && ambient.max_element() > 0.0 {
         // the cosine set about the shading normal
         let a = if nrm.x.abs() < 0.9 {
             DVec3::X

@@ -64,6 +64,15 @@ SHADOW_START: dict[str, int] = {
     "torus-ncs_c1": 20, "sphere-ncs_c1": 10,
 }
 
+#: frame-key suffix -> why its colour (and its shadow rays' step counts) was redefined; its
+#: geometry (uv, depth, mask, lod, flags) must stay bit-identical
+COLOUR_REDEFINED: dict[str, str] = {
+    "-exact_shadow": ("issue 30: exact shadows trace the reference shading's 64 directions over the light's disk "
+                      "(a 2 deg light: soft, no longer the centre ray's hard edge) and, with ao_directions > 0, "
+                      "exact AO over its 64 cosine-weighted directions (no longer the horizon estimate); the colour "
+                      "is held to pk.reference.render_exact in tests/test_reference_exact.py instead"),
+}
+
 #: frames whose step counts changed by design (the reason is in TOLERANT)
 STEPS_CHANGED = ("-exact", "-exact_shadow")
 
@@ -80,6 +89,7 @@ def _tolerance(key: str):
 @pytest.mark.parametrize("key,scene,method", CASES, ids=[c[0] for c in CASES])
 def test_golden_frame(renderer, key, scene, method):
     f = renderer.render(scene, method)
+    redefined = any(key.endswith(k) for k in COLOUR_REDEFINED)
     if key in SHADOW_START:
         _check_shadow_start(key, scene, method, f)
         return
@@ -94,6 +104,9 @@ def test_golden_frame(renderer, key, scene, method):
     both = f.mask & want_mask
     d = np.abs(f.uv[both] - DATA[f"{key}/uv"][both]) * np.array(scene.material.height.shape[::-1]) * scene.material.tiling
     assert d.max() <= uv_tol, f"{key}: uv moved by {d.max():.2e} texel ({why})"
+    if redefined:  # the geometry as pinned; the colour and the shadow rays' steps redefined (COLOUR_REDEFINED)
+        np.testing.assert_array_equal(f.flags, DATA[f"{key}/flags"])
+        return
     assert np.abs(f.color[both] - DATA[f"{key}/color"][both]).max() <= color_tol, f"{key}: colour ({why})"
     steps = np.abs(f.steps[both].astype(np.int64) - DATA[f"{key}/steps"][both])
     if not key.endswith(STEPS_CHANGED):

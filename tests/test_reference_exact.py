@@ -149,3 +149,15 @@ def test_each_failing_test_writes_its_own_diff_image(tmp_path, monkeypatch):
     with pytest.raises(AssertionError, match="test_each_failing_test_writes_its_own_diff_image"):
         pk.testing.assert_close(bad, ref, flip=0.1)
     assert [p.name for p in tmp_path.iterdir()] == ["test_each_failing_test_writes_its_own_diff_image.png"]
+
+
+def test_unshadowed_is_never_darker(tmp_path, monkeypatch):
+    """shadows=False (the bench's and choose's reference for methods without shadows) drops the
+    light and ambient rays only: the same hits, every pixel at least as bright, and brighter
+    where the bricks shadow and occlude."""
+    monkeypatch.setenv("POMKIT_CACHE", str(tmp_path))
+    s = _suite_scene("bricks", 70.0, 0.15)
+    a = R.render_exact(s, spp=4)
+    b = R.render_exact(s, spp=4, shadows=False)
+    assert np.array_equal(a.mask, b.mask) and (b.color >= a.color - 1e-7).all()
+    assert (b.color - a.color).max() > 0.05

@@ -6,7 +6,8 @@ For each family of methods with a quality knob (a step count), the error is mono
 bound absorbs), so the smallest step count that meets the bound is found by bisection over
 [lo, hi], not by a grid. Families without a knob (Parallax, Exact) are measured once. Every
 measurement (a setting on one case: worst uv p95 against the float64 oracle, FLIP against the
-tessellated mesh, mean texel fetches, GPU ms) is cached on disk, keyed by the scene's hash and
+noise-free exact image, unshadowed, or the tessellated mesh on a curved scene, mean texel
+fetches, GPU ms) is cached on disk, keyed by the scene's hash and
 the method, so a second call with a looser bound re-measures nothing. Each case is one task of
 an executor when one is given (a Dask `client.get_executor()`, a process pool): the sweep's
 machinery.
@@ -100,14 +101,22 @@ def _renderer() -> pk.Renderer:
 
 def _refs(scene: pk.Scene, want_flip: bool) -> tuple[pk.Frame, pk.Frame | None]:
     """A case's references, made once whatever the settings measured on it: the oracle, and
-    the mesh's colour when FLIP is bounded."""
+    the noise-free exact image (unshadowed) when FLIP is bounded."""
     from ._cache import scene_hash
     key = (scene_hash(scene, kind="refs"), want_flip)
     if key not in _REFS:
         if len(_REFS) > 64:
             _REFS.clear()
-        cref = _renderer().render(scene, pk.Tessellated(texels_per_vertex=0.5, shadows="none"),
-                                  aovs=("color", "mask")) if want_flip else None
+        from . import reference
+        cref = None
+        if want_flip:
+            # the noise-free colour reference, unshadowed as the settings measured are (a curved
+            # scene, which render_exact does not take: the mesh at half a texel)
+            try:
+                cref = reference.render_exact(scene, spp=1, shadows=False)
+            except ValueError:
+                cref = _renderer().render(scene, pk.Tessellated(texels_per_vertex=0.5, shadows="none"),
+                                          aovs=("color", "mask"))
         _REFS[key] = (pk.exact_uv(scene), cref)
     return _REFS[key]
 
@@ -120,7 +129,7 @@ def _measure_case(job: tuple) -> dict:
     from . import metrics
     from .bench import time_methods
     r = _renderer()
-    key = scene_hash(scene, kind="choose", method=repr(method), flip=want_flip, rounds=rounds, adapter=f"{r.info['name']} {r.info['backend']} {r.info['driver']}")
+    key = scene_hash(scene, kind="choose", method=repr(method), flip=want_flip, colour_ref="render_exact", rounds=rounds, adapter=f"{r.info['name']} {r.info['backend']} {r.info['driver']}")
 
     def compute() -> dict:
         ref, cref = _refs(scene, want_flip)
@@ -164,7 +173,7 @@ def choose(heights: Any = None, scenes: Optional[Sequence[pk.Scene]] = None,
     heights: a height map (array or file path) or a list of them, seen on a plane at each of
     `angles` (degrees from the normal) at `resolution`²; or scenes: the scenes themselves.
     max_uv_error: the bound on each case's uv p95 (texels, against the float64 oracle);
-    max_flip: the bound on each case's FLIP (against the tessellated mesh); at least one.
+    max_flip: the bound on each case's FLIP (against `pk.reference.render_exact(scene, shadows=False)`, noise-free); at least one.
     methods: family names from `FAMILIES` (default: all). cost: "gpu_ms" (this adapter) or
     "fetches" (texel fetches per pixel: a cost that carries over to a GPU).
     budget_s: stop searching after this many seconds (the answer is then the best found).

@@ -153,7 +153,14 @@ def _sweep_scene(job: tuple) -> list[dict]:
     floor: dict = {}
     if reference == "exact":
         ref = pk.exact_uv(scene)
-        cref = r.render(scene, pk.Tessellated(texels_per_vertex=0.5), aovs=("color", "mask"), spp=fspp) if flip else None
+        cref = None
+        if flip:
+            # the noise-free colour reference at the frames' spp (its floor is 0: a score is the
+            # method's error), shadowed for the methods that cast shadows, else not
+            from . import reference as R
+            crefs = {sh: R.render_exact(scene, spp=fspp, shadows=sh) for sh in (False, True)}
+            cref = crefs[False]
+            floor = dict(flip_floor=0.0)
     elif reference == "tessellated":
         ref = cref = r.render(scene, pk.Tessellated(texels_per_vertex=0.5), spp=fspp)
     else:
@@ -180,7 +187,8 @@ def _sweep_scene(job: tuple) -> list[dict]:
         fl = fl_in = fl_sil = float("nan")
         if flip and cref is not None:
             try:
-                c = metrics.compare(f, cref, scene)
+                cr = crefs[getattr(m, "shadows", "none") != "none"] if reference == "exact" else cref
+                c = metrics.compare(f, cr, scene)
                 fl, fl_in, fl_sil = c["flip"], c["flip_interior"], c["flip_silhouette"]
             except ImportError:
                 pass
@@ -224,8 +232,8 @@ def sweep(methods: Iterable, scenes: Iterable = ("bricks",), angles: Iterable[fl
     settings: size (256), depth (0.08), tiling (1.0), spp (64, Mitsuba's), frame_spp (1: the
     frames' samples per pixel, `Renderer.render(spp=)`; the colour reference of "exact" and
     "tessellated" takes the same), flip (True: FLIP against the colour reference);
-    reference: "exact" (the CPU oracle; FLIP then against Tessellated(0.5) colour), "tessellated"
-    or "mitsuba" (cached on disk);
+    reference: "exact" (the CPU oracle; FLIP then against `pk.reference.render_exact`, noise-free,
+    unshadowed for the methods without shadows), "tessellated" or "mitsuba" (cached on disk);
     repeats: the least number of interleaved timing rounds (see `time_methods`);
     executor: any `concurrent.futures.Executor` (a process pool, Dask's `client.get_executor()`,
     Ray's): each (scene, angle) is one task, rendered, timed and measured where it is sent; each

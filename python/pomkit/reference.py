@@ -194,7 +194,7 @@ def _bsdf(mi, m: Material):
     return mi.load_dict({"type": "diffuse", "reflectance": refl})
 
 
-def render_exact(scene: Scene, spp: int = 16, cache: bool = True) -> Frame:
+def render_exact(scene: Scene, spp: int = 16, shadows: bool = True, cache: bool = True) -> Frame:
     """The noise-free reference image of a planar scene: every sample's hit is the float64
     oracle's (`pk.exact_uv`), shaded in float64 with the reference shading of
     docs/conventions.md (the normal from central differences of the bilinear field at level 0,
@@ -206,14 +206,18 @@ def render_exact(scene: Scene, spp: int = 16, cache: bool = True) -> Frame:
     hit, -1 elsewhere) are the oracle's at the pixel centre. Deterministic, so `noise_floor` is
     0.0; no mesh is built, so any map size the oracle walks works. Cached on disk by the scene's
     hash. Planar meshes of one untransformed object; a curved mesh raises a ValueError naming
-    `render_mitsuba`. `Frame.wall_ms` is the time the render took (stored with it in the cache)."""
+    `render_mitsuba`. `Frame.wall_ms` is the time the render took (stored with it in the cache).
+    `shadows=False` traces no light or ambient rays (every light fully visible, ao = 1): the
+    colour of the displacement alone, for methods measured without shadows (the bench, choose)."""
     if isinstance(spp, bool) or not isinstance(spp, int) or spp < 1:
         raise ValueError(f"spp: must be a positive square integer (1, 4, 9, 16, ...), got {spp!r}")
-    key = scene_hash(scene, kind="exact", spp=spp)
+    if not isinstance(shadows, (bool, np.bool_)):
+        raise TypeError(f"shadows: expected True or False, got {shadows!r}")
+    key = scene_hash(scene, kind="exact", spp=spp, shadows=bool(shadows))
 
     def compute():
         t0 = time.perf_counter()
-        d = _core.render_exact(scene._describe(), spp)
+        d = _core.render_exact(scene._describe(), spp, bool(shadows))
         o = _core.exact_uv(scene._describe(), 0.0)
         return dict(color=d["color"], coverage=d["coverage"], uv=o["uv"].astype(np.float32),
                     depth=o["depth"].astype(np.float32), mask=o["mask"], visibility=o["visibility"].astype(np.float32),
@@ -221,7 +225,7 @@ def render_exact(scene: Scene, spp: int = 16, cache: bool = True) -> Frame:
 
     a = cached("exact", key, compute, use_cache=cache)
     arrays = {k: a[k] for k in ("color", "coverage", "uv", "depth", "mask", "visibility", "object")}
-    return Frame(method=f"render_exact spp={spp} (took {float(a['ms']):.0f} ms)", wall_ms=float(a["ms"]), timing="wall",
+    return Frame(method=f"render_exact spp={spp}{'' if shadows else ' unshadowed'} (took {float(a['ms']):.0f} ms)", wall_ms=float(a["ms"]), timing="wall",
                  noise_floor=0.0, **arrays)
 
 

@@ -228,14 +228,15 @@ fn exact_uv<'py>(
 /// The exact image (`exact_image.rs`): dict with color (H, W, 3) f32 and coverage (H, W) f32
 /// from k x k exact samples per pixel shaded with the reference shading.
 #[pyfunction]
-#[pyo3(signature = (scene, spp))]
+#[pyo3(signature = (scene, spp, shadows=true))]
 fn render_exact<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyDict>,
     spp: u32,
+    shadows: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene_from_py(scene)?;
-    let o = py.detach(move || crate::exact_image::render_exact(&scene, spp))?;
+    let o = py.detach(move || crate::exact_image::render_exact(&scene, spp, shadows))?;
     let (h, w) = (o.height as usize, o.width as usize);
     let d = PyDict::new(py);
     d.set_item("color", nd_array(py, (h, w, 3), o.color)?)?;

@@ -44,8 +44,8 @@ def curved_scene(size: int = 256) -> pk.Scene:
 PLANAR: dict[str, Callable[[], pk.Method]] = {
     "Flat": pk.Flat, "Bump": pk.Bump, "Parallax": pk.Parallax, "SteepParallax": pk.SteepParallax,
     "POM": lambda: pk.POM(shadows="soft"), "Relief": pk.Relief, "ConeStep": pk.ConeStep,
-    "Exact": lambda: pk.Exact(shadows="exact"), "DistanceMapping": pk.DistanceMapping, "Prism": pk.Prism,
-    "Tessellated(1)": lambda: pk.Tessellated(1.0)}
+    "Exact": lambda: pk.Exact(shadows="exact", ao_directions=64, mip_filtering=False), "DistanceMapping": pk.DistanceMapping,
+    "Prism": pk.Prism, "Tessellated(1)": lambda: pk.Tessellated(1.0, shadows="exact")}
 CURVED: dict[str, Callable[[], pk.Method]] = {
     "Flat": pk.Flat, "POM": pk.POM, "NCS": pk.NCS, "CurvedRelief": pk.CurvedRelief, "Prism": pk.Prism,
     "Prism (exact)": lambda: pk.Prism(exact=True), "Tessellated(1)": lambda: pk.Tessellated(1.0)}
@@ -111,10 +111,9 @@ def _save(img: np.ndarray, path: Path) -> str:
     return path.name
 
 
-def _flip_map(frame: pk.Frame, ref8: np.ndarray) -> tuple[float, np.ndarray]:
+def _flip_map(frame: pk.Frame, ref: pk.Frame) -> tuple[float, np.ndarray]:
     """FLIP (flip-evaluator, when installed) or, without it, the mean absolute sRGB difference."""
-    ref = pk.Frame._of({"color": pk.srgb_to_linear(ref8).astype(np.float32),
-                        "mask": np.ones(ref8.shape[:2], bool)})
+    ref8 = ref.to_srgb8()
     try:
         m, e = pk.metrics.flip(frame, ref, image=True)
         e = np.asarray(e)
@@ -125,10 +124,18 @@ def _flip_map(frame: pk.Frame, ref8: np.ndarray) -> tuple[float, np.ndarray]:
 
 
 def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: dict, uv_ref: pk.Frame,
-            uv_ref_label: str) -> tuple[str, list[dict]]:
-    """One scene's table: per method its frame, uv-error map, FLIP map (against Mitsuba) and
-    figures."""
+            uv_ref_label: str, colour_ref: Optional[pk.Frame] = None) -> tuple[str, list[dict]]:
+    """One scene's table: per method its frame, uv-error map, FLIP map and figures. The FLIP is
+    against `colour_ref` when given (the noise-free `render_exact`, on the plane: the map shows
+    the method's error), else against the shipped Mitsuba render (the torus)."""
     ref8 = reference(name, scene)
+    if colour_ref is not None:
+        flip_ref, flip_label = colour_ref, "render_exact (noise-free)"
+    elif ref8 is not None:
+        flip_ref = pk.Frame._of({"color": pk.srgb_to_linear(ref8).astype(np.float32), "mask": np.ones(ref8.shape[:2], bool)})
+        flip_label = "Mitsuba"
+    else:
+        flip_ref, flip_label = None, ""
     rows, cells = [], []
     have_flip = True
     try:
@@ -143,8 +150,8 @@ def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: d
                    safety=m.safety)
         imgs = [_save(f.to_srgb8(), outdir / f"{name}_{label}.png"),
                 _save(_colormap(e["image"], UV_MAX, f.mask | uv_ref.mask), outdir / f"{name}_{label}_uv.png")]
-        if ref8 is not None:
-            fl, emap = _flip_map(f, ref8)
+        if flip_ref is not None:
+            fl, emap = _flip_map(f, flip_ref)
             row["flip"] = fl
             imgs.append(_save(_colormap(emap, 0.5 if have_flip else 0.25, np.ones(emap.shape, bool)),
                               outdir / f"{name}_{label}_flip.png"))
@@ -158,10 +165,15 @@ def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: d
     head = "<tr><th></th><th>frame (4 spp)</th><th>uv error vs " + html.escape(uv_ref_label) + f" (0–{UV_MAX:g} texels)</th>"
     if ref8 is not None:
         _save(ref8, outdir / f"{name}_mitsuba.png")
-        head += f"<th>{'FLIP' if have_flip else '|Δ sRGB|'} vs Mitsuba</th>"
+    if flip_ref is not None:
+        head += f"<th>{'FLIP' if have_flip else '|Δ sRGB|'} vs {html.escape(flip_label)}</th>"
     head += "<th></th></tr>"
     ref_html = (f'<p>Mitsuba 3 (the displaced mesh, box filter): <br><img src="{name}_mitsuba.png"></p>' if ref8 is not None
                 else "<p>(no Mitsuba reference for this scene: run scripts/make_demo_refs.py)</p>")
+    if colour_ref is not None:
+        _save(colour_ref.to_srgb8(), outdir / f"{name}_exact.png")
+        ref_html += (f'<p><code>pk.reference.render_exact</code> (exact hits, exact shadows and AO, float64; '
+                     f'the FLIP maps\' reference): <br><img src="{name}_exact.png"></p>')
     return f"<h2>{name}</h2>{ref_html}<table>{head}{''.join(cells)}</table>", rows
 
 
@@ -174,7 +186,8 @@ def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
              "Every method of the field on a plane and on a torus; GPU times of this adapter.</p>"]
     planar = planar_scene(size)
     oracle = pk.exact_uv(planar)
-    s1, rows = section(r, outdir, "planar", planar, PLANAR, oracle, "the float64 oracle")
+    exact = pk.reference.render_exact(planar, spp=4)
+    s1, rows = section(r, outdir, "planar", planar, PLANAR, oracle, "the float64 oracle", exact)
     curved = curved_scene(size)
     tess = r.render(curved, pk.Tessellated(0.5))
     s2, rows2 = section(r, outdir, "curved", curved, CURVED, tess, "Tessellated(0.5)")
