@@ -171,8 +171,8 @@ pub fn render_exact(scene: &Scene, spp: u32, shadows: bool) -> Result<ExactImage
                                 basis.eye + dir * hit.dist,
                                 ambient,
                                 cosines,
-                                q,
-                                n,
+                                (q, n),
+                                shadows,
                             );
                         }
                         let px = (i - r0) * w as usize + j;
