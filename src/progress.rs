@@ -2,7 +2,7 @@
 //!
 //! A method's builder (the cone map, the distance volume) reports the rows it has done to the
 //! hook the caller set (the Python layer sets one that shows a tqdm bar once a build has run
-//! for 2 s). A build that took longer than `KEEP_AFTER` is kept in the cache directory the
+//! for 2 s). A build that took longer than `keep_after()` (1 s) is kept in the cache directory the
 //! caller set (Python's `pomkit._cache.cache_dir()`), keyed by what it is built from and by the
 //! builder's own source, and read from there next time instead of being built again.
 
@@ -10,8 +10,15 @@ use std::path::PathBuf;
 use std::sync::{Arc, RwLock};
 use std::time::Duration;
 
-/// A build that took longer than this is kept on disk.
-pub const KEEP_AFTER: Duration = Duration::from_secs(1);
+/// A build that took longer than this is kept on disk (`$POMKIT_KEEP_BUILDS_AFTER_MS` overrides
+/// the 1000 ms, e.g. 0 to keep every build).
+pub fn keep_after() -> Duration {
+    let ms = std::env::var("POMKIT_KEEP_BUILDS_AFTER_MS")
+        .ok()
+        .and_then(|v| v.parse::<u64>().ok())
+        .unwrap_or(1000);
+    Duration::from_millis(ms)
+}
 
 pub type Hook = Arc<dyn Fn(&str, u64, u64) + Send + Sync>;
 

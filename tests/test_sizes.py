@@ -125,13 +125,14 @@ print(hashlib.sha256(np.nan_to_num(f.uv).tobytes()).hexdigest(), seen.count("con
 
 
 def test_a_long_cone_map_build_reports_progress_and_is_kept(tmp_path):
-    """A 4096² cone map takes seconds here: the build reports its rows (the first process) and is
-    kept on disk by content; a second process reads it (no build, so no report) and renders the
+    """A 4096² cone map (3 s here): the build reports its rows (the first process) and is kept on
+    disk by content; a second process reads it (no build, so no report) and renders the
     same frame; a damaged file is built again."""
     import os
     import subprocess
     import sys
-    env = dict(os.environ, POMKIT_CACHE=str(tmp_path))
+    # keep every build: a faster machine may build 4096² in under the default second
+    env = dict(os.environ, POMKIT_CACHE=str(tmp_path), POMKIT_KEEP_BUILDS_AFTER_MS="0")
     run = lambda: subprocess.run([sys.executable, "-c", CONE_CASE, os.path.dirname(__file__)], env=env,
                                  capture_output=True, text=True, timeout=600)
     a = run()

@@ -37,7 +37,7 @@ pub fn pass(ctx: &Context, lib: &dyn Composer) -> Result<TablePass> {
 
 /// The cone map of an object's resident height map (its max pyramid current): two R32Float
 /// textures of the map's size, base and w per cell. A build that took longer than
-/// `progress::KEEP_AFTER` is kept on disk, keyed by `key` (the map's content, the kind of cones
+/// `progress::keep_after()` is kept on disk, keyed by `key` (the map's content, the kind of cones
 /// and this builder's source), and read from there next time; the build reports its rows to
 /// `progress`.
 pub fn build(
@@ -97,7 +97,7 @@ pub fn build(
         &mut |done, total| progress::report("cone map", done as u64, total as u64),
     )?;
     ctx.wait()?;
-    if t0.elapsed() > progress::KEEP_AFTER {
+    if t0.elapsed() > progress::keep_after() {
         let base = read_r32(ctx, &textures[0], 0, (w, h))?;
         let slope = read_r32(ctx, &textures[1], 0, (w, h))?;
         progress::store(
