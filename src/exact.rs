@@ -167,62 +167,57 @@ pub fn exact_hits(scene: &Scene, light_bias: f64) -> Result<OracleFrame> {
     };
     let light_dirs = first_light_directions(scene);
     let light_bias = light_bias.max(0.0);
+    // per pixel of each row: (uv, distance, cells, visibility) where it hits
+    let rows = par_rows(h as usize, |i| {
+        (0..w)
+            .map(|j| {
+                let dir = cam.ray_dir(&basis, i as u32, j);
+                let hit = oracle.trace(basis.eye, dir)?;
+                let vis = if light_dirs.is_empty() {
+                    f64::NAN
+                } else {
+                    let lit = light_dirs
+                        .iter()
+                        .filter(|l| oracle.reaches(&hit, **l, light_bias))
+                        .count();
+                    lit as f64 / light_dirs.len() as f64
+                };
+                Some((hit.uv, hit.dist, hit.cells, vis))
+            })
+            .collect::<Vec<_>>()
+    });
+    for (idx, px) in rows.into_iter().flatten().enumerate() {
+        if let Some((uv, dist, cells, vis)) = px {
+            out.uv[idx * 2] = uv.x;
+            out.uv[idx * 2 + 1] = uv.y;
+            out.depth[idx] = dist;
+            out.mask[idx] = true;
+            out.cells[idx] = cells;
+            out.visibility[idx] = vis;
+        }
+    }
+    Ok(out)
+}
+
+/// `f(row)` for every row in 0..rows, on the machine's cores (at most 8 threads, each a band
+/// of consecutive rows), in row order.
+pub(crate) fn par_rows<T: Send>(rows: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
     let threads = std::thread::available_parallelism()
         .map(|x| x.get())
         .unwrap_or(1)
-        .min(8);
-    let rows_per = (h as usize).div_ceil(threads);
+        .clamp(1, 8);
+    let per = rows.div_ceil(threads).max(1);
+    let f = &f;
     std::thread::scope(|sc| {
-        let mut uv_rest: &mut [f64] = &mut out.uv;
-        let mut d_rest: &mut [f64] = &mut out.depth;
-        let mut m_rest: &mut [bool] = &mut out.mask;
-        let mut c_rest: &mut [u32] = &mut out.cells;
-        let mut v_rest: &mut [f64] = &mut out.visibility;
-        for k in 0..threads {
-            let r0 = k * rows_per;
-            let r1 = ((k + 1) * rows_per).min(h as usize);
-            if r0 >= r1 {
-                break;
-            }
-            let cnt = (r1 - r0) * w as usize;
-            let (uv_c, a) = std::mem::take(&mut uv_rest).split_at_mut(cnt * 2);
-            uv_rest = a;
-            let (d_c, b) = std::mem::take(&mut d_rest).split_at_mut(cnt);
-            d_rest = b;
-            let (m_c, c) = std::mem::take(&mut m_rest).split_at_mut(cnt);
-            m_rest = c;
-            let (c_c, d) = std::mem::take(&mut c_rest).split_at_mut(cnt);
-            c_rest = d;
-            let (v_c, e) = std::mem::take(&mut v_rest).split_at_mut(cnt);
-            v_rest = e;
-            let light_dirs = &light_dirs;
-            let oracle = &oracle;
-            let basis = &basis;
-            sc.spawn(move || {
-                for i in r0..r1 {
-                    for j in 0..w as usize {
-                        let dir = cam.ray_dir(basis, i as u32, j as u32);
-                        let idx = (i - r0) * w as usize + j;
-                        if let Some(hit) = oracle.trace(basis.eye, dir) {
-                            uv_c[idx * 2] = hit.uv.x;
-                            uv_c[idx * 2 + 1] = hit.uv.y;
-                            d_c[idx] = hit.dist;
-                            m_c[idx] = true;
-                            c_c[idx] = hit.cells;
-                            if !light_dirs.is_empty() {
-                                let lit = light_dirs
-                                    .iter()
-                                    .filter(|l| oracle.reaches(&hit, **l, light_bias))
-                                    .count();
-                                v_c[idx] = lit as f64 / light_dirs.len() as f64;
-                            }
-                        }
-                    }
-                }
-            });
-        }
-    });
-    Ok(out)
+        let bands: Vec<_> = (0..rows)
+            .step_by(per)
+            .map(|r0| sc.spawn(move || (r0..(r0 + per).min(rows)).map(f).collect::<Vec<T>>()))
+            .collect();
+        bands
+            .into_iter()
+            .flat_map(|b| b.join().expect("a row band panicked"))
+            .collect()
+    })
 }
 
 /// A pixel's exact hit: uv (mesh space), distance, cells walked, and what the light test needs

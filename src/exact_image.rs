@@ -17,7 +17,7 @@
 //! that each pixel averages every direction once however many samples it has.
 
 use crate::error::{Error, Result};
-use crate::exact::{disk_directions, stratified_disk, Oracle, OracleHit};
+use crate::exact::{disk_directions, par_rows, stratified_disk, Oracle, OracleHit};
 use crate::scene::{Albedo, Light, Scene};
 use glam::{DVec2, DVec3};
 
@@ -126,65 +126,33 @@ pub fn render_exact(scene: &Scene, spp: u32, shadows: bool) -> Result<ExactImage
     let basis = fine.basis();
     let cosines = cosine_directions();
     let ambient = DVec3::from(scene.ambient.map(|x| x as f64));
-    let n_px = (w * h) as usize;
-    let mut color = vec![0.0f32; n_px * 3];
-    let mut coverage = vec![0.0f32; n_px];
-    let threads = std::thread::available_parallelism()
-        .map(|x| x.get())
-        .unwrap_or(1)
-        .min(8);
-    let rows_per = (h as usize).div_ceil(threads);
     let n = (k * k) as usize;
-    std::thread::scope(|sc| {
-        let mut c_rest: &mut [f32] = &mut color;
-        let mut v_rest: &mut [f32] = &mut coverage;
-        for t in 0..threads {
-            let (r0, r1) = (t * rows_per, ((t + 1) * rows_per).min(h as usize));
-            if r0 >= r1 {
-                break;
-            }
-            let cnt = (r1 - r0) * w as usize;
-            let (cc, a) = std::mem::take(&mut c_rest).split_at_mut(cnt * 3);
-            c_rest = a;
-            let (vc, b) = std::mem::take(&mut v_rest).split_at_mut(cnt);
-            v_rest = b;
-            let (oracle, basis, fine, cosines) = (&oracle, &basis, &fine, &cosines);
-            sc.spawn(move || {
-                for i in r0..r1 {
-                    for j in 0..w as usize {
-                        let mut sum = DVec3::ZERO;
-                        let mut hits = 0;
-                        for q in 0..n {
-                            let (si, sj) = (
-                                (i * k as usize + q / k as usize) as u32,
-                                (j * k as usize + q % k as usize) as u32,
-                            );
-                            let dir = fine.ray_dir(basis, si, sj);
-                            let Some(hit) = oracle.trace(basis.eye, dir) else {
-                                continue;
-                            };
-                            hits += 1;
-                            sum += shade(
-                                scene,
-                                oracle,
-                                &hit,
-                                basis.eye + dir * hit.dist,
-                                ambient,
-                                cosines,
-                                (q, n),
-                                shadows,
-                            );
-                        }
-                        let px = (i - r0) * w as usize + j;
-                        let c = sum / n as f64;
-                        cc[px * 3..px * 3 + 3]
-                            .copy_from_slice(&[c.x as f32, c.y as f32, c.z as f32]);
-                        vc[px] = hits as f32 / n as f32;
-                    }
+    // per pixel of each row: the mean colour of its samples and the fraction that hit
+    let rows = par_rows(h as usize, |i| {
+        (0..w as usize)
+            .map(|j| {
+                let mut sum = DVec3::ZERO;
+                let mut hits = 0;
+                for q in 0..n {
+                    let si = (i * k as usize + q / k as usize) as u32;
+                    let sj = (j * k as usize + q % k as usize) as u32;
+                    let dir = fine.ray_dir(&basis, si, sj);
+                    let Some(hit) = oracle.trace(basis.eye, dir) else {
+                        continue;
+                    };
+                    hits += 1;
+                    let p = basis.eye + dir * hit.dist;
+                    sum += shade(scene, &oracle, &hit, p, ambient, &cosines, (q, n), shadows);
                 }
-            });
-        }
+                (sum / n as f64, hits as f32 / n as f32)
+            })
+            .collect::<Vec<_>>()
     });
+    let (mut color, mut coverage) = (Vec::with_capacity((w * h * 3) as usize), Vec::new());
+    for (c, cov) in rows.into_iter().flatten() {
+        color.extend([c.x as f32, c.y as f32, c.z as f32]);
+        coverage.push(cov);
+    }
     Ok(ExactImage {
         width: w,
         height: h,
