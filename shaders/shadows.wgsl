@@ -160,7 +160,7 @@ fn exact_ray(f: Frame, s: vec2<f32>, h_march: f32, dir: vec3<f32>) -> ShadowResu
     return r;
 }
 
-// ---- the reference's direction sets (src/exact.rs, src/exact_image.rs; docs/conventions.md,
+// ---- the reference's direction sets (src/oracle/mod.rs, src/oracle/image.rs; docs/conventions.md,
 // "The reference shading"): 64 points of a stratified 8 x 8 grid on the unit disk (Shirley and
 // Chiu's concentric map), and a pixel's samples sharing them ----
 
@@ -191,7 +191,7 @@ fn sample_share(px: vec2<f32>) -> vec2<u32> {
     return vec2<u32>(q, n);
 }
 
-// A unit vector's two perpendiculars, chosen as src/exact.rs chooses them (the disk's axes).
+// A unit vector's two perpendiculars, chosen as src/oracle/mod.rs chooses them (the disk's axes).
 fn perpendiculars(v: vec3<f32>, pick_y: bool) -> mat2x3<f32> {
     var a = vec3<f32>(1.0, 0.0, 0.0);
     if (pick_y) {

@@ -6,13 +6,12 @@
 
 pub mod contract;
 pub mod error;
-pub mod exact;
-pub mod exact_image;
 pub mod gpu;
 pub mod heightmap;
 pub mod imageio;
 pub mod mesh;
 pub mod methods;
+pub mod oracle;
 pub mod progress;
 pub mod render;
 pub mod scene;

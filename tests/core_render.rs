@@ -1,10 +1,10 @@
 //! Rust-only tests of the core: render through wgpu and check against the analytic case and
 //! the CPU oracle, without Python.
 
-use pomkit::exact::exact_hits;
 use pomkit::gpu;
 use pomkit::mesh::Mesh;
 use pomkit::methods::{Flat, Method, PerPixel, Pom};
+use pomkit::oracle::exact_hits;
 use pomkit::render::Renderer;
 use pomkit::scene::{shared, Camera, HeightMap, Light, Material, Scene};
 use pomkit::Error;

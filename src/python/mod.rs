@@ -8,8 +8,8 @@ mod progress;
 mod scene;
 
 use crate::error::Error;
-use crate::exact::exact_hits;
 use crate::methods::Method;
+use crate::oracle::exact_hits;
 use crate::render::Renderer;
 use frame::{aovs_from_py, frame_to_py};
 use numpy::ndarray::Array;
@@ -225,7 +225,7 @@ fn exact_uv<'py>(
     Ok(d)
 }
 
-/// The exact image (`exact_image.rs`): dict with color (H, W, 3) f32 and coverage (H, W) f32
+/// The exact image (`oracle/image.rs`): dict with color (H, W, 3) f32 and coverage (H, W) f32
 /// from k x k exact samples per pixel shaded with the reference shading.
 #[pyfunction]
 #[pyo3(signature = (scene, spp, shadows=true))]
@@ -236,7 +236,7 @@ fn render_exact<'py>(
     shadows: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene_from_py(scene)?;
-    let o = py.detach(move || crate::exact_image::render_exact(&scene, spp, shadows))?;
+    let o = py.detach(move || crate::oracle::image::render_exact(&scene, spp, shadows))?;
     let (h, w) = (o.height as usize, o.width as usize);
     let d = PyDict::new(py);
     d.set_item("color", nd_array(py, (h, w, 3), o.color)?)?;

@@ -14,6 +14,8 @@
 //! h = 1) without passing below the bilinear field. It is the ground truth for the per-pixel
 //! methods' self-shadowing (`pk.metrics.shadow_error`).
 
+pub mod image;
+
 use crate::error::{Error, Result};
 use crate::scene::{HeightMap, Scene};
 use glam::{DMat3, DVec2, DVec3};
@@ -53,7 +55,7 @@ pub const MAX_CELLS: u32 = 4_000_000;
 
 /// A planar scene's one object, ready for exact rays: its triangles' affine frames and its
 /// material. Shared by the oracle's frame (`exact_hits`) and the exact image
-/// (`exact_image::render_exact`).
+/// (`oracle::image::render_exact`).
 pub(crate) struct Oracle<'a> {
     pub(crate) tris: Vec<Tri>,
     pub(crate) mat: &'a crate::scene::Material,

@@ -1,5 +1,5 @@
 //! The exact image: a noise-free reference for colour (`pk.reference.render_exact`). Every
-//! sample's hit is the float64 oracle's (exact.rs), shaded in float64 with the reference shading
+//! sample's hit is the float64 oracle's (oracle/mod.rs), shaded in float64 with the reference shading
 //! of docs/conventions.md:
 //!
 //! - normal: of the displaced surface S(u, v) = P + depth (h - 1) N, with the derivatives of h
@@ -16,8 +16,8 @@
 //! samples share the direction sets: sample q traces the directions d with d mod k² = q, so
 //! that each pixel averages every direction once however many samples it has.
 
+use super::{disk_directions, par_rows, stratified_disk, Oracle, OracleHit};
 use crate::error::{Error, Result};
-use crate::exact::{disk_directions, par_rows, stratified_disk, Oracle, OracleHit};
 use crate::scene::{Albedo, Light, Scene};
 use glam::{DVec2, DVec3};
 
