@@ -5,7 +5,8 @@ attribute `_kind` picks the variant): the defaults and ranges here are the only 
 docs/methods.md for what each implements and which paper it follows, and
 docs/custom_methods.md for `Custom`.
 
-Every per-pixel method (Parallax, SteepParallax, POM, Relief, Exact) also takes, by keyword:
+Every per-pixel method (Parallax, SteepParallax, POM, Relief, Exact, ConeStep, NCS, Prism, CurvedRelief,
+DistanceMapping, Custom) also takes, by keyword:
   shadows: "none" | "hard" (horizon test along the light ray, `shadow_steps` samples) |
            "soft" (penumbra estimate from the light's angular diameter) |
            "horizon" (max-mip horizon angle, Dachsbacher & Tatarchuk 2007) |

@@ -51,7 +51,8 @@ fn mesh_out<'py>(py: Python<'py>, m: &Mesh) -> PyResult<MeshArrays<'py>> {
 }
 
 /// Validate mesh arrays and compute the tangent frames. Returns
-/// (positions, normals, uvs, indices, tangents, uv_scale, degenerate_uv_triangles, fallback_vertices).
+/// 9 items: (positions, normals, uvs, indices, tangents, uv_scale, charts,
+/// degenerate_uv_triangles, fallback_vertices).
 #[pyfunction]
 #[pyo3(signature = (positions, normals, uvs, indices, tangents=None))]
 pub fn mesh_from_arrays<'py>(

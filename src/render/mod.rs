@@ -1,16 +1,18 @@
-//! Rendering: a method's pass over its geometry into two float32 targets (colour + steps, uv +
-//! distance + lod), and one readback of all AOVs.
+//! Rendering: a method's pass over its geometry into the targets of the AOV table (aovs.rs), and
+//! one readback of the AOVs asked for.
 //!
 //! - `pipelines`: the bind-group layouts (view, object, method) and one pipeline per composed
 //!   shader variant
 //! - `resources`: what stays resident (height maps, albedos, meshes, methods' own resources),
 //!   keyed by content
-//! - `targets`: render targets, readback and the `Frame`
+//! - `aovs`: the AOV table (what each target holds, how it decodes) and the `Frame`
+//! - `targets`: the render targets and their readback
 //! - `uniforms`: the `View` and `Globals` blocks (checked against the WGSL layout)
 //! - `shadow_map`: the shadow-map pass
 //!
 //! The renderer binds what a method's `Spec` declares (src/contract.rs): its geometry, its
-//! `params` and its own resources. It names no method.
+//! `params` and its own resources. It names no method (but `Method::Custom`, whose errors name
+//! the `wgsl` argument; issue 34 moves that choice into the method).
 
 pub mod aovs;
 pub mod pipelines;
@@ -309,7 +311,7 @@ impl Renderer {
     /// on a regular grid in each pixel (k = 1: `render_many` itself, bit for bit). The samples
     /// are one pass at k² the pixels (the camera's width and height times k: one pass measured
     /// cheaper here than k² jittered passes, whose fixed cost per pass, a frame's clears,
-    /// uploads and readback, repeats), reduced by `Frame::downsample`: colour box-filtered as the
+    /// uploads and readback, repeats), reduced by `Frame::supersampled`: colour box-filtered as the
     /// Mitsuba reference's `box` rfilter, coverage the fraction of samples that hit, the other
     /// AOVs from the sample at (k/2, k/2). Each sample's LOD is its own footprint's.
     pub fn render_many_spp(
