@@ -69,3 +69,44 @@ def test_contract_is_at_the_bottom_and_python_on_top():
             assert "python" not in deps, f"{m} uses the pyo3 layer"
     for m in ("shaders", "render", "methods"):
         assert "contract" in g[m], f"{m} does not build on the contract"
+
+
+PY = SRC.parent / "python" / "pomkit"
+
+
+def python_graph() -> dict[str, set[str]]:
+    """pomkit's Python modules and the pomkit modules each imports, at any depth of the file
+    (function-local imports too): relative imports, `import pomkit.x` and `from pomkit[.x]
+    import y`. `pomkit` itself (the package's __init__) is a node like the others."""
+    import ast
+    g: dict[str, set[str]] = {}
+    mods = {str(f.relative_to(PY.parent).with_suffix("")).replace("/", ".").removesuffix(".__init__")
+            for f in PY.rglob("*.py")} | {"pomkit._core"}
+    for f in PY.rglob("*.py"):
+        name = str(f.relative_to(PY.parent).with_suffix("")).replace("/", ".")
+        pkg = name.rsplit(".", 1)[0] if not name.endswith("__init__") else name.removesuffix(".__init__")
+        name = name.removesuffix(".__init__")
+        deps: set[str] = set()
+        for node in ast.walk(ast.parse(f.read_text())):
+            if isinstance(node, ast.ImportFrom):
+                if node.level:
+                    base = pkg.split(".")
+                    base = base[:len(base) - (node.level - 1)]
+                    target = ".".join(base + ([node.module] if node.module else []))
+                else:
+                    target = node.module or ""
+                if not target.startswith("pomkit"):
+                    continue
+                for a in node.names:  # `from . import x` names a module when x is one
+                    sub = f"{target}.{a.name}"
+                    deps.add(sub if sub in mods else target)
+            elif isinstance(node, ast.Import):
+                deps |= {a.name for a in node.names if a.name.startswith("pomkit")}
+        g[name] = deps - {name}
+    return g
+
+
+def test_no_python_module_cycle():
+    g = python_graph()
+    assert "pomkit._scene" in g and "pomkit.apps.page" in g
+    assert cycles(g) == [], f"Python module cycles: {cycles(g)}"

@@ -23,7 +23,7 @@ from typing import Any, Callable, Iterable, Optional, Sequence
 
 import numpy as np
 
-import pomkit as pk
+from . import _files, _frame, _methods, _render, _scene
 
 __all__ = ["choose", "Choice", "FAMILIES", "report"]
 
@@ -32,19 +32,19 @@ __all__ = ["choose", "Choice", "FAMILIES", "report"]
 class Family:
     """A method family: `make(n)` is the setting at knob n (None: no knob), bisected in [lo, hi]."""
     name: str
-    make: Callable[[Optional[int]], pk.Method]
+    make: Callable[[Optional[int]], _methods.Method]
     lo: Optional[int] = None
     hi: Optional[int] = None
 
 
 FAMILIES: dict[str, Family] = {f.name: f for f in [
-    Family("Parallax", lambda n: pk.Parallax()),
-    Family("SteepParallax", lambda n: pk.SteepParallax(steps=int(n or 16)), 2, 256),
-    Family("POM", lambda n: pk.POM(min_steps=max(1, int(n or 32) // 4), max_steps=int(n or 32), shadows="none",
+    Family("Parallax", lambda n: _methods.Parallax()),
+    Family("SteepParallax", lambda n: _methods.SteepParallax(steps=int(n or 16)), 2, 256),
+    Family("POM", lambda n: _methods.POM(min_steps=max(1, int(n or 32) // 4), max_steps=int(n or 32), shadows="none",
                                    lod_threshold=1000.0), 2, 256),
-    Family("Relief", lambda n: pk.Relief(linear_steps=int(n or 16)), 2, 256),
-    Family("ConeStep", lambda n: pk.ConeStep(max_steps=int(n or 32), binary_steps=max(2, int(n or 32) // 4)), 2, 256),
-    Family("Exact", lambda n: pk.Exact()),
+    Family("Relief", lambda n: _methods.Relief(linear_steps=int(n or 16)), 2, 256),
+    Family("ConeStep", lambda n: _methods.ConeStep(max_steps=int(n or 32), binary_steps=max(2, int(n or 32) // 4)), 2, 256),
+    Family("Exact", lambda n: _methods.Exact()),
 ]}
 
 
@@ -54,12 +54,12 @@ class Choice:
     (None when nothing does: then `closest` is the setting with the smallest worst-case error);
     `runner_up` the next family's cheapest; `table` every setting measured (one row per setting:
     family, label, worst uv p95, worst FLIP, mean fetches, mean GPU ms, whether it meets)."""
-    method: Optional[pk.Method]
+    method: Optional[_methods.Method]
     met: bool
     bound: dict
     cost: str
-    runner_up: Optional[pk.Method] = None
-    closest: Optional[pk.Method] = None
+    runner_up: Optional[_methods.Method] = None
+    closest: Optional[_methods.Method] = None
     table: list[dict] = field(default_factory=list)
     seconds: float = 0.0
 
@@ -87,19 +87,19 @@ class Choice:
         return "\n".join(lines)
 
 
-_RENDERER: list[pk.Renderer] = []
-_REFS: dict[tuple[str, bool], tuple[pk.Frame, pk.Frame | None]] = {}
+_RENDERER: list[_render.Renderer] = []
+_REFS: dict[tuple[str, bool], tuple[_frame.Frame, _frame.Frame | None]] = {}
 
 
-def _renderer() -> pk.Renderer:
+def _renderer() -> _render.Renderer:
     """One renderer per process (its pipelines and resident maps are reused by every
     measurement; an executor's worker makes its own)."""
     if not _RENDERER:
-        _RENDERER.append(pk.Renderer())
+        _RENDERER.append(_render.Renderer())
     return _RENDERER[0]
 
 
-def _refs(scene: pk.Scene, want_flip: bool) -> tuple[pk.Frame, pk.Frame | None]:
+def _refs(scene: _scene.Scene, want_flip: bool) -> tuple[_frame.Frame, _frame.Frame | None]:
     """A case's references, made once whatever the settings measured on it: the oracle, and
     the noise-free exact image (unshadowed) when FLIP is bounded."""
     from ._cache import scene_hash
@@ -115,9 +115,9 @@ def _refs(scene: pk.Scene, want_flip: bool) -> tuple[pk.Frame, pk.Frame | None]:
             try:
                 cref = reference.render_exact(scene, spp=1, shadows=False)
             except ValueError:
-                cref = _renderer().render(scene, pk.Tessellated(texels_per_vertex=0.5, shadows="none"),
+                cref = _renderer().render(scene, _methods.Tessellated(texels_per_vertex=0.5, shadows="none"),
                                           aovs=("color", "mask"))
-        _REFS[key] = (pk.exact_uv(scene), cref)
+        _REFS[key] = (_render.exact_uv(scene), cref)
     return _REFS[key]
 
 
@@ -144,25 +144,25 @@ def _measure_case(job: tuple) -> dict:
     return dict(uv_p95=float(v[0]), flip=float(v[1]), fetches=float(v[2]), gpu_ms=float(v[3]))
 
 
-def _cases(heights, scenes, angles, resolution) -> list[pk.Scene]:
+def _cases(heights, scenes, angles, resolution) -> list[_scene.Scene]:
     from .bench import plane_scene
     if scenes is not None:
         out = list(scenes)
-        if not out or not all(isinstance(s, pk.Scene) for s in out):
+        if not out or not all(isinstance(s, _scene.Scene) for s in out):
             raise TypeError("scenes: expected a non-empty list of pomkit.Scene")
         return out
     if heights is None:
         raise ValueError("heights or scenes: give the height maps (arrays or files) or the scenes to choose for")
     hs = []
     for h in (heights if isinstance(heights, (list, tuple)) else [heights]):
-        hs.append(pk.load_height(h) if isinstance(h, str) else np.asarray(h, np.float32))
+        hs.append(_files.load_height(h) if isinstance(h, str) else np.asarray(h, np.float32))
     angles = list(angles)
     if not angles:
         raise ValueError("angles: give at least one view angle in degrees, e.g. (30, 60, 80)")
     return [plane_scene(h, float(a), int(resolution)) for h in hs for a in angles]
 
 
-def choose(heights: Any = None, scenes: Optional[Sequence[pk.Scene]] = None,
+def choose(heights: Any = None, scenes: Optional[Sequence[_scene.Scene]] = None,
            angles: Iterable[float] = (30.0, 60.0, 80.0), resolution: int = 256, *,
            max_uv_error: Optional[float] = None, max_flip: Optional[float] = None,
            methods: Optional[Sequence[str]] = None, cost: str = "gpu_ms", budget_s: Optional[float] = None,

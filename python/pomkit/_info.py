@@ -16,7 +16,7 @@ def info(adapter: Optional[str | int] = None) -> dict[str, Any]:
     """Everything `python -m pomkit info` prints, as a dict."""
     import numpy as np
 
-    from . import __version__
+    from ._core import __version__
     from ._render import Renderer, adapters
     r = Renderer(adapter)
     i = r.info

@@ -17,7 +17,7 @@ from typing import Iterable, Optional
 
 import numpy as np
 
-import pomkit as pk
+from . import _frame, _info, _methods, _render, _scene, textures
 from . import metrics
 
 __all__ = ["sweep", "variants", "plane_scene", "time_method", "time_methods", "swimming", "pareto_front", "label",
@@ -25,15 +25,15 @@ __all__ = ["sweep", "variants", "plane_scene", "time_method", "time_methods", "s
 
 
 def plane_scene(height, theta_deg: float, size: int, depth: float = 0.08, tiling: float = 1.0,
-                lights=None) -> pk.Scene:
+                lights=None) -> _scene.Scene:
     """A size-2 plane seen at `theta_deg` from its normal from 1.6 units away (the bench scene)."""
     t = np.radians(theta_deg)
-    return pk.Scene(
-        mesh=pk.Mesh.plane(2.0),
-        material=pk.Material(height, depth=depth, tiling=tiling),
-        camera=pk.Camera.look_at(eye=(0.0, 1.6 * np.cos(t), 1.6 * np.sin(t)), target=(0, 0, 0), up=(0, 0, -1),
+    return _scene.Scene(
+        mesh=_scene.Mesh.plane(2.0),
+        material=_scene.Material(height, depth=depth, tiling=tiling),
+        camera=_scene.Camera.look_at(eye=(0.0, 1.6 * np.cos(t), 1.6 * np.sin(t)), target=(0, 0, 0), up=(0, 0, -1),
                                  fov_y=40.0, width=size, height=size),
-        lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0, 2.0)] if lights is None else lights,
+        lights=[_scene.DirectionalLight((-0.4, -1.0, -0.3), 3.0, 2.0)] if lights is None else lights,
     )
 
 
@@ -42,7 +42,7 @@ def _stats(xs: list[float]) -> dict:
     return dict(median=float(q50), p25=float(q25), p75=float(q75))
 
 
-def time_methods(r: pk.Renderer, scene: pk.Scene, methods: list, aovs: tuple[pk.AovName, ...] = ("color",), min_repeats: int = 5,
+def time_methods(r: _render.Renderer, scene: _scene.Scene, methods: list, aovs: tuple[_frame.AovName, ...] = ("color",), min_repeats: int = 5,
                  max_repeats: int = 25, rel_tol: float = 0.02, baseline: bool = True,
                  method_aovs: Optional[list] = None) -> list[dict]:
     """Time `methods` on one scene: one warm-up render each (pipelines, uploads), then rounds in
@@ -57,7 +57,7 @@ def time_methods(r: pk.Renderer, scene: pk.Scene, methods: list, aovs: tuple[pk.
     `repeats`, `timing` and `times` (the ms of each round, for ratios of one's own).
     `method_aovs`: the AOVs of each method, when they differ (e.g. one method with colour alone
     and with every AOV); else `aovs` for all."""
-    ms = list(methods) + ([pk.Flat()] if baseline else [])
+    ms = list(methods) + ([_methods.Flat()] if baseline else [])
     per = list(method_aovs) if method_aovs is not None else [aovs] * len(methods)
     if len(per) != len(methods):
         raise ValueError("method_aovs: one entry per method")
@@ -94,13 +94,13 @@ def time_methods(r: pk.Renderer, scene: pk.Scene, methods: list, aovs: tuple[pk.
     return out
 
 
-def time_method(r: pk.Renderer, scene: pk.Scene, method, repeats: int = 5) -> dict:
+def time_method(r: _render.Renderer, scene: _scene.Scene, method, repeats: int = 5) -> dict:
     """One method's timing (see `time_methods`), with Flat as the baseline."""
     return time_methods(r, scene, [method], min_repeats=repeats)[0]
 
 
 def variants(cls, **grid) -> list:
-    """Every combination of the given parameter lists: variants(pk.POM, max_steps=[8, 16])."""
+    """Every combination of the given parameter lists: variants(_methods.POM, max_steps=[8, 16])."""
     keys = list(grid)
     out: list[dict] = [{}]
     for k in keys:
@@ -115,7 +115,7 @@ def label(m) -> str:
     preset = getattr(m, "_preset", None)
     if preset:
         return preset
-    if isinstance(m, pk.Custom):
+    if isinstance(m, _methods.Custom):
         return f"{m.name}({', '.join(f'{k}={v:g}' for k, v in m.params.items())})"
     default = type(m)()
     diff = [f"{f.name}={getattr(m, f.name)!r}" for f in fields(m) if getattr(m, f.name) != getattr(default, f.name)]
@@ -124,18 +124,18 @@ def label(m) -> str:
 
 def method_name(m) -> str:
     """The family a method belongs to in tables and charts (its preset's name if it is one)."""
-    return getattr(m, "_preset", None) or (m.label if isinstance(m, pk.Custom) else m.name)
+    return getattr(m, "_preset", None) or (m.label if isinstance(m, _methods.Custom) else m.name)
 
 
 def _scene_for(name_or_height, angle, size, depth, tiling):
-    if isinstance(name_or_height, tuple) and isinstance(name_or_height[1], pk.Scene):
+    if isinstance(name_or_height, tuple) and isinstance(name_or_height[1], _scene.Scene):
         return name_or_height  # (name, a scene of one's own, e.g. several objects): used as given
     if isinstance(name_or_height, str):
         if name_or_height.startswith("sine"):
             freq = float(name_or_height[4:] or 4)
-            h = pk.textures.sine(256, freq)
+            h = textures.sine(256, freq)
         else:
-            h = pk.textures.ALL[name_or_height](256)
+            h = textures.ALL[name_or_height](256)
         name = name_or_height
     else:
         name, h = name_or_height
@@ -147,12 +147,12 @@ def _sweep_scene(job: tuple) -> list[dict]:
     device on its first render)."""
     scene_spec, angle, methods, cfg, reference, repeats = job
     sname, scene = _scene_for(scene_spec, angle, cfg["size"], cfg["depth"], cfg["tiling"])
-    r = pk.Renderer()
+    r = _render.Renderer()
     flip = cfg["flip"]
     fspp = cfg["frame_spp"]
     floor: dict = {}
     if reference == "exact":
-        ref = pk.exact_uv(scene)
+        ref = _render.exact_uv(scene)
         cref = None
         if flip:
             # the noise-free colour reference at the frames' spp (its floor is 0: a score is the
@@ -162,19 +162,19 @@ def _sweep_scene(job: tuple) -> list[dict]:
             cref = crefs[False]
             floor = dict(flip_floor=0.0)
     elif reference == "tessellated":
-        ref = cref = r.render(scene, pk.Tessellated(texels_per_vertex=0.5), spp=fspp)
+        ref = cref = r.render(scene, _methods.Tessellated(texels_per_vertex=0.5), spp=fspp)
     else:
         from . import reference as R
         ref = cref = R.render_mitsuba(scene, spp=cfg["spp"])
         if flip:
             # the floor: the exact geometry (the mesh) against Mitsuba at the frames' spp
             try:
-                fc = metrics.compare(r.render(scene, pk.Tessellated(texels_per_vertex=0.5), spp=fspp), ref, scene)
+                fc = metrics.compare(r.render(scene, _methods.Tessellated(texels_per_vertex=0.5), spp=fspp), ref, scene)
                 floor = dict(flip_floor=fc["flip"], flip_floor_interior=fc["flip_interior"],
                              flip_floor_silhouette=fc["flip_silhouette"])
             except ImportError:
                 pass
-    aovs: tuple[pk.AovName, ...] = ("color", "uv", "mask", "steps", "fetches", "bytes") if flip else \
+    aovs: tuple[_frame.AovName, ...] = ("color", "uv", "mask", "steps", "fetches", "bytes") if flip else \
         ("uv", "mask", "steps", "fetches", "bytes")
     if len(scene.objects) > 1:
         aovs += ("object",)  # uv error is measured per object
@@ -206,7 +206,7 @@ def _sweep_scene(job: tuple) -> list[dict]:
     return rows
 
 
-def _shadow_columns(r: pk.Renderer, scene: pk.Scene, method, oracle) -> dict:
+def _shadow_columns(r: _render.Renderer, scene: _scene.Scene, method, oracle) -> dict:
     """shadow_iou and shadow_vis_error of the method's self-shadowing against the exact oracle's
     visibility (metrics.shadow_error); NaN where the reference is not the oracle, the method
     casts no shadows or the scene has no directional light."""
@@ -254,7 +254,7 @@ def sweep(methods: Iterable, scenes: Iterable = ("bricks",), angles: Iterable[fl
     cfg.update(settings or {})
     methods = list(methods)
     for m in methods:
-        if not isinstance(m, pk.Method):
+        if not isinstance(m, _methods.Method):
             raise TypeError(f"methods: expected pomkit methods such as pomkit.POM(), got {type(m).__name__}")
     jobs = [(s, a, methods, cfg, reference, repeats) for s in scenes for a in angles]
     bar = None
@@ -305,13 +305,13 @@ def swimming(method, scene_height, frames: int = 16, step_deg: float = 0.5, star
     """Temporal stability: over a camera path (`frames` views, `step_deg` apart), the mean over
     pixels of |frame-to-frame change of the hit uv - the change the exact oracle predicts|, in
     texels. 0 means the surface moves exactly as the true surface would."""
-    r = pk.Renderer()
+    r = _render.Renderer()
     prev = None
     acc = []
     for k in range(frames):
         sc = plane_scene(scene_height, start_deg + step_deg * k, size)
         f = r.render(sc, method, aovs=("uv", "mask"))
-        o = pk.exact_uv(sc)
+        o = _render.exact_uv(sc)
         if prev is not None:
             pf, po = prev
             m = f.mask & o.mask & pf.mask & po.mask

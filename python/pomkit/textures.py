@@ -17,7 +17,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-__all__ = ["bricks", "cobblestones", "pyramids", "sine", "noise", "spikes", "text", "constant", "real", "fit", "ALL"]
+__all__ = ["bricks", "brick_albedo", "cobblestones", "pyramids", "sine", "noise", "spikes", "text", "constant", "real", "fit", "ALL"]
 
 
 def _check_size(size) -> int:
@@ -97,6 +97,17 @@ def bricks(size: int = 512, rows: int = 8, cols: int = 4, mortar: float = 0.06, 
     top = 1.0 - 0.08 * rng.random((rows, cols))[r % rows, c]
     prof = _smoothstep(mortar * 0.5, mortar * 0.5 + bevel, d)
     return _finish(mortar_height + (top - mortar_height) * prof)
+
+
+def brick_albedo(h: np.ndarray, seed: int = 1) -> np.ndarray:
+    """An sRGB uint8 albedo for a `bricks` height map: brick reds on the tops, grey mortar below
+    (the demo's plane)."""
+    rng = np.random.default_rng(seed)
+    t = np.clip((h - 0.45) / 0.3, 0.0, 1.0)[..., None]
+    grain = 1.0 + 0.08 * (rng.random(h.shape)[..., None] - 0.5)
+    brick = np.array([170.0, 74.0, 52.0]) * (0.85 + 0.3 * (h[..., None] - 0.9))
+    mortar = np.array([150.0, 146.0, 138.0])
+    return np.clip((mortar * (1 - t) + brick * t) * grain, 0, 255).astype(np.uint8)
 
 
 def cobblestones(size: int = 512, cells: int = 12, seed: int = 0, gap: float = 0.08) -> np.ndarray:

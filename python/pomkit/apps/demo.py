@@ -19,16 +19,6 @@ def _label(img: np.ndarray, text: str) -> np.ndarray:
     return np.asarray(im)
 
 
-def brick_albedo(h: np.ndarray, seed: int = 1) -> np.ndarray:
-    """sRGB uint8 albedo for a bricks height map: brick reds on the tops, grey mortar below."""
-    rng = np.random.default_rng(seed)
-    t = np.clip((h - 0.45) / 0.3, 0.0, 1.0)[..., None]
-    grain = 1.0 + 0.08 * (rng.random(h.shape)[..., None] - 0.5)
-    brick = np.array([170.0, 74.0, 52.0]) * (0.85 + 0.3 * (h[..., None] - 0.9))
-    mortar = np.array([150.0, 146.0, 138.0])
-    return np.clip((mortar * (1 - t) + brick * t) * grain, 0, 255).astype(np.uint8)
-
-
 def objects_demo(r: "pk.Renderer", outdir: Path, size: int = 256) -> list[str]:
     """Several objects: a displaced sphere sunk into a displaced brick floor, casting its shadow
     onto the bricks (`pk.scenes.sunk_sphere`), rendered with Prism (exact) and POM, with the Mitsuba

@@ -23,11 +23,10 @@ UV_MAX = 2.0  # texels: the uv heat map's scale
 
 def planar_scene(size: int = 256) -> pk.Scene:
     """Bricks with an albedo on a plane at 62° from the normal, framed on the surface (no sky)."""
-    from .demo import brick_albedo
     h = pk.textures.bricks(256)
     t = np.radians(62.0)
     return pk.Scene(mesh=pk.Mesh.plane(size=6.0),
-                    material=pk.Material(height=h, depth=0.06, tiling=6.0, albedo=brick_albedo(h)),
+                    material=pk.Material(height=h, depth=0.06, tiling=6.0, albedo=pk.textures.brick_albedo(h)),
                     camera=pk.Camera.look_at(eye=(0.0, 1.1 * np.cos(t), 1.1 * np.sin(t)), target=(0.0, 0.0, -0.15),
                                              up=(0, 1, 0), fov_y=36.0, width=size, height=size),
                     lights=[pk.DirectionalLight((-0.6, -0.55, -0.3), 3.0)], ambient=0.08)
