@@ -577,6 +577,23 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// A sphere (centre, radius) holding every object's displaced surface: the clip range, the
+    /// shadow map's fit and the reference's far lights all read it (one home).
+    pub fn bounding_sphere(&self) -> (DVec3, f64) {
+        if let [o] = self.objects.as_slice() {
+            // one object: its box, grown by the displacement in every direction
+            let (lo, hi, d) = o.bounds();
+            return ((lo + hi) * 0.5, (hi - lo).length() * 0.5 + d + 1e-3);
+        }
+        let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+        for o in &self.objects {
+            let (a, b, d) = o.bounds();
+            lo = lo.min(a - DVec3::splat(d));
+            hi = hi.max(b + DVec3::splat(d));
+        }
+        ((lo + hi) * 0.5, (hi - lo).length() * 0.5 + 1e-3)
+    }
+
     /// A scene of one object at the origin (no transform).
     pub fn single(
         mesh: Shared<Mesh>,

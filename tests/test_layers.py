@@ -110,3 +110,28 @@ def test_no_python_module_cycle():
     g = python_graph()
     assert "pomkit._scene" in g and "pomkit.apps.page" in g
     assert cycles(g) == [], f"Python module cycles: {cycles(g)}"
+
+
+def nested_graph() -> dict[str, set[str]]:
+    """Inside each folder of src/: its files (and subfolders) and the siblings each names, by
+    `super::x` or `crate::folder::x`."""
+    g: dict[str, set[str]] = {}
+    for d in [p for p in SRC.iterdir() if p.is_dir()]:
+        for f in d.rglob("*.rs"):
+            parts = f.relative_to(d).parts
+            me = parts[0].removesuffix(".rs")
+            if me == "mod":
+                continue
+            text = "\n".join(l for l in f.read_text().splitlines() if not l.lstrip().startswith("//"))
+            sib = set(re.findall(rf"\bcrate::{d.name}::([a-z_][a-z0-9_]*)", text))
+            if len(parts) == 1:  # a file directly in the folder: super:: is the folder
+                sib |= set(re.findall(r"\bsuper::([a-z_][a-z0-9_]*)", text))
+            names = {p.name.removesuffix(".rs") for p in d.iterdir() if p.suffix == ".rs" or p.is_dir()} - {"mod"}
+            g.setdefault(f"{d.name}::{me}", set()).update(f"{d.name}::{s}" for s in sib & names if s != me)
+    return g
+
+
+def test_no_cycle_inside_a_folder():
+    g = nested_graph()
+    assert "render::uniforms" in g and "render::shadow_map" in g
+    assert cycles(g) == [], f"module cycles inside a folder: {cycles(g)}"

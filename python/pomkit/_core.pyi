@@ -10,7 +10,7 @@ from ._methods import Method
 
 __all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "CONE_KINDS", "DeviceLostError", "FILTERING_KINDS", "GpuError", "HeightData", "MAX_LIGHTS",
            "MAX_STEPS_LIMIT", "MeshData", "NCS_MAP_SIZE", "NoAdapterError", "REFINE_KINDS", "Renderer", "SHADOW_KINDS",
-           "__version__", "adapters", "exact_uv", "load_image", "mesh_from_arrays", "mesh_generate", "render_exact", "set_cache_dir", "set_progress_hook", "tessellate"]
+           "__version__", "adapters", "bounding_sphere", "exact_uv", "load_image", "mesh_from_arrays", "mesh_generate", "render_exact", "set_cache_dir", "set_progress_hook", "tessellate"]
 __version__: str
 NCS_MAP_SIZE: int
 MAX_LIGHTS: int
@@ -141,6 +141,7 @@ class Renderer:
 
 def adapters() -> list[dict[str, str]]: ...
 def exact_uv(scene: SceneDict, light_bias: float = 0.0) -> OracleDict: ...
+def bounding_sphere(scene: SceneDict) -> tuple[tuple[float, float, float], float]: ...
 def render_exact(scene: SceneDict, spp: int, shadows: bool = True) -> dict[str, np.ndarray]: ...
 def tessellate(scene: SceneDict, texels_per_vertex: float, object: int = 0) -> dict[str, np.ndarray]: ...
 def mesh_from_arrays(positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray, indices: np.ndarray,

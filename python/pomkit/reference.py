@@ -140,15 +140,9 @@ def _look_at(mi, cam):
 
 
 def _scene_radius(scene: Scene) -> tuple[np.ndarray, float]:
-    los, his = [], []
-    for o in scene.objects:
-        m = o.transform
-        p = o.mesh.positions @ m[:3, :3].T + m[:3, 3]
-        d = o.material.depth * float(np.linalg.norm(m[:3, :3], 2))
-        los.append(p.min(0) - d)
-        his.append(p.max(0) + d)
-    lo, hi = np.min(los, axis=0), np.max(his, axis=0)
-    return (lo + hi) / 2, float(np.linalg.norm(hi - lo) / 2)
+    """The scene's bounding sphere, the core's (`Scene::bounding_sphere`: one home for it)."""
+    c, r = _core.bounding_sphere(scene._describe())
+    return np.asarray(c, np.float64), float(r)
 
 
 def _emitters(mi, scene: Scene) -> dict:

@@ -304,6 +304,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render_exact, m)?)?;
     m.add_function(wrap_pyfunction!(scene::mesh_from_arrays, m)?)?;
     m.add_function(wrap_pyfunction!(scene::mesh_generate, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::bounding_sphere, m)?)?;
     m.add_function(wrap_pyfunction!(tessellate, m)?)?;
     m.add_function(wrap_pyfunction!(io::load_image, m)?)?;
     m.add_function(wrap_pyfunction!(progress::set_progress_hook, m)?)?;

@@ -296,3 +296,10 @@ pub fn scene_from_py(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
         ambient,
     })
 }
+
+/// The scene's bounding sphere (`Scene::bounding_sphere`): ((x, y, z), radius).
+#[pyfunction]
+pub fn bounding_sphere(scene: &Bound<'_, PyDict>) -> PyResult<([f64; 3], f64)> {
+    let (c, r) = scene_from_py(scene)?.bounding_sphere();
+    Ok((c.to_array(), r))
+}

@@ -43,7 +43,7 @@ pub fn setup(scene: &Scene, spec: &Spec, max_dim: u32) -> Option<ShadowSetup> {
             None
         }
     })?;
-    let (c, r) = super::uniforms::bounding_sphere(scene);
+    let (c, r) = scene.bounding_sphere();
     let size = size.clamp(1, max_dim);
     let up = if dir.y.abs() < 0.99 {
         DVec3::Y

@@ -73,22 +73,6 @@ uniform_struct! {
     }
 }
 
-/// The scene's bounding sphere (every object's base mesh grown by its displacement depth).
-pub fn bounding_sphere(scene: &Scene) -> (DVec3, f64) {
-    if let [o] = scene.objects.as_slice() {
-        // one object: its box, grown by the displacement in every direction
-        let (lo, hi, d) = o.bounds();
-        return ((lo + hi) * 0.5, (hi - lo).length() * 0.5 + d + 1e-3);
-    }
-    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-    for o in &scene.objects {
-        let (a, b, d) = o.bounds();
-        lo = lo.min(a - DVec3::splat(d));
-        hi = hi.max(b + DVec3::splat(d));
-    }
-    ((lo + hi) * 0.5, (hi - lo).length() * 0.5 + 1e-3)
-}
-
 fn light_uniform(l: &Light) -> LightU {
     match l {
         Light::Directional {
@@ -127,7 +111,7 @@ fn light_uniform(l: &Light) -> LightU {
 /// The view block of a frame; `shadow` is the shadow map's set-up (light index,
 /// view-projection, texel size, map size) when the pass has one.
 pub fn view(scene: &Scene, shadow: Option<&super::shadow_map::ShadowSetup>) -> View {
-    let (c, r) = bounding_sphere(scene);
+    let (c, r) = scene.bounding_sphere();
     let d = (DVec3::from(scene.camera.eye) - c).length();
     let far = (d + r) * 1.01 + 1e-3;
     let near = (d - r).max(far * 1e-5);
