@@ -423,6 +423,9 @@ pub struct Spec {
     pub lod_threshold: f32,
     /// bound of every max-mip traversal (the method's and exact shadows)
     pub max_iterations: u32,
+    /// the argument a shader compile error names: "method" for the built-ins, "wgsl" for a
+    /// user's source (`Custom`)
+    pub shader_arg: &'static str,
 }
 
 impl Spec {
@@ -438,6 +441,7 @@ impl Spec {
             pixel: pixel.clone(),
             lod_threshold: 0.0,
             max_iterations: 4096,
+            shader_arg: "method",
         }
     }
     /// A surface-pass method without a march.
@@ -452,6 +456,7 @@ impl Spec {
             pixel,
             lod_threshold: 0.0,
             max_iterations: 4096,
+            shader_arg: "method",
         }
     }
 }

@@ -52,7 +52,11 @@ impl Unit for Custom {
             deps: Vec::new(),
         };
         let params: Vec<(&str, f32)> = self.params.iter().map(|(k, v)| (k.as_str(), *v)).collect();
-        Spec::surface(unit, o, &params)
+        Spec {
+            // a compile error is in the user's source
+            shader_arg: "wgsl",
+            ..Spec::surface(unit, o, &params)
+        }
     }
 
     fn validate(&self) -> Result<()> {

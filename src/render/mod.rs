@@ -11,8 +11,7 @@
 //! - `shadow_map`: the shadow-map pass
 //!
 //! The renderer binds what a method's `Spec` declares (src/contract.rs): its geometry, its
-//! `params` and its own resources. It names no method (but `Method::Custom`, whose errors name
-//! the `wgsl` argument; issue 34 moves that choice into the method).
+//! `params` and its own resources (and the argument its shader errors name). It names no method.
 
 pub mod aovs;
 pub mod pipelines;
@@ -428,11 +427,7 @@ impl Renderer {
         self.ctx.check_alive()?;
         let spec = method.spec();
         let filtering = self.effective_filtering(spec.pixel.filtering);
-        let arg = if matches!(method, Method::Custom(..)) {
-            "wgsl"
-        } else {
-            "method"
-        };
+        let arg = spec.shader_arg;
         let mut frames = Vec::with_capacity(scenes.len());
         let _guard = self.submit.lock().map_err(poisoned)?;
         let mut pending: Option<Pending> = None;
