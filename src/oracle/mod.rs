@@ -153,6 +153,12 @@ impl<'a> Oracle<'a> {
 /// The oracle's frame. `light_bias` (shell depths, >= 0) raises the light rays: a blocker must
 /// rise more than it above the ray (0: the exact field; the GPU's exact shadows use 1e-4).
 pub fn exact_hits(scene: &Scene, light_bias: f64) -> Result<OracleFrame> {
+    if !(0.0..0.5).contains(&light_bias) {
+        return Err(Error::arg(
+            "light_bias",
+            format!("must lie in [0, 0.5) shell depths, got {light_bias}"),
+        ));
+    }
     let oracle = Oracle::new(scene, "the CPU oracle (exact_uv)")?;
     let cam = &scene.camera;
     let basis = cam.basis();

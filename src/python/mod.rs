@@ -207,13 +207,6 @@ fn exact_uv<'py>(
     light_bias: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene_from_py(scene)?;
-    if !(0.0..0.5).contains(&light_bias) {
-        return Err(Error::arg(
-            "light_bias",
-            format!("must lie in [0, 0.5) shell depths, got {light_bias}"),
-        )
-        .into());
-    }
     let o = py.detach(move || exact_hits(&scene, light_bias))?;
     let (h, w) = (o.height as usize, o.width as usize);
     let d = PyDict::new(py);
