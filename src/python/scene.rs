@@ -303,3 +303,37 @@ pub fn bounding_sphere(scene: &Bound<'_, PyDict>) -> PyResult<([f64; 3], f64)> {
     let (c, r) = scene_from_py(scene)?.bounding_sphere();
     Ok((c.to_array(), r))
 }
+
+/// The displaced surface of object `object` of `scene` as arrays (positions, shading normals,
+/// uvs, faces) in object space, with `texels_per_vertex` lattice spacing.
+#[pyfunction]
+#[pyo3(signature = (scene, texels_per_vertex, object=0))]
+pub fn tessellate<'py>(
+    py: Python<'py>,
+    scene: &Bound<'py, PyDict>,
+    texels_per_vertex: f64,
+    object: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let scene = scene_from_py(scene)?;
+    scene.validate()?;
+    let obj = scene.objects.get(object).ok_or_else(|| {
+        Error::arg(
+            "object",
+            format!("the scene has {} objects", scene.objects.len()),
+        )
+    })?;
+    let t = py.detach(move || {
+        crate::methods::tessellated::tessellate::tessellate(
+            &obj.mesh,
+            &obj.material,
+            texels_per_vertex,
+        )
+    })?;
+    let n = t.positions.len();
+    let d = PyDict::new(py);
+    d.set_item("positions", nd_array(py, (n, 3), t.positions.concat())?)?;
+    d.set_item("normals", nd_array(py, (n, 3), t.normals.concat())?)?;
+    d.set_item("uvs", nd_array(py, (n, 2), t.uvs.concat())?)?;
+    d.set_item("faces", nd_array(py, (t.indices.len() / 3, 3), t.indices)?)?;
+    Ok(d)
+}
