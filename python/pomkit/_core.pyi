@@ -8,13 +8,14 @@ import numpy as np
 
 from ._methods import Method
 
-__all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "CONE_KINDS", "DeviceLostError", "FILTERING_KINDS", "GpuError", "HeightData", "MAX_LIGHTS",
+__all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "COST_AOV_NAMES", "CONE_KINDS", "DeviceLostError", "FILTERING_KINDS", "GpuError", "HeightData", "MAX_LIGHTS",
            "MAX_STEPS_LIMIT", "MeshData", "NCS_MAP_SIZE", "NoAdapterError", "REFINE_KINDS", "Renderer", "SHADOW_KINDS",
            "__version__", "adapters", "bounding_sphere", "exact_uv", "load_image", "mesh_from_arrays", "mesh_generate", "render_exact", "set_cache_dir", "set_progress_hook", "tessellate"]
 __version__: str
 NCS_MAP_SIZE: int
 MAX_LIGHTS: int
 AOV_NAMES: list[str]
+COST_AOV_NAMES: list[str]
 SHADOW_KINDS: list[str]
 FILTERING_KINDS: list[str]
 CONE_KINDS: list[str]

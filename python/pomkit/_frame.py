@@ -17,7 +17,7 @@ __all__ = ["Frame", "AovName", "AOV_NAMES", "COST_AOVS"]
 AovName = Literal["color", "uv", "depth", "mask", "coverage", "steps", "lod", "flags", "object", "fetches", "bytes"]
 AOV_NAMES: tuple[str, ...] = tuple(_core.AOV_NAMES)
 #: the cost counters: counted only when named in `aovs=` (not in "all")
-COST_AOVS: tuple[str, ...] = ("fetches", "bytes")
+COST_AOVS: tuple[str, ...] = tuple(_core.COST_AOV_NAMES)
 #: arrays a Frame may also hold that no render target writes: `visibility` comes from the CPU
 #: oracle (`exact_uv`) or from `Renderer.render_visibility` (a shadowed and an unshadowed render)
 DERIVED_NAMES: tuple[str, ...] = ("visibility",)

@@ -45,7 +45,7 @@ def _set(obj, name: str, value) -> None:
     object.__setattr__(obj, name, value)
 
 
-def _int_field(obj, name: str, lo: int = 1, hi: int = 4096) -> None:
+def _int_field(obj, name: str, lo: int = 1, hi: int = _core.MAX_STEPS_LIMIT) -> None:
     _set(obj, name, _v.integer(name, getattr(obj, name), lo, hi))
 
 

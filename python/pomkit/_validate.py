@@ -12,6 +12,8 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from . import _core
+
 _INTS = (int, np.integer)
 _REALS = (int, float, np.integer, np.floating)
 
@@ -21,7 +23,7 @@ def is_number(v: Any) -> bool:
     return isinstance(v, _REALS) and not isinstance(v, (bool, np.bool_))
 
 
-def integer(name: str, v: Any, lo: int = 1, hi: int = 4096) -> int:
+def integer(name: str, v: Any, lo: int = 1, hi: int = _core.MAX_STEPS_LIMIT) -> int:
     """An integer in [lo, hi]. Integer-valued floats (``32.0``) are accepted."""
     if isinstance(v, (bool, np.bool_)) or not isinstance(v, _REALS):
         raise TypeError(f"{name}: expected an integer, got {type(v).__name__}")

@@ -36,6 +36,14 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // the contracts Python derives its checks and Literals from (one source: the core)
     m.add("MAX_LIGHTS", crate::scene::MAX_LIGHTS)?;
     m.add("AOV_NAMES", crate::render::Aovs::NAMES.to_vec())?;
+    // the AOVs counted only when named: those outside `aovs="all"`
+    let standard = crate::render::Aovs::STANDARD;
+    let cost: Vec<&str> = crate::render::Aovs::NAMES
+        .iter()
+        .copied()
+        .filter(|n| !standard.has(n))
+        .collect();
+    m.add("COST_AOV_NAMES", cost)?;
     let docs = PyDict::new(m.py());
     for a in crate::render::aovs::AOVS {
         docs.set_item(a.name, a.doc)?;
