@@ -107,9 +107,10 @@ fn import_path(source: &str) -> Option<&str> {
         .find_map(|l| l.trim().strip_prefix("#define_import_path").map(str::trim))
 }
 
-/// What a frame adds to a method's shader variant.
+/// What a scene adds to a method's shader variant (its shadow map, objects, transforms, sphere
+/// lights, and whether it counts fetches).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct FrameDefs {
+pub struct SceneDefs {
     /// the frame has a shadow map (a light that casts shadows, or Tessellated's own): CAST_SHADOWS
     pub shadow_map: bool,
     /// the marched methods write their displaced hit's depth (DISPLACED_DEPTH): frames of
@@ -131,7 +132,7 @@ pub struct FrameDefs {
 pub fn defs(
     spec: &Spec,
     filtering: Filtering,
-    frame: FrameDefs,
+    frame: SceneDefs,
 ) -> HashMap<String, ShaderDefValue> {
     let mut d = HashMap::new();
     if frame.shadow_map {
@@ -268,7 +269,7 @@ impl ShaderLib {
         &self,
         spec: &Spec,
         filtering: Filtering,
-        frame: FrameDefs,
+        frame: SceneDefs,
         arg: &str,
     ) -> Result<naga::Module> {
         let mut composer = self

@@ -9,7 +9,7 @@
 use naga::back::{glsl, hlsl, msl, spv};
 use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
 use pomkit::methods::builtin_variants;
-use pomkit::shaders::{FrameDefs, ShaderLib};
+use pomkit::shaders::{SceneDefs, ShaderLib};
 
 fn validate(module: &naga::Module, what: &str) -> ModuleInfo {
     Validator::new(ValidationFlags::all(), Capabilities::default())
@@ -178,7 +178,7 @@ fn every_variant_translates_to_every_backend() {
         // plain; with a shadow map; and every frame def on (several transformed objects, sphere
         // lights, the cost counters)
         for (shadow_map, all) in [(false, false), (true, false), (true, true)] {
-            let frame = FrameDefs {
+            let frame = SceneDefs {
                 shadow_map,
                 displaced_depth: all,
                 count_fetches: all,

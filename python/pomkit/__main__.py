@@ -35,7 +35,7 @@ def main(argv=None) -> int:
         from .apps.demo import run_demo
         run_demo(a.out, a.size)
     elif a.cmd == "bench":
-        from .apps import bench
+        from .apps import pareto as bench
         missing = bench.missing_extra()
         if missing:
             print(f"python -m pomkit bench needs {', '.join(missing)}: pip install pomkit[bench]", file=sys.stderr)

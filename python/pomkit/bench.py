@@ -2,7 +2,7 @@
 
 `sweep(...)` renders methods x scenes x angles, times them (GPU timestamps where the adapter has
 them, else wall time) and measures them against a reference; `python -m pomkit bench [--quick]`
-(pomkit/apps/bench.py) runs the standard sweep and writes the table (CSV) and the charts into
+(pomkit/apps/pareto.py) runs the standard sweep and writes the table (CSV) and the charts into
 ./pomkit-out/bench/.
 """
 

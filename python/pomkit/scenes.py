@@ -10,7 +10,7 @@ import numpy as np
 from . import textures
 from ._scene import Camera, DirectionalLight, Material, Mesh, Object, Scene
 
-__all__ = ["translate", "rotate", "scale", "sunk_sphere", "wavy_cylinder", "wavy_sphere"]
+__all__ = ["translate", "rotate", "scale", "sunk_sphere", "cobbled", "wavy_cylinder", "wavy_sphere"]
 
 
 def translate(x: float, y: float, z: float) -> np.ndarray:
@@ -36,6 +36,14 @@ def rotate(axis, degrees: float) -> np.ndarray:
                  [y * x * (1 - c) + z * s, c + y * y * (1 - c), y * z * (1 - c) - x * s],
                  [z * x * (1 - c) - y * s, z * y * (1 - c) + x * s, c + z * z * (1 - c)]]
     return m
+
+
+def cobbled(mesh: Mesh, size: int, tiles: float, map_size: int = 512) -> Scene:
+    """Cobblestones (`map_size`², 8 cells) `tiles` times over a curved `mesh`, seen from above
+    its rim at `size`², one light: the bench's and the tables' curved scene."""
+    return Scene(mesh=mesh, material=Material(textures.cobblestones(map_size, cells=8), depth=0.12, tiling=tiles),
+                 camera=Camera.look_at((0.0, 1.0, 2.8), fov_y=40, width=size, height=size),
+                 lights=[DirectionalLight((-0.4, -1, -0.3), 3.0)])
 
 
 def sunk_sphere(size: int = 256, *, sink: float = 0.3, floor_map: int = 128, sphere_map: int = 64,

@@ -21,7 +21,7 @@ use crate::scene::{HeightMap, Scene};
 use glam::{DMat3, DVec2, DVec3};
 
 #[derive(Clone, Debug)]
-pub struct OracleFrame {
+pub struct OracleHits {
     pub width: u32,
     pub height: u32,
     /// H*W*2, NaN where the ray misses the mesh
@@ -152,7 +152,7 @@ impl<'a> Oracle<'a> {
 
 /// The oracle's frame. `light_bias` (shell depths, >= 0) raises the light rays: a blocker must
 /// rise more than it above the ray (0: the exact field; the GPU's exact shadows use 1e-4).
-pub fn exact_hits(scene: &Scene, light_bias: f64) -> Result<OracleFrame> {
+pub fn exact_hits(scene: &Scene, light_bias: f64) -> Result<OracleHits> {
     if !(0.0..0.5).contains(&light_bias) {
         return Err(Error::arg(
             "light_bias",
@@ -164,7 +164,7 @@ pub fn exact_hits(scene: &Scene, light_bias: f64) -> Result<OracleFrame> {
     let basis = cam.basis();
     let (w, h) = (cam.width, cam.height);
     let n = (w * h) as usize;
-    let mut out = OracleFrame {
+    let mut out = OracleHits {
         width: w,
         height: h,
         uv: vec![f64::NAN; n * 2],

@@ -29,7 +29,7 @@ use crate::gpu::Context;
 use crate::heightmap::MipBuilder;
 use crate::methods::Method;
 use crate::scene::{HeightMap, Keyed, Scene};
-use crate::shaders::FrameDefs;
+use crate::shaders::SceneDefs;
 use pipelines::Pipelines;
 use resources::Resources;
 use std::sync::{Arc, Mutex};
@@ -444,7 +444,7 @@ impl Renderer {
                 &self.ctx,
                 &spec,
                 filtering,
-                FrameDefs {
+                SceneDefs {
                     shadow_map: shadow.is_some(),
                     displaced_depth: scene.objects.len() > 1,
                     count_fetches: aovs.counts_fetches(),

@@ -9,7 +9,7 @@ use crate::contract::{Filtering, Geometry, Pass, ResourceKind, Spec};
 use crate::error::{Error, Result};
 use crate::gpu::{layout, Context};
 use crate::mesh::Vertex;
-use crate::shaders::{FrameDefs, ShaderLib};
+use crate::shaders::{SceneDefs, ShaderLib};
 use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
 use std::sync::{Arc, Mutex};
@@ -57,7 +57,7 @@ pub struct MethodLayout {
 fn variant_key(
     spec: &Spec,
     filtering: Filtering,
-    frame: FrameDefs,
+    frame: SceneDefs,
     targets: [bool; TARGETS.len()],
 ) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
@@ -199,7 +199,7 @@ impl Pipelines {
         ctx: &Context,
         spec: &Spec,
         filtering: Filtering,
-        frame: FrameDefs,
+        frame: SceneDefs,
         written: [bool; TARGETS.len()],
         arg: &str,
     ) -> Result<Arc<Variant>> {

@@ -217,13 +217,12 @@ def silhouettes_table(size: int = 256) -> str:
     """POM, NCS and Tessellated against Mitsuba on the torus and the sphere (IoU, uv p95, FLIP,
     time relative to POM), and NCS's step_scale sweep on the torus (early terminations, error)."""
     from pomkit import reference as R
-    from pomkit.apps.bench import _curved
     from pomkit.bench import time_methods
     r = pk.Renderer()
     rows = ["Each method at its defaults (soft shadows where it has them; issue 12's shadow-free costs are in the bench's goals.txt).", "", "| mesh | method | mask IoU | uv p95 (texels) | FLIP | time / POM | early terminations |", "|---|---|---|---|---|---|---|"]
     sweep_rows = []
     for name, mesh in (("torus", pk.Mesh.torus(segments=48, tube_segments=24)), ("sphere", pk.Mesh.sphere(segments=48, rings=24))):
-        sc = _curved(mesh, size, 1.0, 256)
+        sc = pk.scenes.cobbled(mesh, size, 1.0, 256)
         ref = R.render_mitsuba(sc, spp=16)
         sil: list[pk.Method] = [pk.POM(), pk.NCS(), pk.Prism(), pk.Prism(exact=True), pk.Tessellated(0.5)]
         times = time_methods(r, sc, sil, min_repeats=3)

@@ -163,12 +163,6 @@ def objects_cost(size: int = 512, rounds: int = 5) -> dict:
     return out
 
 
-def _curved(mesh: pk.Mesh, size: int, tiles: float, map_size: int = 512) -> pk.Scene:
-    return pk.Scene(mesh=mesh, material=pk.Material(pk.textures.cobblestones(map_size, cells=8), depth=0.12, tiling=tiles),
-                    camera=pk.Camera.look_at((0.0, 1.0, 2.8), fov_y=40, width=size, height=size),
-                    lights=[pk.DirectionalLight((-0.4, -1, -0.3), 3.0)])
-
-
 def _paired_ratios(r: pk.Renderer, scene: pk.Scene, methods: list, rounds: int) -> tuple[list[float], list[float]]:
     """Per method: the median GPU ms and the median of per-round ratios to the first method."""
     t = time_methods(r, scene, methods, min_repeats=rounds, max_repeats=rounds, baseline=False)
@@ -188,7 +182,7 @@ def curved_tiling(tiles=(1, 2, 4, 8), size: int = 512, rounds: int = 5) -> list[
     mesh = pk.Mesh.torus(segments=48, tube_segments=24)
     rows = []
     for t in tiles:
-        sc = _curved(mesh, size, float(t))
+        sc = pk.scenes.cobbled(mesh, size, float(t))
         methods = [f() for f in SILHOUETTE_METHODS.values()]
         ms, x = _paired_ratios(r, sc, methods, rounds)
         ref = r.render(sc, methods[3])
