@@ -210,7 +210,7 @@ const fn standard_bits() -> u32 {
 /// The AOVs a render returns, as a set. Targets that no requested AOV needs are neither written
 /// nor read back.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct Aovs(u32);
+pub struct Aovs(pub(super) u32);
 
 impl Aovs {
     pub const NAMES: [&'static str; AOVS.len()] = names();
@@ -437,115 +437,6 @@ impl Frame {
             data,
             gpu_ms,
             wall_ms,
-        }
-    }
-}
-
-impl Frame {
-    /// A supersampled frame: `big`, a frame of `k` x `k` samples per pixel rendered as one
-    /// (k w) x (k h) frame, gives colour as the mean of each pixel's samples (a box filter over
-    /// the pixel, as the Mitsuba reference's `box` rfilter) and coverage as the fraction that hit;
-    /// every other AOV (uv, depth, mask, steps, lod, flags, object, fetches, bytes) is `plain`'s,
-    /// the one-sample frame's (its pixel centre), so that they keep their per-pixel meaning
-    /// exactly. GPU and wall time are the two passes' sums.
-    pub fn supersampled(big: Frame, k: u32, plain: Option<Frame>) -> Frame {
-        Frame::reduced(big, k).with_plain(plain)
-    }
-
-    /// `big` (k x k samples per pixel) reduced to its pixels: colour the mean of each pixel's
-    /// samples, coverage the fraction that hit; AOVs of another source are dropped.
-    pub fn reduced(big: Frame, k: u32) -> Frame {
-        let (k, bw) = (k as usize, big.width as usize);
-        let (w, h) = (bw / k, big.height as usize / k);
-        let mean = |v: &[f32], comps: usize| -> Vec<f32> {
-            let mut out = vec![0.0f64; w * h * comps];
-            for y in 0..h * k {
-                for x in 0..w * k {
-                    let o = ((y / k) * w + x / k) * comps;
-                    let i = (y * bw + x) * comps;
-                    for ch in 0..comps {
-                        out[o + ch] += v[i + ch] as f64;
-                    }
-                }
-            }
-            let n = (k * k) as f64;
-            out.into_iter().map(|x| (x / n) as f32).collect()
-        };
-        let mut aovs = Aovs(0);
-        let data = AOVS
-            .iter()
-            .enumerate()
-            .zip(big.data)
-            .map(|((i, a), d)| match (a.source, d) {
-                (Source::ColorRgb | Source::Coverage, Some(AovData::F32(v))) => {
-                    aovs.0 |= 1 << i;
-                    Some(AovData::F32(mean(&v, a.comps)))
-                }
-                _ => None,
-            })
-            .collect();
-        Frame {
-            width: w as u32,
-            height: h as u32,
-            aovs,
-            data,
-            gpu_ms: big.gpu_ms,
-            wall_ms: big.wall_ms,
-        }
-    }
-
-    /// This frame's AOVs with `plain`'s added where this frame has none (the one-sample pass of
-    /// a supersampled frame); GPU and wall time are the sums.
-    pub fn with_plain(mut self, plain: Option<Frame>) -> Frame {
-        if let Some(p) = plain {
-            debug_assert_eq!((p.width, p.height), (self.width, self.height));
-            self.aovs = Aovs(self.aovs.0 | p.aovs.0);
-            self.gpu_ms = self.gpu_ms.zip(p.gpu_ms).map(|(a, b)| a + b);
-            self.wall_ms += p.wall_ms;
-            for (d, r) in self.data.iter_mut().zip(p.data) {
-                if d.is_none() {
-                    *d = r;
-                }
-            }
-        }
-        self
-    }
-
-    /// A `width` x `height` frame from float AOVs rendered in tiles, each tile at its pixel
-    /// origin (x, y); GPU and wall time are the tiles' sums.
-    pub fn tiled(width: u32, height: u32, tiles: Vec<((u32, u32), Frame)>) -> Frame {
-        let (w, h) = (width as usize, height as usize);
-        let mut data: Vec<Option<AovData>> = vec![None; AOVS.len()];
-        let mut aovs = Aovs(0);
-        let (mut gpu, mut wall) = (Some(0.0), 0.0);
-        for ((x0, y0), t) in tiles {
-            aovs = Aovs(aovs.0 | t.aovs.0);
-            gpu = gpu.zip(t.gpu_ms).map(|(a, b)| a + b);
-            wall += t.wall_ms;
-            let tw = t.width as usize;
-            for ((a, d), src) in AOVS.iter().zip(data.iter_mut()).zip(t.data) {
-                let Some(src) = src else { continue };
-                let AovData::F32(v) = src else {
-                    panic!("Frame::tiled pastes float AOVs only ({})", a.name)
-                };
-                let c = a.comps;
-                let dst = match d.get_or_insert_with(|| AovData::F32(vec![0.0; w * h * c])) {
-                    AovData::F32(dst) => dst,
-                    _ => unreachable!(),
-                };
-                for (r, row) in v.chunks(tw * c).enumerate() {
-                    let o = ((y0 as usize + r) * w + x0 as usize) * c;
-                    dst[o..o + row.len()].copy_from_slice(row);
-                }
-            }
-        }
-        Frame {
-            width,
-            height,
-            aovs,
-            data,
-            gpu_ms: gpu,
-            wall_ms: wall,
         }
     }
 }

@@ -9,6 +9,7 @@
 //! - `targets`: the render targets and their readback
 //! - `uniforms`: the `View` and `Globals` blocks (checked against the WGSL layout)
 //! - `shadow_map`: the shadow-map pass
+//! - `supersample`: k x k samples per pixel, in one pass or in tiles, reduced to the frame
 //!
 //! The renderer binds what a method's `Spec` declares (src/contract.rs): its geometry, its
 //! `params` and its own resources (and the argument its shader errors name). It names no method.
@@ -17,10 +18,12 @@ pub mod aovs;
 pub mod pipelines;
 pub mod resources;
 pub mod shadow_map;
+pub mod supersample;
 pub mod targets;
 pub mod uniforms;
 
 pub use crate::heightmap::top_maxmip_level;
+pub use supersample::SPP_TILE_SAMPLES;
 pub use targets::{Aovs, Frame};
 
 use crate::contract::{BuildInputs, Builders, Filtering, GpuMesh, Resident, Spec};
@@ -36,10 +39,6 @@ use std::sync::{Arc, Mutex};
 use targets::Targets;
 
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-
-/// Samples a side of one supersampled pass at most: larger frames render their samples in tiles
-/// (`Renderer::render_many_spp`). 4096² samples are 320 MiB of targets and readback.
-pub const SPP_TILE_SAMPLES: u32 = 4096;
 
 /// Samplers, and the stand-in bound where a frame has no shadow map.
 struct Fixed {
@@ -304,119 +303,6 @@ impl Renderer {
     pub fn render_aovs(&self, scene: &Scene, method: &Method, aovs: Aovs) -> Result<Frame> {
         let mut frames = self.render_many(std::slice::from_ref(scene), method, aovs)?;
         Ok(frames.pop().expect("one frame"))
-    }
-
-    /// Render many frames at `spp` samples per pixel: a square number, k x k stratified samples
-    /// on a regular grid in each pixel (k = 1: `render_many` itself, bit for bit). The samples
-    /// are one pass at k² the pixels (the camera's width and height times k: one pass measured
-    /// cheaper here than k² jittered passes, whose fixed cost per pass, a frame's clears,
-    /// uploads and readback, repeats), reduced by `Frame::supersampled`: colour box-filtered as the
-    /// Mitsuba reference's `box` rfilter, coverage the fraction of samples that hit, the other
-    /// AOVs from the sample at (k/2, k/2). Each sample's LOD is its own footprint's.
-    pub fn render_many_spp(
-        &self,
-        scenes: &[Scene],
-        method: &Method,
-        aovs: Aovs,
-        spp: u32,
-    ) -> Result<Vec<Frame>> {
-        let k = (spp as f64).sqrt().round() as u32;
-        if spp == 0 || k * k != spp || k > 16 {
-            return Err(Error::arg(
-                "spp",
-                format!("must be a square number of samples per pixel from 1 to 256 (1, 4, 9, 16, ...: k x k per pixel), got {spp}"),
-            ));
-        }
-        if k == 1 {
-            return self.render_many(scenes, method, aovs);
-        }
-        // colour and coverage from the samples; the other AOVs from a one-sample pass
-        let (ss, rest) = aovs.split_supersampled();
-        let plain: Vec<Option<Frame>> = match rest {
-            Some(a) => self
-                .render_many(scenes, method, a)?
-                .into_iter()
-                .map(Some)
-                .collect(),
-            None => vec![None; scenes.len()],
-        };
-        let Some(ss) = ss else {
-            return Ok(plain.into_iter().flatten().collect());
-        };
-        let tile = self.spp_tile(k);
-        let untiled = scenes
-            .iter()
-            .all(|s| s.camera.width <= tile && s.camera.height <= tile);
-        if untiled {
-            let big: Vec<Scene> = scenes.iter().map(|s| Self::samples(s, k, None)).collect();
-            let bigs = self.render_many(&big, method, ss)?;
-            return Ok(bigs
-                .into_iter()
-                .zip(plain)
-                .map(|(b, p)| Frame::supersampled(b, k, p))
-                .collect());
-        }
-        // past the tile's size: the samples in tiles of at most `tile` pixels a side (windows
-        // of the full camera), each reduced to its pixels before the next, so that memory is
-        // bounded by one tile's k² samples whatever the frame's size
-        scenes
-            .iter()
-            .zip(plain)
-            .map(|(s, p)| Ok(self.render_tiled(s, method, ss, k, tile)?.with_plain(p)))
-            .collect()
-    }
-
-    /// The supersampled colour and coverage (`aovs`) of `scene` at k x k samples per pixel,
-    /// rendered in tiles of `tile` pixels a side (windows of the full camera), each reduced to
-    /// its pixels before the next: memory is bounded by one tile's k² samples whatever the
-    /// frame's size. Equal to one pass over the whole frame up to rasterisation rounding.
-    pub fn render_tiled(
-        &self,
-        scene: &Scene,
-        method: &Method,
-        aovs: Aovs,
-        k: u32,
-        tile: u32,
-    ) -> Result<Frame> {
-        let (w, h) = (scene.camera.width, scene.camera.height);
-        let tile = tile.max(1);
-        let mut tiles = Vec::new();
-        for y0 in (0..h).step_by(tile as usize) {
-            for x0 in (0..w).step_by(tile as usize) {
-                let rect = (x0, y0, tile.min(w - x0), tile.min(h - y0));
-                let big = Self::samples(scene, k, Some(rect));
-                let f = self
-                    .render_many(std::slice::from_ref(&big), method, aovs)?
-                    .pop()
-                    .expect("one frame");
-                tiles.push(((x0, y0), Frame::reduced(f, k)));
-            }
-        }
-        Ok(Frame::tiled(w, h, tiles))
-    }
-
-    /// Pixels a side of one supersampled pass at k x k samples per pixel: its k² samples within
-    /// `SPP_TILE_SAMPLES` (and the device's texture limit) a side.
-    fn spp_tile(&self, k: u32) -> u32 {
-        (SPP_TILE_SAMPLES.min(self.ctx.limits.max_texture_dimension_2d) / k).max(1)
-    }
-
-    /// The scene of `s`'s samples at k x k per pixel: its camera k times as fine, over the whole
-    /// image or over the window `rect` (x, y, w, h in pixels).
-    fn samples(s: &Scene, k: u32, rect: Option<(u32, u32, u32, u32)>) -> Scene {
-        let mut s = s.clone();
-        s.camera.samples = k;
-        let (w, h) = (s.camera.width, s.camera.height);
-        if let Some((x0, y0, tw, th)) = rect {
-            s.camera.window = Some(crate::scene::Window {
-                full: (w * k, h * k),
-                origin: (x0 * k, y0 * k),
-            });
-            (s.camera.width, s.camera.height) = (tw * k, th * k);
-        } else {
-            (s.camera.width, s.camera.height) = (w * k, h * k);
-        }
-        s
     }
 
     /// Render many frames with one method, pipelined: frame i+1 is submitted before frame i is

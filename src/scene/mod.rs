@@ -2,8 +2,11 @@
 
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
-use glam::{DMat4, DVec3, DVec4, Mat4};
+use glam::{DMat4, DVec3, DVec4};
 use std::hash::{Hash, Hasher};
+
+mod camera;
+pub use camera::{Camera, CameraBasis, Window};
 use std::sync::Arc;
 
 /// A hash of byte slices (with their lengths): the content keys of the GPU caches.
@@ -229,163 +232,6 @@ impl Material {
         }
         // the height map and albedo were checked when they were shared
         Ok(())
-    }
-}
-
-/// Pinhole camera. The ray of pixel (i, j) passes through the pixel centre (j + 0.5, i + 0.5);
-/// row 0 is the top of the image; `fov_y` is the vertical field of view in degrees.
-#[derive(Clone, Debug)]
-pub struct Camera {
-    pub eye: [f64; 3],
-    pub target: [f64; 3],
-    pub up: [f64; 3],
-    pub fov_y: f64,
-    pub width: u32,
-    pub height: u32,
-    /// When set, the image is one window of a larger one: its `width` x `height` pixels are
-    /// those from `origin` of a `full`-sized image of the same camera (tiled passes of a
-    /// supersampled frame). None: the whole image.
-    pub window: Option<Window>,
-    /// k when this image's pixels are the k x k samples of a supersampled frame's pixels (the
-    /// exact shadows share their directions among them), 1 otherwise.
-    pub samples: u32,
-}
-
-/// Where a camera's image lies in the full image it is a window of.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Window {
-    pub full: (u32, u32),
-    pub origin: (u32, u32),
-}
-
-/// Orthonormal camera basis (right, up, back) in f64.
-pub struct CameraBasis {
-    pub eye: DVec3,
-    pub forward: DVec3,
-    pub right: DVec3,
-    pub up: DVec3,
-    pub tan_half_y: f64,
-    pub aspect: f64,
-}
-
-impl Camera {
-    pub fn validate(&self) -> Result<()> {
-        let all = self
-            .eye
-            .iter()
-            .chain(self.target.iter())
-            .chain(self.up.iter());
-        if all.clone().any(|x| !x.is_finite()) {
-            return Err(Error::arg("camera", "eye, target and up must be finite"));
-        }
-        if self.width == 0 || self.height == 0 {
-            return Err(Error::arg(
-                "width",
-                format!(
-                    "image size must be positive, got {}x{}",
-                    self.width, self.height
-                ),
-            ));
-        }
-        if !(self.fov_y > 0.0 && self.fov_y < 180.0) {
-            return Err(Error::arg(
-                "fov_y",
-                format!("must lie in (0, 180) degrees, got {}", self.fov_y),
-            ));
-        }
-        let eye = DVec3::from(self.eye);
-        let target = DVec3::from(self.target);
-        let fwd = target - eye;
-        if fwd.length() < 1e-9 {
-            return Err(Error::arg(
-                "eye",
-                "eye and target coincide; move the eye away from the target",
-            ));
-        }
-        let up = DVec3::from(self.up);
-        if up.length() < 1e-12 || fwd.normalize().cross(up.normalize()).length() < 1e-6 {
-            return Err(Error::arg(
-                "up",
-                "up is zero or parallel to the view direction; pass another up vector",
-            ));
-        }
-        Ok(())
-    }
-
-    /// The full image's size and this image's origin in it.
-    pub fn full(&self) -> ((u32, u32), (u32, u32)) {
-        match self.window {
-            Some(w) => (w.full, w.origin),
-            None => ((self.width, self.height), (0, 0)),
-        }
-    }
-
-    pub fn basis(&self) -> CameraBasis {
-        let eye = DVec3::from(self.eye);
-        let forward = (DVec3::from(self.target) - eye).normalize();
-        let right = forward.cross(DVec3::from(self.up)).normalize();
-        let up = right.cross(forward);
-        CameraBasis {
-            eye,
-            forward,
-            right,
-            up,
-            tan_half_y: (self.fov_y.to_radians() * 0.5).tan(),
-            aspect: {
-                let ((fw, fh), _) = self.full();
-                fw as f64 / fh as f64
-            },
-        }
-    }
-
-    /// Unit direction of the ray through the centre of pixel (row i, column j).
-    pub fn ray_dir(&self, b: &CameraBasis, i: u32, j: u32) -> DVec3 {
-        let ((fw, fh), (x0, y0)) = self.full();
-        let x = (((x0 + j) as f64 + 0.5) / fw as f64) * 2.0 - 1.0;
-        let y = 1.0 - (((y0 + i) as f64 + 0.5) / fh as f64) * 2.0;
-        (b.forward + b.right * (x * b.tan_half_y * b.aspect) + b.up * (y * b.tan_half_y))
-            .normalize()
-    }
-
-    /// View-projection matrix (wgpu clip space: y up, depth in [0, 1]) for the given clip
-    /// range, computed in f64. Right-handed view space looking down -z.
-    pub fn view_proj(&self, near: f64, far: f64) -> Mat4 {
-        let b = self.basis();
-        let view = DMat4::from_cols(
-            DVec4::new(b.right.x, b.up.x, -b.forward.x, 0.0),
-            DVec4::new(b.right.y, b.up.y, -b.forward.y, 0.0),
-            DVec4::new(b.right.z, b.up.z, -b.forward.z, 0.0),
-            DVec4::new(
-                -b.right.dot(b.eye),
-                -b.up.dot(b.eye),
-                b.forward.dot(b.eye),
-                1.0,
-            ),
-        );
-        let f = 1.0 / b.tan_half_y;
-        let r = far / (near - far);
-        let proj = DMat4::from_cols(
-            DVec4::new(f / b.aspect, 0.0, 0.0, 0.0),
-            DVec4::new(0.0, f, 0.0, 0.0),
-            DVec4::new(0.0, 0.0, r, -1.0),
-            DVec4::new(0.0, 0.0, r * near, 0.0),
-        );
-        // a window: the full image's clip space, scaled and shifted so that the window's pixels
-        // fill [-1, 1]
-        let ((fw, fh), (x0, y0)) = self.full();
-        let (sx, sy) = (
-            fw as f64 / self.width as f64,
-            fh as f64 / self.height as f64,
-        );
-        let cx = (2.0 * x0 as f64 + self.width as f64) / fw as f64 - 1.0;
-        let cy = 1.0 - (2.0 * y0 as f64 + self.height as f64) / fh as f64;
-        let crop = DMat4::from_cols(
-            DVec4::new(sx, 0.0, 0.0, 0.0),
-            DVec4::new(0.0, sy, 0.0, 0.0),
-            DVec4::new(0.0, 0.0, 1.0, 0.0),
-            DVec4::new(-sx * cx, -sy * cy, 0.0, 1.0),
-        );
-        (crop * proj * view).as_mat4()
     }
 }
 
