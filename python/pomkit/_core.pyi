@@ -104,6 +104,49 @@ _FrameTuple = tuple[dict[str, Optional[np.ndarray]], Optional[float], float]
 
 
 @type_check_only
+class MeshArrays(TypedDict):
+    """A mesh's arrays (`mesh_generate`, `mesh_from_arrays`)."""
+    positions: np.ndarray    # (n, 3) float32
+    normals: np.ndarray      # (n, 3) float32
+    uvs: np.ndarray          # (n, 2) float32
+    indices: np.ndarray      # (m,) uint32
+    tangents: np.ndarray     # (n, 4) float32
+    uv_scale: np.ndarray     # (n, 2) float32
+    charts: np.ndarray       # (c, 3) uint32
+
+
+@type_check_only
+class MeshFromArrays(MeshArrays):
+    """`mesh_from_arrays`: the arrays and the repairs made."""
+    degenerate_uv_triangles: int
+    fallback_vertices: int
+
+
+@type_check_only
+class AdapterDict(TypedDict):
+    name: str
+    backend: str
+    device_type: str
+    driver: str
+
+
+@type_check_only
+class TessellationDict(TypedDict):
+    """The displaced surface (`tessellate`)."""
+    positions: np.ndarray    # (n, 3) float32
+    normals: np.ndarray      # (n, 3) float32
+    uvs: np.ndarray          # (n, 2) float32
+    faces: np.ndarray        # (m, 3) uint32
+
+
+@type_check_only
+class ExactImageDict(TypedDict):
+    """`render_exact`'s colour and coverage."""
+    color: np.ndarray        # (H, W, 3) float32
+    coverage: np.ndarray     # (H, W) float32
+
+
+@type_check_only
 class OracleDict(TypedDict):
     """The CPU oracle's arrays (`exact_uv`)."""
     uv: np.ndarray           # (H, W, 2) float64
@@ -140,15 +183,15 @@ class Renderer:
     def _provoke_validation_error(self) -> None: ...
     def _destroy_device(self) -> None: ...
 
-def adapters() -> list[dict[str, str]]: ...
+def adapters() -> list[AdapterDict]: ...
 def exact_uv(scene: SceneDict, light_bias: float = 0.0) -> OracleDict: ...
 def bounding_sphere(scene: SceneDict) -> tuple[tuple[float, float, float], float]: ...
-def render_exact(scene: SceneDict, spp: int, shadows: bool = True) -> dict[str, np.ndarray]: ...
-def tessellate(scene: SceneDict, texels_per_vertex: float, object: int = 0) -> dict[str, np.ndarray]: ...
+def render_exact(scene: SceneDict, spp: int, shadows: bool = True) -> ExactImageDict: ...
+def tessellate(scene: SceneDict, texels_per_vertex: float, object: int = 0) -> TessellationDict: ...
 def mesh_from_arrays(positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray, indices: np.ndarray,
-                     tangents: Optional[np.ndarray] = None) -> tuple[Any, ...]: ...
+                     tangents: Optional[np.ndarray] = None) -> MeshFromArrays: ...
 def mesh_generate(kind: Literal["plane", "sphere", "torus", "cylinder", "cube"], a: float, b: float, n1: int,
-                  n2: int) -> tuple[np.ndarray, ...]: ...
+                  n2: int) -> MeshArrays: ...
 def load_image(path: Any, kind: Literal["height", "albedo"]) -> tuple[np.ndarray, int]: ...
 def set_progress_hook(hook: Optional[Callable[[str, int, int], None]]) -> None: ...
 def set_cache_dir(path: Optional[str]) -> None: ...

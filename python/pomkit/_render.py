@@ -17,7 +17,7 @@ from ._scene import Material, Scene
 __all__ = ["Renderer", "adapters", "exact_uv"]
 
 
-def adapters() -> list[dict]:
+def adapters() -> list["_core.AdapterDict"]:
     """The adapters wgpu can open here (name, backend, device_type, driver).
     POMKIT_BACKEND=vulkan|gl restricts the backends."""
     return list(_core.adapters())

@@ -68,9 +68,10 @@ class Mesh:
     recipe: Optional[tuple] = None
 
     @classmethod
-    def _from_core(cls, arrays, kind: str) -> "Mesh":
-        p, n, uv, idx, t, s, c = (_readonly(np.asarray(x)) for x in arrays[:7])
-        return cls(p, n, uv, idx, t, s, c, kind=kind)
+    def _from_core(cls, a: "_core.MeshArrays", kind: str) -> "Mesh":
+        r = lambda x: _readonly(np.asarray(x))
+        return cls(r(a["positions"]), r(a["normals"]), r(a["uvs"]), r(a["indices"]), r(a["tangents"]),
+                   r(a["uv_scale"]), r(a["charts"]), kind=kind)
 
     @classmethod
     def _generate(cls, kind: 'Literal["plane", "sphere", "torus", "cylinder", "cube"]', a: float, b: float, n: int, m: int) -> "Mesh":
@@ -140,7 +141,7 @@ class Mesh:
         idx = np.ascontiguousarray(idx, dtype=np.uint32)
         t = None if tangents is None else _float_array("tangents", tangents, 4)
         out = _core.mesh_from_arrays(p, n, uv, idx, t)
-        degenerate, fallback = out[7], out[8]
+        degenerate, fallback = out["degenerate_uv_triangles"], out["fallback_vertices"]
         if degenerate:
             warnings.warn(
                 f"{degenerate} triangle(s) have degenerate uvs; {fallback} vertex(es) got a fallback tangent frame",

@@ -41,7 +41,8 @@ def displaced_arrays(scene: Scene, resolution: float = 2.0, object: int = 0) -> 
         raise ValueError(f"resolution: vertices per texel must lie in [1/1024, 64], got {resolution!r}")
     if isinstance(object, bool) or not isinstance(object, (int, np.integer)) or not 0 <= object < len(scene.objects):
         raise ValueError(f"object: expected an index in [0, {len(scene.objects)}), got {object!r}")
-    a = dict(_core.tessellate(scene._describe(), 1.0 / float(resolution), int(object)))
+    t = _core.tessellate(scene._describe(), 1.0 / float(resolution), int(object))
+    a = {"positions": t["positions"], "normals": t["normals"], "uvs": t["uvs"], "faces": t["faces"]}
     o = scene.objects[int(object)]
     if not o.is_identity:
         m = o.transform

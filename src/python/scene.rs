@@ -11,7 +11,7 @@ use crate::scene::{
 use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyTuple};
+use pyo3::types::{PyDict, PyList};
 
 fn rows<const N: usize>(a: &PyReadonlyArray2<'_, f32>, name: &str) -> PyResult<Vec<[f32; N]>> {
     let v = a.as_array();
@@ -26,33 +26,27 @@ fn rows<const N: usize>(a: &PyReadonlyArray2<'_, f32>, name: &str) -> PyResult<V
         .collect())
 }
 
-type MeshArrays<'py> = (
-    Bound<'py, PyAny>,
-    Bound<'py, PyAny>,
-    Bound<'py, PyAny>,
-    Bound<'py, PyAny>,
-    Bound<'py, PyAny>,
-    Bound<'py, PyAny>,
-    Bound<'py, PyAny>,
-);
-
-fn mesh_out<'py>(py: Python<'py>, m: &Mesh) -> PyResult<MeshArrays<'py>> {
+/// A mesh's arrays by name (the stub's `MeshArrays`): positions (n, 3), normals (n, 3), uvs
+/// (n, 2), indices (m,), tangents (n, 4), uv_scale (n, 2), charts (c, 3).
+fn mesh_out<'py>(py: Python<'py>, m: &Mesh) -> PyResult<Bound<'py, PyDict>> {
     let n = m.positions.len();
     let f = |v: Vec<f32>, k: usize| nd_array(py, (n, k), v);
-    Ok((
-        f(m.positions.concat(), 3)?,
-        f(m.normals.concat(), 3)?,
-        f(m.uvs.concat(), 2)?,
-        m.indices.clone().into_pyarray(py).into_any(),
-        f(m.tangents.concat(), 4)?,
-        f(m.uv_scale.concat(), 2)?,
+    let d = PyDict::new(py);
+    d.set_item("positions", f(m.positions.concat(), 3)?)?;
+    d.set_item("normals", f(m.normals.concat(), 3)?)?;
+    d.set_item("uvs", f(m.uvs.concat(), 2)?)?;
+    d.set_item("indices", m.indices.clone().into_pyarray(py))?;
+    d.set_item("tangents", f(m.tangents.concat(), 4)?)?;
+    d.set_item("uv_scale", f(m.uv_scale.concat(), 2)?)?;
+    d.set_item(
+        "charts",
         nd_array(py, (m.charts.len(), 3), m.charts.concat())?,
-    ))
+    )?;
+    Ok(d)
 }
 
-/// Validate mesh arrays and compute the tangent frames. Returns
-/// 9 items: (positions, normals, uvs, indices, tangents, uv_scale, charts,
-/// degenerate_uv_triangles, fallback_vertices).
+/// Validate mesh arrays and compute the tangent frames. Returns the mesh's arrays by name
+/// (`mesh_out`) and the repairs made: degenerate_uv_triangles, fallback_vertices.
 #[pyfunction]
 #[pyo3(signature = (positions, normals, uvs, indices, tangents=None))]
 pub fn mesh_from_arrays<'py>(
@@ -62,7 +56,7 @@ pub fn mesh_from_arrays<'py>(
     uvs: PyReadonlyArray2<'py, f32>,
     indices: PyReadonlyArray1<'py, u32>,
     tangents: Option<PyReadonlyArray2<'py, f32>>,
-) -> PyResult<Bound<'py, PyTuple>> {
+) -> PyResult<Bound<'py, PyDict>> {
     let p = rows::<3>(&positions, "positions")?;
     let n = rows::<3>(&normals, "normals")?;
     let u = rows::<2>(&uvs, "uvs")?;
@@ -72,21 +66,10 @@ pub fn mesh_from_arrays<'py>(
         .map(|t| rows::<4>(t, "tangents"))
         .transpose()?;
     let (mesh, rep) = py.detach(|| Mesh::from_arrays(p, n, u, i, t))?;
-    let a = mesh_out(py, &mesh)?;
-    PyTuple::new(
-        py,
-        [
-            a.0,
-            a.1,
-            a.2,
-            a.3,
-            a.4,
-            a.5,
-            a.6,
-            rep.degenerate_uv_triangles.into_pyobject(py)?.into_any(),
-            rep.fallback_vertices.into_pyobject(py)?.into_any(),
-        ],
-    )
+    let d = mesh_out(py, &mesh)?;
+    d.set_item("degenerate_uv_triangles", rep.degenerate_uv_triangles)?;
+    d.set_item("fallback_vertices", rep.fallback_vertices)?;
+    Ok(d)
 }
 
 /// A generated base mesh: kind in plane, sphere, torus, cylinder, cube.
@@ -98,7 +81,7 @@ pub fn mesh_generate<'py>(
     b: f64,
     n1: u32,
     n2: u32,
-) -> PyResult<MeshArrays<'py>> {
+) -> PyResult<Bound<'py, PyDict>> {
     let m = match kind {
         "plane" => Mesh::plane(a, n1),
         "sphere" => Mesh::sphere(a, n1, n2),
