@@ -42,7 +42,10 @@ fn cone_map(r: &Renderer, map: HeightMap, cones: Cones) -> Vec<[f32; 2]> {
         },
         PerPixel::off(),
     );
-    match r.method_resources(&scene, &m).unwrap().as_slice() {
+    match pomkit::render::testing::method_resources(r, &scene, &m)
+        .unwrap()
+        .as_slice()
+    {
         [Resident::Texture(b), Resident::Texture(w)] => {
             read_cone_map(&r.ctx, &[b.clone(), w.clone()]).unwrap()
         }

@@ -118,7 +118,7 @@ impl PyRenderer {
     /// Trigger a wgpu validation error (tests: it must raise GpuError and leave the renderer usable).
     fn _provoke_validation_error(&self, py: Python<'_>) -> PyResult<()> {
         let r = self.inner.clone();
-        py.detach(move || r.provoke_validation_error())
+        py.detach(move || crate::render::testing::provoke_validation_error(&r))
             .map_err(PyErr::from)
     }
 

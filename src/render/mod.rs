@@ -9,6 +9,8 @@
 //! - `targets`: the render targets and their readback
 //! - `uniforms`: the `View` and `Globals` blocks (checked against the WGSL layout)
 //! - `shadow_map`: the shadow-map pass
+//! - `testing`: hooks for the tests (a provoked validation error, the GPU's pyramids, a method's
+//!   built resources), apart from the Renderer's API
 //! - `supersample`: k x k samples per pixel, in one pass or in tiles, reduced to the frame
 //!
 //! The renderer binds what a method's `Spec` declares (src/contract.rs): its geometry, its
@@ -20,6 +22,7 @@ pub mod resources;
 pub mod shadow_map;
 pub mod supersample;
 pub mod targets;
+pub mod testing;
 pub mod uniforms;
 
 pub use crate::heightmap::top_maxmip_level;
@@ -138,47 +141,6 @@ impl Renderer {
             shadow_map: Mutex::new(None),
             ctx,
         })
-    }
-
-    /// Issue an invalid wgpu call (a buffer both MAP_READ and MAP_WRITE) inside the error
-    /// scopes: used by tests to check that validation errors surface as `Error::Gpu` and leave
-    /// the renderer usable.
-    pub fn provoke_validation_error(&self) -> Result<()> {
-        self.ctx.scoped(|| {
-            let _b = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("invalid on purpose"),
-                size: 16,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::MAP_WRITE,
-                mapped_at_creation: false,
-            });
-            Ok(())
-        })
-    }
-
-    /// The GPU's pyramids for a map (tests): (mean mips, max mips).
-    pub fn read_pyramids(&self, map: &Keyed<HeightMap>) -> Result<(Vec<Vec<f32>>, Vec<Vec<f32>>)> {
-        let g = self
-            .resources
-            .lock()
-            .map_err(poisoned)?
-            .height(&self.ctx, &self.mips, map)?;
-        Ok((
-            self.mips.read_back(&self.ctx, &g, false)?,
-            self.mips.read_back(&self.ctx, &g, true)?,
-        ))
-    }
-
-    /// A method's own resources for object 0 of `scene` (tests and inspection: e.g. to read a
-    /// built table back), built as a render would build them.
-    pub fn method_resources(&self, scene: &Scene, method: &Method) -> Result<Vec<Resident>> {
-        let spec = method.spec();
-        let obj = scene
-            .objects
-            .first()
-            .ok_or_else(|| Error::arg("scene", "has no object"))?;
-        let mut res = self.resources.lock().map_err(poisoned)?;
-        let (_, _, own) = self.object_resources(&mut res, obj, &spec)?;
-        Ok(own.map(|o| o.to_vec()).unwrap_or_default())
     }
 
     /// What an object's draw binds, from the caches or built: its height map, its mesh (the
