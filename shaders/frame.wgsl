@@ -9,7 +9,7 @@
 
 #import pomkit::globals::G
 
-struct Frame {
+struct TangentFrame {
     t: vec3<f32>,
     b: vec3<f32>,
     n: vec3<f32>,
@@ -17,8 +17,8 @@ struct Frame {
     scale: vec2<f32>,
 }
 
-fn make_frame(n_in: vec3<f32>, t_in: vec4<f32>, scale: vec2<f32>) -> Frame {
-    var f: Frame;
+fn make_frame(n_in: vec3<f32>, t_in: vec4<f32>, scale: vec2<f32>) -> TangentFrame {
+    var f: TangentFrame;
     f.n = normalize(n_in);
     var t = t_in.xyz - f.n * dot(t_in.xyz, f.n);
     if (dot(t, t) < 1e-12) {
@@ -34,7 +34,7 @@ fn make_frame(n_in: vec3<f32>, t_in: vec4<f32>, scale: vec2<f32>) -> Frame {
 }
 
 // A world direction expressed in texture space per unit of world length: (ds_u, ds_v, dh).
-fn to_texture_space(f: Frame, d: vec3<f32>) -> vec3<f32> {
+fn to_texture_space(f: TangentFrame, d: vec3<f32>) -> vec3<f32> {
     let tiling = G.tiling;
     let depth = max(G.depth, 1e-12);
     return vec3<f32>(

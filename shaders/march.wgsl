@@ -6,7 +6,7 @@
 // The surface pass (surface.wgsl) builds the Ray, calls it, and shades the Hit: docs/custom_methods.md.
 #define_import_path pomkit::march
 
-#import pomkit::frame::Frame
+#import pomkit::frame::TangentFrame
 #import pomkit::height::height_at
 
 // The view ray at a rasterised fragment of the base mesh.
@@ -27,7 +27,7 @@ struct Ray {
     // the view direction in texture space per unit of world length (ds_u, ds_v, dh)
     v_ts: vec3<f32>,
     // the base frame at the entry
-    f: Frame,
+    f: TangentFrame,
     // the method's per-vertex attribute at the entry (its geometry's, with VERTEX_EXTRA; else 0)
     extra: vec4<f32>,
 }
@@ -47,7 +47,7 @@ struct Hit {
     // world length from the entry to the hit
     len: f32,
     // the base frame at the hit (shading and shadows)
-    f: Frame,
+    f: TangentFrame,
     // the ray left the shell without a hit: nothing is drawn (a silhouette)
     exited: bool,
 }

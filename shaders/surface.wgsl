@@ -14,7 +14,7 @@
 #import pomkit::globals::{G, V}
 #import pomkit::vertex::{VertexIn, VertexOut, pass_through}
 #import pomkit::aov::{FsOut, write_aovs}
-#import pomkit::frame::{Frame, make_frame, to_texture_space}
+#import pomkit::frame::{TangentFrame, make_frame, to_texture_space}
 #import pomkit::height::{height_normal, height_lod, compute_lod}
 #import pomkit::march::{Ray, Hit}
 #import pomkit::shading::shade
@@ -35,7 +35,7 @@ fn vs_shadow(v: VertexIn) -> VertexOut {
 }
 
 // The ray of a fragment along `view` (object space, unit) in its tangent frame.
-fn make_ray(in: VertexOut, f: Frame, s0: vec2<f32>, lod: f32, view: vec3<f32>, uv: vec2<f32>) -> Ray {
+fn make_ray(in: VertexOut, f: TangentFrame, s0: vec2<f32>, lod: f32, view: vec3<f32>, uv: vec2<f32>) -> Ray {
     var r: Ray;
 #ifdef VERTEX_EXTRA
     r.extra = in.extra;

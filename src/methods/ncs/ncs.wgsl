@@ -15,7 +15,7 @@
 #import pomkit::cost::fetched
 #import pomkit::globals::G
 #import pomkit::aov::FLAG_EARLY
-#import pomkit::frame::{Frame, make_frame}
+#import pomkit::frame::{TangentFrame, make_frame}
 #import pomkit::height::{height_at, bilinear_taps, bilerp}
 #import pomkit::march::{Ray, Hit, pom_sample_count}
 #import pomkit::frame_map::{FrameTexel, unpack_frame}
@@ -29,7 +29,7 @@ fn frame_texel(x: i32, y: i32) -> FrameTexel {
 }
 
 // The base frame at mesh uv, bilinear between texel centres of the map (four fetches).
-fn frame_at(uv: vec2<f32>) -> Frame {
+fn frame_at(uv: vec2<f32>) -> TangentFrame {
     let k = bilinear_taps(uv, vec2<i32>(textureDimensions(frame_map)));
     let a = frame_texel(k.xa, k.ya);
     let b = frame_texel(k.xb, k.ya);
@@ -48,9 +48,9 @@ fn frame_texel_at(uv: vec2<f32>) -> vec2<i32> {
 }
 
 // A texel's frame as stored (orthonormal; see texspace.wgsl's pack).
-fn frame_near(x: vec2<i32>) -> Frame {
+fn frame_near(x: vec2<i32>) -> TangentFrame {
     let a = frame_texel(x.x, x.y);
-    var f: Frame;
+    var f: TangentFrame;
     f.n = a.n;
     f.t = a.t;
     f.b = select(1.0, -1.0, a.s_b < 0.0) * cross(a.n, a.t);
@@ -58,7 +58,7 @@ fn frame_near(x: vec2<i32>) -> Frame {
     return f;
 }
 
-fn ncs_hit(r: Ray, uv: vec2<f32>, h: f32, len: f32, steps: f32, flags: u32, f: Frame) -> Hit {
+fn ncs_hit(r: Ray, uv: vec2<f32>, h: f32, len: f32, steps: f32, flags: u32, f: TangentFrame) -> Hit {
     var hit: Hit;
     hit.s = uv * G.tiling;
     hit.h = h;

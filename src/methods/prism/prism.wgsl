@@ -24,7 +24,7 @@
 #import pomkit::globals::{G, V}
 #import pomkit::vertex::{VertexIn, VertexOut, pass_through}
 #import pomkit::aov::{FsOut, write_aovs, FLAG_BOUND}
-#import pomkit::frame::{Frame, make_frame}
+#import pomkit::frame::{TangentFrame, make_frame}
 #import pomkit::height::{height_at, height_normal, height_lod, compute_lod}
 #import pomkit::march::{Segment, linear_search_from, refine_linear, pom_sample_count}
 #import pomkit::maxmip::{maxmip_traverse, positive_start}
@@ -168,7 +168,7 @@ fn prism_normal(p: u32, b: vec2<f32>) -> vec3<f32> {
     return prisms[p].normal[0].xyz * w.x + prisms[p].normal[1].xyz * w.y + prisms[p].normal[2].xyz * w.z;
 }
 
-fn prism_frame(p: u32, b: vec2<f32>) -> Frame {
+fn prism_frame(p: u32, b: vec2<f32>) -> TangentFrame {
     let w = bary(b);
     let t = prisms[p].tangent[0] * w.x + prisms[p].tangent[1] * w.y + prisms[p].tangent[2] * w.z;
     let sc = prisms[p].uv[0].zw * w.x + prisms[p].uv[1].zw * w.y + prisms[p].uv[2].zw * w.z;
@@ -183,7 +183,7 @@ struct PrismHit {
     t: f32,
     s: vec2<f32>,
     h: f32,
-    f: Frame,
+    f: TangentFrame,
     hl: f32,
     steps: f32,
     flags: u32,
