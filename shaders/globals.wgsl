@@ -17,7 +17,7 @@ struct Light {
 // lights, the shadow map), group 1 the object and its material (its transform, its height map
 // and pyramids, its albedo), group 2 the method (its `params` block at binding 0, generated
 // from the method's Rust parameter list, and its own resources from binding 1, declared in its
-// folder under src/methods/). The Rust side is `render::uniforms::{View, Globals}`; a test
+// folder under src/methods/). The Rust side is `render::uniforms::{View, ObjectUniforms}`; a test
 // (tests/uniform_layout.rs) checks that every field has the same name and
 // offset on both sides.
 
@@ -41,7 +41,7 @@ struct View {
     shadow_bias: f32,
 }
 
-struct Globals {
+struct ObjectUniforms {
     // height map size in texels
     map_size: vec2<f32>,
     tiling: f32,
@@ -78,7 +78,7 @@ struct Globals {
 @group(0) @binding(1) var shadow_tex: texture_depth_2d;
 @group(0) @binding(2) var shadow_samp: sampler_comparison;
 
-@group(1) @binding(0) var<uniform> G: Globals;
+@group(1) @binding(0) var<uniform> G: ObjectUniforms;
 @group(1) @binding(1) var height_tex: texture_2d<f32>;
 @group(1) @binding(2) var height_samp: sampler;
 @group(1) @binding(3) var albedo_tex: texture_2d<f32>;

@@ -1,8 +1,8 @@
-//! The uniform blocks' layouts: every field of `render::uniforms::{View, Globals, LightU}` has
+//! The uniform blocks' layouts: every field of `render::uniforms::{View, ObjectUniforms, LightU}` has
 //! the same name and offset as in the composed WGSL (shaders/globals.wgsl).
 
 use pomkit::methods::{Method, PerPixel};
-use pomkit::render::uniforms::{Globals, LightU, View};
+use pomkit::render::uniforms::{LightU, ObjectUniforms, View};
 use pomkit::shaders::ShaderLib;
 
 /// The members (name, offset) of the composed module's struct `name`.
@@ -38,7 +38,11 @@ fn uniform_layout() {
         .unwrap();
     for (name, fields, size) in [
         ("View", View::FIELDS, std::mem::size_of::<View>()),
-        ("Globals", Globals::FIELDS, std::mem::size_of::<Globals>()),
+        (
+            "ObjectUniforms",
+            ObjectUniforms::FIELDS,
+            std::mem::size_of::<ObjectUniforms>(),
+        ),
         ("Light", LightU::FIELDS, std::mem::size_of::<LightU>()),
     ] {
         let wgsl = wgsl_members(&module, name);

@@ -7,7 +7,7 @@
 //!   keyed by content
 //! - `aovs`: the AOV table (what each target holds, how it decodes) and the `Frame`
 //! - `targets`: the render targets and their readback
-//! - `uniforms`: the `View` and `Globals` blocks (checked against the WGSL layout)
+//! - `uniforms`: the `View` and `ObjectUniforms` blocks (checked against the WGSL layout)
 //! - `shadow_map`: the shadow-map pass
 //! - `testing`: hooks for the tests (a provoked validation error, the GPU's pyramids, a method's
 //!   built resources), apart from the Renderer's API
@@ -428,7 +428,7 @@ impl Renderer {
                 let (height, mesh, own) = self.object_resources(&mut res, obj, spec)?;
                 (height, albedo, mesh, own)
             };
-            let globals = uniforms::globals(scene, id, spec);
+            let globals = uniforms::object_uniforms(scene, id, spec);
             let d = ctx.scoped(|| {
                 let g = ctx.upload(
                     "globals",

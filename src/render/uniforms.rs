@@ -1,5 +1,5 @@
 //! The uniform blocks of shaders/globals.wgsl, filled from the scene and the method's spec:
-//! `View` (bind group 0, per frame) and `Globals` (bind group 1, per object).
+//! `View` (bind group 0, per frame) and `ObjectUniforms` (bind group 1, per object).
 //! `tests/uniform_layout.rs` checks that every field has the same name and offset in Rust and
 //! in the composed WGSL.
 
@@ -47,8 +47,8 @@ uniform_struct! {
 }
 
 uniform_struct! {
-    /// shaders/globals.wgsl's `Globals` (bind group 1, one per object): see the comments there.
-    pub struct Globals {
+    /// shaders/globals.wgsl's `ObjectUniforms` (bind group 1, one per object): see the comments there.
+    pub struct ObjectUniforms {
         pub map_size: [f32; 2],
         pub tiling: f32,
         pub depth: f32,
@@ -139,7 +139,7 @@ pub fn view(scene: &Scene, shadow: Option<&super::shadow_map::ShadowSetup>) -> V
 }
 
 /// The object block of object `id` of `scene` drawn with `spec`.
-pub fn globals(scene: &Scene, id: usize, spec: &Spec) -> Globals {
+pub fn object_uniforms(scene: &Scene, id: usize, spec: &Spec) -> ObjectUniforms {
     let obj = &scene.objects[id];
     let hm = &obj.material.height;
     let tr = &obj.transform;
@@ -149,7 +149,7 @@ pub fn globals(scene: &Scene, id: usize, spec: &Spec) -> Globals {
     let o = &spec.pixel;
     let flag = |b: bool| if b { 1.0 } else { 0.0 };
     let cam = &scene.camera;
-    Globals {
+    ObjectUniforms {
         map_size: [hm.width as f32, hm.height as f32],
         tiling: obj.material.tiling,
         depth: obj.material.depth,
