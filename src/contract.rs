@@ -214,6 +214,27 @@ impl ShaderUnit {
     }
 }
 
+/// The shader of a built-in method: `pomkit::methods::<name>`, from `<name>.wgsl` beside the Rust
+/// file that names it (one name, not three).
+#[macro_export]
+macro_rules! method_shader {
+    ($name:literal) => {
+        $crate::contract::ShaderUnit::builtin(
+            concat!("pomkit::methods::", $name),
+            &$crate::contract::beside(file!(), concat!($name, ".wgsl")),
+            include_str!(concat!($name, ".wgsl")),
+        )
+    };
+}
+
+/// The path of `name` in the folder of the source file `rs` (error messages name shaders so).
+pub fn beside(rs: &str, name: &str) -> String {
+    std::path::Path::new(rs)
+        .with_file_name(name)
+        .to_string_lossy()
+        .into_owned()
+}
+
 /// What composes WGSL with pomkit's library (implemented by `shaders::ShaderLib`): a method's
 /// builder composes its compute passes through it.
 pub trait Composer: Send + Sync {

@@ -1,5 +1,5 @@
 //! Exact: the max-mip traversal (Tevs et al. 2008), exact.wgsl over maxmip.wgsl.
-use super::{check_range, PerPixel, ShaderUnit, Spec, Unit};
+use super::{check_range, PerPixel, Spec, Unit};
 use crate::error::Result;
 
 crate::params! {
@@ -15,11 +15,7 @@ impl Unit for Exact {
         }]
     }
     fn spec(&self, o: &PerPixel) -> Spec {
-        let wgsl = ShaderUnit::builtin(
-            "pomkit::methods::exact",
-            "src/methods/exact.wgsl",
-            include_str!("exact.wgsl"),
-        );
+        let wgsl = crate::method_shader!("exact");
         let mut s = Spec::surface(wgsl, o, &[]);
         s.max_iterations = self.max_iterations;
         s

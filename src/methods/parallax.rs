@@ -1,5 +1,5 @@
 //! Parallax mapping (Kaneko 2001) with optional offset limiting (Welsh 2004): parallax.wgsl.
-use super::{flag, PerPixel, ShaderUnit, Spec, Unit};
+use super::{flag, PerPixel, Spec, Unit};
 use crate::error::Result;
 
 crate::params! {
@@ -19,11 +19,7 @@ impl Unit for Parallax {
         }]
     }
     fn spec(&self, o: &PerPixel) -> Spec {
-        let wgsl = ShaderUnit::builtin(
-            "pomkit::methods::parallax",
-            "src/methods/parallax.wgsl",
-            include_str!("parallax.wgsl"),
-        );
+        let wgsl = crate::method_shader!("parallax");
         Spec::surface(
             wgsl,
             o,

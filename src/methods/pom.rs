@@ -1,6 +1,6 @@
 //! Parallax occlusion mapping (Brawley & Tatarchuk 2004; Tatarchuk 2006): pom.wgsl, with the
 //! surface pass's LOD blend toward bump mapping.
-use super::{check_range, flag, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
+use super::{check_range, flag, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::error::Result;
 
 crate::params! {
@@ -23,11 +23,7 @@ impl Unit for Pom {
         }]
     }
     fn spec(&self, o: &PerPixel) -> Spec {
-        let wgsl = ShaderUnit::builtin(
-            "pomkit::methods::pom",
-            "src/methods/pom.wgsl",
-            include_str!("pom.wgsl"),
-        );
+        let wgsl = crate::method_shader!("pom");
         let mut s = Spec::surface(
             wgsl,
             o,

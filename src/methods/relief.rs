@@ -1,5 +1,5 @@
 //! Relief mapping (Policarpo, Oliveira & Comba 2005): relief.wgsl.
-use super::{check_range, flag, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
+use super::{check_range, flag, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::error::Result;
 
 crate::params! {
@@ -19,11 +19,7 @@ impl Unit for Relief {
         }]
     }
     fn spec(&self, o: &PerPixel) -> Spec {
-        let wgsl = ShaderUnit::builtin(
-            "pomkit::methods::relief",
-            "src/methods/relief.wgsl",
-            include_str!("relief.wgsl"),
-        );
+        let wgsl = crate::method_shader!("relief");
         Spec::surface(
             wgsl,
             o,

@@ -1,5 +1,5 @@
 //! Steep parallax mapping (McGuire & McGuire 2005): steep.wgsl.
-use super::{check_range, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
+use super::{check_range, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::error::Result;
 
 crate::params! {
@@ -13,11 +13,7 @@ impl Unit for SteepParallax {
         vec![SteepParallax { steps: 32 }]
     }
     fn spec(&self, o: &PerPixel) -> Spec {
-        let wgsl = ShaderUnit::builtin(
-            "pomkit::methods::steep",
-            "src/methods/steep.wgsl",
-            include_str!("steep.wgsl"),
-        );
+        let wgsl = crate::method_shader!("steep");
         Spec::surface(wgsl, o, &[("steps", self.steps as f32)])
     }
     fn validate(&self) -> Result<()> {

@@ -3,7 +3,7 @@
 //! on the GPU from the max-mip pyramid (cone_map.rs, cone_map.wgsl) and binds as its own resource.
 mod cone_map;
 
-use super::{check_range, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
+use super::{check_range, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::contract::{BuildInputs, MethodResources, Resident, ResourceKind};
 use crate::error::Result;
 use crate::scene::{hash_bytes, Object};
@@ -87,11 +87,7 @@ impl Unit for ConeStep {
         .collect()
     }
     fn spec(&self, o: &PerPixel) -> Spec {
-        let wgsl = ShaderUnit::builtin(
-            "pomkit::methods::cone_step",
-            "src/methods/cone_step/cone_step.wgsl",
-            include_str!("cone_step.wgsl"),
-        );
+        let wgsl = crate::method_shader!("cone_step");
         let mut s = Spec::surface(
             wgsl,
             o,

@@ -3,7 +3,7 @@
 //! coefficients (quadrics.rs) as the method's own vertex attribute (VERTEX_EXTRA).
 mod quadrics;
 
-use super::{check_range, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
+use super::{check_range, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::contract::{Geometry, GpuMesh, MethodGeometry};
 use crate::error::Result;
 use crate::gpu::Context;
@@ -84,11 +84,7 @@ impl Unit for CurvedRelief {
         }]
     }
     fn spec(&self, o: &PerPixel) -> Spec {
-        let wgsl = ShaderUnit::builtin(
-            "pomkit::methods::curved_relief",
-            "src/methods/curved_relief/curved_relief.wgsl",
-            include_str!("curved_relief.wgsl"),
-        );
+        let wgsl = crate::method_shader!("curved_relief");
         let mut s = Spec::surface(
             wgsl,
             o,

@@ -5,7 +5,7 @@
 //! height update (a new key) builds it anew.
 mod volume;
 
-use super::{check_range, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
+use super::{check_range, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::contract::{BuildInputs, MethodResources, Resident, ResourceKind};
 use crate::error::{Error, Result};
 use crate::scene::{hash_bytes, Object};
@@ -82,11 +82,7 @@ impl Unit for DistanceMapping {
         }]
     }
     fn spec(&self, o: &PerPixel) -> Spec {
-        let wgsl = ShaderUnit::builtin(
-            "pomkit::methods::distance_mapping",
-            "src/methods/distance_mapping/distance_mapping.wgsl",
-            include_str!("distance_mapping.wgsl"),
-        );
+        let wgsl = crate::method_shader!("distance_mapping");
         let mut s = Spec::surface(
             wgsl,
             o,

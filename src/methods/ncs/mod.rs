@@ -67,12 +67,7 @@ impl Unit for Ncs {
         }]
     }
     fn spec(&self, o: &PerPixel) -> Spec {
-        let wgsl = ShaderUnit::builtin(
-            "pomkit::methods::ncs",
-            "src/methods/ncs/ncs.wgsl",
-            include_str!("ncs.wgsl"),
-        )
-        .with_deps(vec![frame_map_unit()]);
+        let wgsl = crate::method_shader!("ncs").with_deps(vec![frame_map_unit()]);
         let mut s = Spec::surface(
             wgsl,
             o,

@@ -3,7 +3,7 @@
 //! faces) and its own resource (the per-prism data the walk reads, group 2, binding 1).
 pub mod prisms;
 
-use super::{check_range, flag, Geometry, Pass, PerPixel, ShaderUnit, Spec, Unit, MAX_STEPS_LIMIT};
+use super::{check_range, flag, Geometry, Pass, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::contract::{
     BuildInputs, GpuMesh, MethodGeometry, MethodResources, Resident, ResourceKind,
 };
@@ -129,11 +129,7 @@ impl Unit for Prism {
         }]
     }
     fn spec(&self, o: &PerPixel) -> Spec {
-        let shader = ShaderUnit::builtin(
-            "pomkit::methods::prism",
-            "src/methods/prism/prism.wgsl",
-            include_str!("prism.wgsl"),
-        );
+        let shader = crate::method_shader!("prism");
         let mut s = Spec::surface(
             shader.clone(),
             o,
