@@ -10,6 +10,7 @@ from typing import Any, Iterable, Literal, Optional, Sequence, Union
 import numpy as np
 
 from . import _core, _progress
+from . import _validate as _v
 from ._frame import AOV_NAMES, AovName, Frame
 from ._methods import Method
 from ._scene import Material, Scene
@@ -134,11 +135,7 @@ def _aovs(aovs: Aovs) -> Optional[Any]:
 def _spp(spp: int) -> int:
     """The type and sign here; which counts are allowed (squares up to 256) is the core's rule
     (`Renderer::render_many_spp`), raised as a ValueError naming spp."""
-    if isinstance(spp, bool) or not isinstance(spp, (int, np.integer)):
-        raise TypeError(f"spp: expected a square number of samples per pixel such as 1, 4 or 16, got {spp!r}")
-    if not 1 <= spp < 2 ** 32:
-        raise ValueError(f"spp: must be a square number from 1 to 256 (1, 4, 9, 16, ...: k x k samples per pixel), got {spp}")
-    return int(spp)
+    return _v.integer("spp", spp, 1, 2 ** 32 - 1, strict=True)
 
 
 def _first_directional(scene: Scene):

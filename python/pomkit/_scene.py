@@ -340,9 +340,7 @@ class DirectionalLight:
 
     def __post_init__(self):
         object.__setattr__(self, "shadow_map_size", _v.integer("shadow_map_size", self.shadow_map_size, 16, 16384))
-        if not isinstance(self.cast_shadows, (bool, np.bool_)):
-            raise TypeError(f"cast_shadows: expected True or False, got {self.cast_shadows!r}")
-        object.__setattr__(self, "cast_shadows", bool(self.cast_shadows))
+        object.__setattr__(self, "cast_shadows", _v.boolean("cast_shadows", self.cast_shadows))
         d = _vec3("direction", self.direction)
         if np.linalg.norm(d) < 1e-12:
             raise ValueError("direction: must be a non-zero vector")

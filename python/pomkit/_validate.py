@@ -23,10 +23,10 @@ def is_number(v: Any) -> bool:
     return isinstance(v, _REALS) and not isinstance(v, (bool, np.bool_))
 
 
-def integer(name: str, v: Any, lo: int = 1, hi: int = _core.MAX_STEPS_LIMIT) -> int:
-    """An integer in [lo, hi]. Integer-valued floats (``32.0``) are accepted."""
-    if isinstance(v, (bool, np.bool_)) or not isinstance(v, _REALS):
-        raise TypeError(f"{name}: expected an integer, got {type(v).__name__}")
+def integer(name: str, v: Any, lo: int = 1, hi: int = _core.MAX_STEPS_LIMIT, *, strict: bool = False) -> int:
+    """An integer in [lo, hi]. Integer-valued floats (``32.0``) are accepted, unless ``strict``."""
+    if isinstance(v, (bool, np.bool_)) or not isinstance(v, _REALS) or (strict and not isinstance(v, _INTS)):
+        raise TypeError(f"{name}: expected an integer, got {v!r}" if strict else f"{name}: expected an integer, got {type(v).__name__}")
     if not isinstance(v, _INTS):
         if not (math.isfinite(float(v)) and float(v).is_integer()):
             raise TypeError(f"{name}: expected an integer, got {v!r}")

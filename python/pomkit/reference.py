@@ -16,6 +16,7 @@ import time
 import numpy as np
 
 from . import _core
+from . import _validate as _v
 from ._cache import cached, scene_hash
 from ._frame import Frame
 from ._scene import DirectionalLight, Material, Scene, SphereLight
@@ -37,10 +38,8 @@ def displaced_arrays(scene: Scene, resolution: float = 2.0, object: int = 0) -> 
     transform applied; normals by the inverse transpose); `resolution` vertices per texel."""
     if not isinstance(scene, Scene):
         raise TypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
-    if isinstance(resolution, bool) or not isinstance(resolution, (int, float)) or not (1 / 1024 <= resolution <= 64):
-        raise ValueError(f"resolution: vertices per texel must lie in [1/1024, 64], got {resolution!r}")
-    if isinstance(object, bool) or not isinstance(object, (int, np.integer)) or not 0 <= object < len(scene.objects):
-        raise ValueError(f"object: expected an index in [0, {len(scene.objects)}), got {object!r}")
+    resolution = _v.number("resolution", resolution, 1 / 1024, 64)  # vertices per texel
+    object = _v.integer("object", object, 0, len(scene.objects) - 1, strict=True)
     t = _core.tessellate(scene._describe(), 1.0 / float(resolution), int(object))
     a = {"positions": t["positions"], "normals": t["normals"], "uvs": t["uvs"], "faces": t["faces"]}
     o = scene.objects[int(object)]
@@ -204,11 +203,9 @@ def render_exact(scene: Scene, spp: int = 16, shadows: bool = True, cache: bool 
     `render_mitsuba`. `Frame.wall_ms` is the time the render took (stored with it in the cache).
     `shadows=False` traces no light or ambient rays (every light fully visible, ao = 1): the
     colour of the displacement alone, for methods measured without shadows (the bench, choose)."""
-    if isinstance(spp, bool) or not isinstance(spp, int) or spp < 1:
-        raise ValueError(f"spp: must be a positive square integer (1, 4, 9, 16, ...), got {spp!r}")
-    if not isinstance(shadows, (bool, np.bool_)):
-        raise TypeError(f"shadows: expected True or False, got {shadows!r}")
-    key = scene_hash(scene, kind="exact", spp=spp, shadows=bool(shadows))
+    spp = _v.integer("spp", spp, 1, 256, strict=True)  # a square: the core's rule
+    shadows = _v.boolean("shadows", shadows)
+    key = scene_hash(scene, kind="exact", spp=spp, shadows=shadows)
 
     def compute():
         t0 = time.perf_counter()
@@ -233,8 +230,7 @@ def render_mitsuba(scene: Scene, spp: int = 64, seed: int = 0, variant: str | No
     mesh, so objects shadow each other as they do in the world. Same camera, emitters
     and Lambertian shading as pomkit; see docs/references.md for each convention's test.
     `Frame.wall_ms` is the time of the render (0 when it came from the cache)."""
-    if isinstance(spp, bool) or not isinstance(spp, int) or spp < 1:
-        raise ValueError(f"spp: must be a positive integer, got {spp!r}")
+    spp = _v.integer("spp", spp, 1, 1 << 20, strict=True)
     key = scene_hash(scene, kind="mitsuba", spp=spp, seed=seed, variant=variant, resolution=resolution)
 
     def compute():

@@ -17,15 +17,13 @@ from typing import Callable, Optional
 
 import numpy as np
 
+from . import _validate as _v
+
 __all__ = ["bricks", "brick_albedo", "cobblestones", "pyramids", "sine", "noise", "spikes", "text", "constant", "real", "fit", "ALL"]
 
 
 def _check_size(size) -> int:
-    if isinstance(size, bool) or not isinstance(size, (int, np.integer)):
-        raise TypeError(f"size: expected an integer, got {type(size).__name__}")
-    if not 1 <= int(size) <= 16384:
-        raise ValueError(f"size: must lie in [1, 16384], got {size}")
-    return int(size)
+    return _v.integer("size", size, 1, 16384, strict=True)
 
 
 def _grid(size: int):
