@@ -24,7 +24,7 @@ DistanceMapping, Custom) also takes, by keyword:
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import ClassVar, Literal, get_args
+from typing import Any, ClassVar, Literal, get_args
 
 from . import _core
 from . import _validate as _v
@@ -39,6 +39,14 @@ ShadowKind = Literal["none", "hard", "soft", "horizon", "exact"]
 FilteringKind = Literal["hardware", "exact"]
 _SHADOWS: tuple[str, ...] = tuple(_core.SHADOW_KINDS)
 _FILTERING: tuple[str, ...] = tuple(_core.FILTERING_KINDS)
+
+
+def _level0() -> Any:
+    """`mip_filtering=False`, the default of the methods that march: level 0, so that the search,
+    not the filtering, is what the tables compare (bricks, cobblestones, spikes at 30/60/80 deg
+    against the oracle, docs/methods.md; POM: docs/tables/pom_default.md). Exact, ConeStep and
+    Custom keep the base's True (their frames are pinned so)."""
+    return field(default=False, kw_only=True)
 
 
 def _set(obj, name: str, value) -> None:
@@ -142,7 +150,7 @@ class POM(_PerPixel):
     shadows: ShadowKind = field(default="soft", kw_only=True)
     # the level-0 march: closer to the exact surface and to Mitsuba than the mip-filtered one in
     # 28 of 28 measured cases (docs/methods.md, docs/tables/pom_default.md)
-    mip_filtering: bool = field(default=False, kw_only=True)
+    mip_filtering: bool = _level0()
     lod_threshold: float = 4.0
     adaptive: bool = True
     _kind = "POM"
@@ -165,9 +173,7 @@ class Parallax(_PerPixel):
     offset_limiting: bool = True
     scale: float = 1.0
     bias: float = 0.0
-    # level 0, as every per-pixel method: the search, not the filtering, is what tables compare
-    # (bricks, cobblestones, spikes at 30/60/80 deg against the oracle, docs/methods.md)
-    mip_filtering: bool = field(default=False, kw_only=True)
+    mip_filtering: bool = _level0()
     _kind = "Parallax"
 
     def _validate(self):
@@ -182,9 +188,7 @@ class SteepParallax(_PerPixel):
     sample below the surface is the hit, no refinement (stair-steps expected)."""
 
     steps: int = 32
-    # level 0, as every per-pixel method: the search, not the filtering, is what tables compare
-    # (bricks, cobblestones, spikes at 30/60/80 deg against the oracle, docs/methods.md)
-    mip_filtering: bool = field(default=False, kw_only=True)
+    mip_filtering: bool = _level0()
     _kind = "SteepParallax"
 
     def _validate(self):
@@ -200,9 +204,7 @@ class Relief(_PerPixel):
     linear_steps: int = 16
     binary_steps: int = 6
     depth_bias: bool = False
-    # level 0, as every per-pixel method: the search, not the filtering, is what tables compare
-    # (bricks, cobblestones, spikes at 30/60/80 deg against the oracle, docs/methods.md)
-    mip_filtering: bool = field(default=False, kw_only=True)
+    mip_filtering: bool = _level0()
     _kind = "Relief"
 
     def _validate(self):
@@ -290,7 +292,7 @@ class NCS(_PerPixel):
     max_steps: int = 64
     adaptive: bool = True
     # level 0, as POM and Prism
-    mip_filtering: bool = field(default=False, kw_only=True)
+    mip_filtering: bool = _level0()
     _kind = "NCS"
 
     def _validate(self):
@@ -323,7 +325,7 @@ class Prism(_PerPixel):
     # level 0, as POM: the footprint of the grazing top face a silhouette ray enters through is
     # no footprint for its walk down through the shell (mask IoU against Mitsuba, 256^2:
     # torus 0.9924 mip-filtered -> 0.9988 level 0, sphere 0.9931 -> 0.9981)
-    mip_filtering: bool = field(default=False, kw_only=True)
+    mip_filtering: bool = _level0()
     _kind = "Prism"
 
     @property
@@ -354,7 +356,7 @@ class CurvedRelief(_PerPixel):
 
     linear_steps: int = 32
     binary_steps: int = 6
-    mip_filtering: bool = field(default=False, kw_only=True)
+    mip_filtering: bool = _level0()
     _kind = "CurvedRelief"
 
     def _validate(self):
@@ -379,7 +381,7 @@ class DistanceMapping(_PerPixel):
     max_steps: int = 64
     binary_steps: int = 6
     slices: int = 16
-    mip_filtering: bool = field(default=False, kw_only=True)
+    mip_filtering: bool = _level0()
     _kind = "DistanceMapping"
 
     def _validate(self):
