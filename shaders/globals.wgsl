@@ -18,7 +18,7 @@ struct Light {
 // and pyramids, its albedo), group 2 the method (its `params` block at binding 0, generated
 // from the method's Rust parameter list, and its own resources from binding 1, declared in its
 // folder under src/methods/). The Rust side is `render::uniforms::{View, ObjectUniforms}`; a test
-// (tests/uniform_layout.rs) checks that every field has the same name and
+// (tests/rust/uniform_layout.rs) checks that every field has the same name and
 // offset on both sides.
 
 struct View {

@@ -337,4 +337,4 @@ impl ComposerTrait for ShaderLib {
 }
 
 // Every shader variant composing, validating and translating to every backend's language:
-// tests/translate.rs. A user's compile error: src/methods/custom.rs.
+// tests/rust/translate.rs. A user's compile error: src/methods/custom.rs.

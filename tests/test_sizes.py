@@ -102,7 +102,7 @@ def test_tessellated_names_the_texels_per_vertex_that_fits():
 
 def test_supersampling_at_any_size():
     """spp=256 at 1024² (a 16384² sample grid, rendered in tiles) gives one frame, its colour
-    finite and its coverage a fraction (tests/core_render.rs holds tiles equal to one pass)."""
+    finite and its coverage a fraction (tests/rust/core_render.rs holds tiles equal to one pass)."""
     h = pk.textures.bricks(128)
     big = R.render(_scene(h, size=1024), pk.POM(), spp=256, aovs=("color", "coverage"))
     assert big.color.shape == (1024, 1024, 3) and np.isfinite(big.color).all()

@@ -1,6 +1,6 @@
 //! The uniform blocks of shaders/globals.wgsl, filled from the scene and the method's spec:
 //! `View` (bind group 0, per frame) and `ObjectUniforms` (bind group 1, per object).
-//! `tests/uniform_layout.rs` checks that every field has the same name and offset in Rust and
+//! `tests/rust/uniform_layout.rs` checks that every field has the same name and offset in Rust and
 //! in the composed WGSL.
 
 use crate::contract::Spec;
