@@ -91,7 +91,7 @@ class ObjectDict(TypedDict):
 @type_check_only
 class SceneDict(TypedDict):
     """What a scene crosses into the core as (`pomkit.Scene._describe`): typed here, read key
-    by key by src/python/scene.rs."""
+    by key by src/python/scene_args.rs."""
     objects: list[ObjectDict]
     camera: CameraDict
     lights: list[DirectionalLightDict | SphereLightDict]

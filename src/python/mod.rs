@@ -1,23 +1,23 @@
 //! The pyo3 layer: conversion only, one file per concept (tokenizers' layout). The Renderer
-//! (`renderer.rs`), scenes and meshes (`scene.rs`), methods (`methods.rs`), frames
-//! (`frame.rs`), the oracle (`oracle.rs`), image files (`io.rs`), long builds (`progress.rs`)
+//! (`renderer.rs`), scenes and meshes (`scene_args.rs`), methods (`method_args.rs`), frames
+//! (`frame.rs`), the oracle (`oracle_arrays.rs`), image files (`io.rs`), long builds (`build_hooks.rs`)
 //! and errors (`errors.rs`); this file holds the module's init and one array helper.
 
+mod build_hooks;
 mod errors;
 mod frame;
 mod io;
-mod methods;
-mod oracle;
-mod progress;
+mod method_args;
+mod oracle_arrays;
 mod renderer;
-mod scene;
+mod scene_args;
 
 use numpy::ndarray::Array;
 use numpy::IntoPyArray;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use scene::{PyAlbedoData, PyHeightData, PyMeshData};
+use scene_args::{PyAlbedoData, PyHeightData, PyMeshData};
 
 /// A numpy array of `shape` that takes ownership of `v` (no copy).
 pub(crate) fn nd_array<'py, T: numpy::Element, D: numpy::ndarray::Dimension>(
@@ -59,15 +59,15 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyHeightData>()?;
     m.add_class::<PyAlbedoData>()?;
     m.add_function(wrap_pyfunction!(renderer::adapters, m)?)?;
-    m.add_function(wrap_pyfunction!(oracle::exact_uv, m)?)?;
-    m.add_function(wrap_pyfunction!(oracle::render_exact, m)?)?;
-    m.add_function(wrap_pyfunction!(scene::mesh_from_arrays, m)?)?;
-    m.add_function(wrap_pyfunction!(scene::mesh_generate, m)?)?;
-    m.add_function(wrap_pyfunction!(scene::bounding_sphere, m)?)?;
-    m.add_function(wrap_pyfunction!(scene::tessellate, m)?)?;
+    m.add_function(wrap_pyfunction!(oracle_arrays::exact_uv, m)?)?;
+    m.add_function(wrap_pyfunction!(oracle_arrays::render_exact, m)?)?;
+    m.add_function(wrap_pyfunction!(scene_args::mesh_from_arrays, m)?)?;
+    m.add_function(wrap_pyfunction!(scene_args::mesh_generate, m)?)?;
+    m.add_function(wrap_pyfunction!(scene_args::bounding_sphere, m)?)?;
+    m.add_function(wrap_pyfunction!(scene_args::tessellate, m)?)?;
     m.add_function(wrap_pyfunction!(io::load_image, m)?)?;
-    m.add_function(wrap_pyfunction!(progress::set_progress_hook, m)?)?;
-    m.add_function(wrap_pyfunction!(progress::set_cache_dir, m)?)?;
+    m.add_function(wrap_pyfunction!(build_hooks::set_progress_hook, m)?)?;
+    m.add_function(wrap_pyfunction!(build_hooks::set_cache_dir, m)?)?;
     m.add("GpuError", m.py().get_type::<errors::GpuError>())?;
     m.add(
         "DeviceLostError",

@@ -2,7 +2,7 @@
 //! out, the GIL released while the GPU works) and the adapters.
 
 use super::frame::{aovs_from_py, frame_to_py};
-use super::scene::{scene_from_py, PyHeightData};
+use super::scene_args::{scene_from_py, PyHeightData};
 use crate::methods::Method;
 use crate::render::Renderer;
 use pyo3::prelude::*;
@@ -118,7 +118,7 @@ impl PyRenderer {
     /// Trigger a wgpu validation error (tests: it must raise GpuError and leave the renderer usable).
     fn _provoke_validation_error(&self, py: Python<'_>) -> PyResult<()> {
         let r = self.inner.clone();
-        py.detach(move || crate::render::testing::provoke_validation_error(&r))
+        py.detach(move || crate::render::test_hooks::provoke_validation_error(&r))
             .map_err(PyErr::from)
     }
 

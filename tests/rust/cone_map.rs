@@ -42,7 +42,7 @@ fn cone_map(r: &Renderer, map: HeightMap, cones: Cones) -> Vec<[f32; 2]> {
         },
         PerPixel::off(),
     );
-    match pomkit::render::testing::method_resources(r, &scene, &m)
+    match pomkit::render::test_hooks::method_resources(r, &scene, &m)
         .unwrap()
         .as_slice()
     {

@@ -93,7 +93,7 @@ fn bad_sizes_are_refused_before_the_gpu() {
 #[test]
 fn validation_errors_become_errors_and_the_renderer_survives() {
     let r = renderer();
-    let e = pomkit::render::testing::provoke_validation_error(&r).unwrap_err();
+    let e = pomkit::render::test_hooks::provoke_validation_error(&r).unwrap_err();
     assert!(matches!(e, Error::Gpu(_)), "{e}");
     let hm = HeightMap::new(8, 8, vec![0.5; 64]).unwrap();
     assert!(r
@@ -110,7 +110,7 @@ fn gpu_pyramids_equal_the_cpu_ones() {
             (0.5 + 0.5 * (13.0 * u).sin() * (7.0 * v).cos()).fract()
         });
         let (mean, max) =
-            pomkit::render::testing::read_pyramids(&r, &shared(map.clone()).unwrap()).unwrap();
+            pomkit::render::test_hooks::read_pyramids(&r, &shared(map.clone()).unwrap()).unwrap();
         let (cm, cx) = (mean_pyramid(&map), cell_max_pyramid(&map));
         assert_eq!(mean.len(), cm.len());
         for k in 0..cm.len() {

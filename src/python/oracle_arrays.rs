@@ -2,7 +2,7 @@
 //! (`render_exact`), as dicts of numpy arrays.
 
 use super::nd_array;
-use super::scene::scene_from_py;
+use super::scene_args::scene_from_py;
 use crate::oracle::exact_hits;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
