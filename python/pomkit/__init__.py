@@ -21,7 +21,7 @@ __version__ = _core.__version__
 __all__ = [
     "__version__", "Renderer", "adapters", "exact_uv", "info", "Frame", "AOV_NAMES", "COST_AOVS", "AovName", "load_height", "load_albedo", "Scene", "Object", "Mesh", "Material", "Camera",
     "DirectionalLight", "SphereLight", "Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "ConeStep", "NCS", "Prism", "Tessellated", "Custom", "CurvedRelief", "DistanceMapping", "ALL_METHODS", "textures",
-    "metrics", "presets", "scenes", "bench", "choose", "reference", "testing", "GpuError", "DeviceLostError", "NoAdapterError", "linear_to_srgb", "srgb_to_linear",
+    "metrics", "presets", "scenes", "bench", "choose", "reference", "testing", "explore", "GpuError", "DeviceLostError", "NoAdapterError", "linear_to_srgb", "srgb_to_linear",
 ]
 
 
@@ -33,4 +33,7 @@ def __getattr__(name):
     if name == "choose":  # the cheapest method and settings that meet a bound (pomkit/_choose.py)
         from ._choose import choose
         return choose
+    if name == "explore":  # the notebook widget (pomkit/_explore.py; anywidget: the notebooks extra)
+        from ._explore import explore
+        return explore
     raise AttributeError(f"module 'pomkit' has no attribute {name!r}")
