@@ -34,6 +34,8 @@ def test_the_choice_meets_the_bound_on_every_case(cache):
     # bisection, not a grid: a handful of step counts per family
     assert sum(r["family"] == "SteepParallax" for r in ch.table) <= 9
     assert "runner-up" in str(ch) or ch.runner_up is None
+    # a uv bound measures no FLIP: the answer says nothing of it (it read "worst FLIP nan")
+    assert "nan" not in str(ch) and "nan" not in ch.markdown()
 
 
 def test_a_looser_bound_is_answered_from_the_cache(cache, monkeypatch):
@@ -65,7 +67,7 @@ def test_no_method_meets_it_and_the_closest_is_named(cache):
     ch = pk.choose(heights=pk.textures.bricks(64), max_uv_error=1e-9, methods=["Parallax", "SteepParallax"], **KW)
     assert not ch.met and ch.method is None and ch.closest is not None
     from pomkit.bench import label
-    assert "no method meets" in str(ch) and label(ch.closest) in str(ch)
+    assert "no method meets" in str(ch) and label(ch.closest) in str(ch) and "nan" not in str(ch)
 
 
 def test_bad_arguments_name_the_fix():

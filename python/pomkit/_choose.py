@@ -16,6 +16,7 @@ machinery.
 from __future__ import annotations
 
 import json
+import math
 import time
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
@@ -65,14 +66,18 @@ class Choice:
 
     def __str__(self) -> str:
         from .bench import label
+
+        def flip(r: dict, fmt: str) -> str:  # FLIP only where it was measured (a max_flip bound)
+            return "" if math.isnan(r["flip"]) else f", {'worst ' if fmt == '.4f' else ''}FLIP {r['flip']:{fmt}}"
+
         b = ", ".join(f"{k} <= {v:g}" for k, v in self.bound.items())
         if not self.met:
             row = next((r for r in self.table if r["method"] is self.closest), None)
-            worst = f" (worst uv p95 {row['uv_p95']:.3g}, FLIP {row['flip']:.3g})" if row else ""
+            worst = f" (worst uv p95 {row['uv_p95']:.3g}{flip(row, '.3g')})" if row else ""
             return f"no method meets {b}; the closest: {label(self.closest)}{worst}"
         row = next(r for r in self.table if r["method"] is self.method)
         s = (f"{label(self.method)}: {row['gpu_ms']:.2f} GPU ms, {row['fetches']:.1f} fetches/px, worst uv p95 "
-             f"{row['uv_p95']:.3f}, worst FLIP {row['flip']:.4f} (bound {b}; cheapest by {self.cost})")
+             f"{row['uv_p95']:.3f}{flip(row, '.4f')} (bound {b}; cheapest by {self.cost})")
         if self.runner_up is not None:
             r2 = next(r for r in self.table if r["method"] is self.runner_up)
             s += f"\nrunner-up: {label(self.runner_up)}: {r2['gpu_ms']:.2f} ms, {r2['fetches']:.1f} fetches/px"
@@ -82,7 +87,8 @@ class Choice:
         lines = ["| family | setting | worst uv p95 (texels) | worst FLIP | fetches/px | GPU ms | meets |",
                  "|---|---|---|---|---|---|---|"]
         for r in sorted(self.table, key=lambda r: (r["family"], r["gpu_ms"])):
-            lines.append(f"| {r['family']} | {r['label']} | {r['uv_p95']:.3f} | {r['flip']:.4f} | {r['fetches']:.1f} | "
+            fl = "not measured" if math.isnan(r["flip"]) else f"{r['flip']:.4f}"
+            lines.append(f"| {r['family']} | {r['label']} | {r['uv_p95']:.3f} | {fl} | {r['fetches']:.1f} | "
                          f"{r['gpu_ms']:.2f} | {'yes' if r['meets'] else 'no'} |")
         return "\n".join(lines)
 
