@@ -162,7 +162,7 @@ def explore(scene: Scene, methods: Optional[Sequence[str]] = None, reference: st
         image = t.Bytes(b"").tag(sync=True)
         stats = t.Dict().tag(sync=True)
 
-        def __init__(self, **kw):
+        def __init__(self, **kw: Any) -> None:
             super().__init__(**kw)
             self._scene = scene
             self._renderer = Renderer()
@@ -205,7 +205,7 @@ def explore(scene: Scene, methods: Optional[Sequence[str]] = None, reference: st
                     self._refs.popitem(last=False)
             return self._refs[key]
 
-        def _changed(self, change) -> None:
+        def _changed(self, change: Any) -> None:
             self._update()
 
         def _update(self) -> None:
