@@ -16,7 +16,7 @@
 //! samples share the direction sets: sample q traces the directions d with d mod k² = q, so
 //! that each pixel averages every direction once however many samples it has.
 
-use super::{disk_directions, par_rows, stratified_disk, Oracle, OracleHit};
+use super::{disk_directions, par_rows, perpendiculars, stratified_disk, Oracle, OracleHit};
 use crate::error::{Error, Result};
 use crate::scene::{Albedo, Light, Scene};
 use glam::{DVec2, DVec3};
@@ -226,13 +226,7 @@ fn shade(
     let mut ao = 1.0;
     if shadows && ambient.max_element() > 0.0 {
         // the cosine set about the shading normal
-        let a = if nrm.x.abs() < 0.9 {
-            DVec3::X
-        } else {
-            DVec3::Y
-        };
-        let t = nrm.cross(a).normalize();
-        let b = nrm.cross(t);
+        let (t, b) = perpendiculars(nrm, nrm.x.abs() >= 0.9);
         let (mut open, mut all) = (0usize, 0usize);
         for d in share(cosines, q, n) {
             all += 1;

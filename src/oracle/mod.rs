@@ -332,17 +332,19 @@ fn first_light_directions(scene: &Scene) -> Vec<DVec3> {
 /// 64 directions over a disk of angular radius atan(`tan_r`) about the unit `to_light` (a
 /// stratified 8x8 grid, concentric map), spread on the plane perpendicular to it.
 pub(crate) fn disk_directions(to_light: DVec3, tan_r: f64) -> Vec<DVec3> {
-    let a = if to_light.y.abs() < 0.9 {
-        DVec3::Y
-    } else {
-        DVec3::X
-    };
-    let e1 = to_light.cross(a).normalize();
-    let e2 = to_light.cross(e1);
+    let (e1, e2) = perpendiculars(to_light, to_light.y.abs() < 0.9);
     stratified_disk()
         .into_iter()
         .map(|d| (to_light + (e1 * d.x + e2 * d.y) * tan_r).normalize())
         .collect()
+}
+
+/// A unit vector's two perpendiculars (e1 = v x a, e2 = v x e1, with a = Y or X), chosen as
+/// shaders/shadows.wgsl's `perpendiculars` chooses them.
+pub(crate) fn perpendiculars(v: DVec3, pick_y: bool) -> (DVec3, DVec3) {
+    let a = if pick_y { DVec3::Y } else { DVec3::X };
+    let e1 = v.cross(a).normalize();
+    (e1, v.cross(e1))
 }
 
 /// 64 points on the unit disk: the centres of a stratified 8x8 grid, by Shirley and Chiu's
