@@ -58,14 +58,15 @@ fn path(kind: &str, key: u64) -> Option<PathBuf> {
 /// file is removed and built again).
 pub fn load(kind: &str, key: u64, len: usize) -> Option<Vec<u8>> {
     let p = path(kind, key)?;
-    let bytes = std::fs::read(&p).ok()?;
-    let (head, body) = bytes.split_at_checked(16)?;
-    let ok = head[..8] == *b"pomkit01" && head[8..] == key.to_le_bytes() && body.len() == len;
+    let mut bytes = std::fs::read(&p).ok()?;
+    let ok =
+        bytes.len() == 16 + len && bytes[..8] == *b"pomkit01" && bytes[8..16] == key.to_le_bytes();
     if !ok {
         let _ = std::fs::remove_file(&p);
         return None;
     }
-    Some(body.to_vec())
+    bytes.drain(..16); // in place: no second copy of a map-sized file
+    Some(bytes)
 }
 
 /// Keep `parts`, one after the other, for (`kind`, `key`): streamed to a file beside and

@@ -26,8 +26,9 @@ from typing import Any, Optional, Sequence
 import numpy as np
 
 from . import _methods, metrics
+from ._heatmap import heat
 from ._frame import Frame
-from ._render import Renderer, exact_uv
+from ._render import Renderer
 from ._scene import Camera, Scene
 
 __all__ = ["explore", "VIEWS", "METHOD_STEPS"]
@@ -114,16 +115,6 @@ export default { render };
 """
 
 
-def _heat(x: np.ndarray, vmax: float, mask: np.ndarray) -> np.ndarray:
-    """x / vmax through a black-purple-yellow ramp; grey where not mask."""
-    stops = np.array([[0, 0, 4], [80, 18, 123], [183, 55, 121], [252, 137, 97], [252, 253, 191]], np.float64)
-    t = np.clip(np.nan_to_num(np.asarray(x, np.float64) / max(vmax, 1e-12)), 0.0, 1.0) * (len(stops) - 1)
-    i = np.clip(np.floor(t).astype(int), 0, len(stops) - 2)
-    f = (t - i)[..., None]
-    c = stops[i] * (1 - f) + stops[i + 1] * f
-    return np.where(mask[..., None], c, 60).astype(np.uint8)
-
-
 def _orbit(cam: Camera) -> tuple[float, float, float]:
     """The camera's (azimuth, elevation, distance) about its target (degrees, scene units)."""
     d = np.subtract(cam.eye, cam.target)
@@ -167,7 +158,7 @@ def explore(scene: Scene, methods: Optional[Sequence[str]] = None, reference: st
             self._scene = scene
             self._renderer = Renderer()
             self._refs: OrderedDict = OrderedDict()
-            self._planar = reference == "exact" and _is_planar(scene)
+            self._exact = reference == "exact"  # until render_exact refuses the scene (a curved mesh)
             self.observe(self._changed, names=["method", "view", "compare", "steps", "azimuth", "elevation",
                                                "distance", "size", "dragging"])
             self._update()
@@ -196,11 +187,15 @@ def explore(scene: Scene, methods: Optional[Sequence[str]] = None, reference: st
             """(colour reference, geometric oracle or None), cached per pose."""
             key = (round(self.azimuth, 3), round(self.elevation, 3), round(self.distance, 5), sc.camera.width)
             if key not in self._refs:
-                if self._planar:
+                refs = None
+                if self._exact:
                     from . import reference as R
-                    self._refs[key] = (R.render_exact(sc, spp=1, cache=False), exact_uv(sc))
-                else:
-                    self._refs[key] = (self._renderer.render(sc, _methods.Tessellated(0.5)), None)
+                    try:
+                        ex = R.render_exact(sc, spp=1, cache=False)
+                        refs = (ex, ex)  # its uv, mask and visibility are the oracle's (pk.exact_uv)
+                    except ValueError:  # render_exact takes planar meshes: the mesh from here on
+                        self._exact = False
+                self._refs[key] = refs or (self._renderer.render(sc, _methods.Tessellated(0.5)), None)
                 while len(self._refs) > 16:
                     self._refs.popitem(last=False)
             return self._refs[key]
@@ -256,40 +251,25 @@ def explore(scene: Scene, methods: Optional[Sequence[str]] = None, reference: st
                 return ref.to_srgb8()
             if v == "uv_error" and ref is not None:
                 e = metrics.uv_error(f, oracle if oracle is not None else ref, sc)["image"]
-                return _heat(e, 2.0, f.mask)
+                return heat(e, 2.0, f.mask)
             if v == "flip" and ref is not None:
                 try:
                     _, emap = metrics.flip(f, ref, image=True)
-                    return _heat(np.asarray(emap).reshape(f.mask.shape), 0.5, np.ones_like(f.mask))
+                    return heat(np.asarray(emap).reshape(f.mask.shape), 0.5, np.ones_like(f.mask))
                 except ImportError:
                     return f.to_srgb8()
             if v == "steps":
-                return _heat(f.steps.astype(np.float64), max(float(f.steps.max()), 1.0), f.mask)
+                return heat(f.steps.astype(np.float64), max(float(f.steps.max()), 1.0), f.mask)
             if v == "fetches":
-                return _heat(f.fetches.astype(np.float64), max(float(f.fetches.max()), 1.0), f.mask)
+                return heat(f.fetches.astype(np.float64), max(float(f.fetches.max()), 1.0), f.mask)
             if v == "lod":
-                return _heat(f.lod, max(math.log2(max(sc.material.height.shape)), 1.0) if sc.material else 8.0, f.mask)
+                return heat(f.lod, max(math.log2(max(sc.material.height.shape)), 1.0) if sc.material else 8.0, f.mask)
             # shadow_error: the method's visibility of the first directional light against the oracle's
             if oracle is None or not hasattr(m, "shadows"):
                 return f.to_srgb8()
             vis = self._renderer.render_visibility(sc, m)
             d = np.abs(np.nan_to_num(vis.visibility) - np.nan_to_num(oracle.visibility))
-            return _heat(d, 1.0, f.mask & oracle.mask)
+            return heat(d, 1.0, f.mask & oracle.mask)
 
     a, e, d = _orbit(scene.camera)
     return Explorer(methods=names, views=list(VIEWS), azimuth=a, elevation=e, distance=d, size=int(size))
-
-
-def _is_planar(scene: Scene) -> bool:
-    """One untransformed object whose vertex normals are its faces' (render_exact's domain)."""
-    if len(scene.objects) != 1 or not scene.objects[0].is_identity:
-        return False
-    m = scene.objects[0].mesh
-    tri = m.positions[m.indices.reshape(-1, 3)].astype(np.float64)
-    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-    ln = np.linalg.norm(n, axis=1)
-    ok = ln > 1e-14
-    n = n[ok] / ln[ok, None]
-    vn = m.normals[m.indices.reshape(-1, 3)][ok].astype(np.float64)
-    vn /= np.maximum(np.linalg.norm(vn, axis=2, keepdims=True), 1e-30)
-    return bool(np.all(np.abs(np.einsum("tk,tjk->tj", n, vn)) > 1 - 1e-6))

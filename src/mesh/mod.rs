@@ -91,6 +91,17 @@ impl Vertex {
 }
 
 impl Mesh {
+    /// Vertex `i`'s position, normal and uv in float64 (the oracle and the frames' fitting).
+    pub fn position_f64(&self, i: u32) -> DVec3 {
+        DVec3::from(self.positions[i as usize].map(f64::from))
+    }
+    pub fn normal_f64(&self, i: u32) -> DVec3 {
+        DVec3::from(self.normals[i as usize].map(f64::from))
+    }
+    pub fn uv_f64(&self, i: u32) -> DVec2 {
+        DVec2::from(self.uvs[i as usize].map(f64::from))
+    }
+
     /// Build a mesh from arrays, validating them and computing the tangent frames (and the
     /// uv scales) when `tangents` is None.
     pub fn from_arrays(
@@ -207,14 +218,8 @@ impl Mesh {
         let mut sv = vec![0.0f64; n];
         let mut wsum = vec![0.0f64; n];
         let mut report = FrameReport::default();
-        let p = |i: u32| {
-            let a = self.positions[i as usize];
-            DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)
-        };
-        let t = |i: u32| {
-            let a = self.uvs[i as usize];
-            DVec2::new(a[0] as f64, a[1] as f64)
-        };
+        let p = |i: u32| self.position_f64(i);
+        let t = |i: u32| self.uv_f64(i);
         let mut all_scale = 0.0;
         let mut all_w = 0.0;
         for tri in self.indices.chunks_exact(3) {

@@ -103,14 +103,14 @@ pub fn render_exact(scene: &Scene, spp: u32, shadows: bool) -> Result<ExactImage
     // a curved mesh's triangles are not its surface: the oracle's planar base would be wrong
     let m = &obj.mesh;
     for t in m.indices.chunks_exact(3) {
-        let p = |i: u32| DVec3::from(m.positions[i as usize].map(|x| x as f64));
+        let p = |i: u32| m.position_f64(i);
         let n = (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0]));
         if n.length() < 1e-14 {
             continue;
         }
         let n = n.normalize();
         for &i in t {
-            let vn = DVec3::from(m.normals[i as usize].map(|x| x as f64)).normalize_or_zero();
+            let vn = m.normal_f64(i).normalize_or_zero();
             if vn.dot(n).abs() < 1.0 - 1e-6 {
                 return Err(Error::arg(
                     "mesh",

@@ -75,14 +75,7 @@ impl<'a> Oracle<'a> {
             ));
         }
         let m = &obj.mesh;
-        let p = |i: u32| {
-            let a = m.positions[i as usize];
-            DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)
-        };
-        let q = |i: u32| {
-            let a = m.uvs[i as usize];
-            DVec2::new(a[0] as f64, a[1] as f64)
-        };
+        let (p, q) = (|i: u32| m.position_f64(i), |i: u32| m.uv_f64(i));
         let mut tris = Vec::new();
         for t in m.indices.chunks_exact(3) {
             let (p0, p1, p2) = (p(t[0]), p(t[1]), p(t[2]));
@@ -92,10 +85,7 @@ impl<'a> Oracle<'a> {
                 continue;
             }
             n = n.normalize();
-            let vn = {
-                let a = m.normals[t[0] as usize];
-                DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)
-            };
+            let vn = m.normal_f64(t[0]);
             if n.dot(vn) < 0.0 {
                 n = -n;
             }

@@ -16,6 +16,7 @@ from typing import Callable, Optional
 import numpy as np
 
 import pomkit as pk
+from pomkit._heatmap import heat, ramp
 
 REFS = Path(__file__).resolve().parent.parent / "data" / "demo"
 UV_MAX = 2.0  # texels: the uv heat map's scale
@@ -63,28 +64,13 @@ def reference(name: str, scene: pk.Scene) -> Optional[np.ndarray]:
     return np.asarray(Image.open(REFS / f"{name}.png").convert("RGB"))
 
 
-def _ramp(t: np.ndarray, stops: np.ndarray) -> np.ndarray:
-    """t in [0, 1] (H, W) through the colour stops, piecewise linear: (H, W, 3)."""
-    pos = np.clip(t, 0.0, 1.0)[..., None] * (len(stops) - 1)
-    i = np.clip(np.floor(pos).astype(int), 0, len(stops) - 2)
-    f = pos - i
-    return stops[i[..., 0]] * (1 - f) + stops[i[..., 0] + 1] * f
-
-
-def _colormap(x: np.ndarray, vmax: float, mask: np.ndarray) -> np.ndarray:
-    """A heat map (magma-like ramp, black to yellow) of x / vmax in [0, 1]; grey where not mask."""
-    stops = np.array([[0, 0, 4], [80, 18, 123], [183, 55, 121], [252, 137, 97], [252, 253, 191]], np.float64)
-    c = _ramp(np.nan_to_num(x / vmax, nan=0.0), stops)
-    return np.where(mask[..., None], c, 60).astype(np.uint8)
-
-
 def lod_overlay(frame: pk.Frame, levels: float) -> np.ndarray:
     """The mip level as a false colour (level 0 blue, rising through green and yellow to red at
     `levels`) over the frame's luminance: it reads at a glance, whatever the albedo."""
     base = frame.to_srgb8().astype(np.float32) / 255.0
     lum = base.mean(-1, keepdims=True)
     stops = np.array([[0.15, 0.35, 1.0], [0.1, 0.85, 0.4], [1.0, 0.9, 0.1], [1.0, 0.2, 0.15]])
-    col = _ramp(np.nan_to_num(frame.lod, nan=0.0) / max(levels, 1e-6), stops)
+    col = ramp(np.nan_to_num(frame.lod, nan=0.0) / max(levels, 1e-6), stops)
     out = np.where(frame.mask[..., None], col * (0.35 + 0.65 * lum), base)
     return (np.clip(out, 0, 1) * 255).astype(np.uint8)
 
@@ -148,11 +134,11 @@ def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: d
         row = dict(scene=name, method=label, gpu_ms=f.time_ms or float("nan"), uv_p95=e["p95"], mask_iou=e["mask_iou"],
                    safety=m.safety)
         imgs = [_save(f.to_srgb8(), outdir / f"{name}_{label}.png"),
-                _save(_colormap(e["image"], UV_MAX, f.mask | uv_ref.mask), outdir / f"{name}_{label}_uv.png")]
+                _save(heat(e["image"], UV_MAX, f.mask | uv_ref.mask), outdir / f"{name}_{label}_uv.png")]
         if flip_ref is not None:
             fl, emap = _flip_map(f, flip_ref)
             row["flip"] = fl
-            imgs.append(_save(_colormap(emap, 0.5 if have_flip else 0.25, np.ones(emap.shape, bool)),
+            imgs.append(_save(heat(emap, 0.5 if have_flip else 0.25, np.ones(emap.shape, bool)),
                               outdir / f"{name}_{label}_flip.png"))
         rows.append(row)
         figures = f"{row['gpu_ms']:.1f} ms (2 passes, spp 4) · uv p95 {row['uv_p95']:.2f} tx · IoU {row['mask_iou']:.3f}"
