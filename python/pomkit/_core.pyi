@@ -10,7 +10,7 @@ from ._methods import Method
 
 __all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "COST_AOV_NAMES", "CONE_KINDS", "DeviceLostError", "FILTERING_KINDS", "GpuError", "HeightData", "MAX_LIGHTS",
            "MAX_STEPS_LIMIT", "MeshData", "NCS_MAP_SIZE", "NoAdapterError", "REFINE_KINDS", "Renderer", "SHADOW_KINDS",
-           "__version__", "adapters", "bounding_sphere", "exact_uv", "load_image", "mesh_from_arrays", "mesh_generate", "render_exact", "set_cache_dir", "set_progress_hook", "tessellate"]
+           "__version__", "adapters", "bounding_sphere", "exact_uv", "load_image", "mesh_from_arrays", "mesh_generate", "oracle_refusal", "reference_directions", "reference_normals", "render_exact", "set_cache_dir", "set_progress_hook", "tessellate"]
 __version__: str
 NCS_MAP_SIZE: int
 MAX_LIGHTS: int
@@ -137,6 +137,9 @@ class TessellationDict(TypedDict):
     normals: np.ndarray      # (n, 3) float32
     uvs: np.ndarray          # (n, 2) float32
     faces: np.ndarray        # (m, 3) uint32
+    base_normals: np.ndarray  # (n, 3) float32, the base frame each vertex was displaced from
+    tangents: np.ndarray     # (n, 4) float32, w the bitangent's sign
+    uv_scale: np.ndarray     # (n, 2) float32, mesh uv per unit length along the tangents
 
 
 @type_check_only
@@ -187,6 +190,10 @@ def adapters() -> list[AdapterDict]: ...
 def exact_uv(scene: SceneDict, light_bias: float = 0.0) -> OracleDict: ...
 def bounding_sphere(scene: SceneDict) -> tuple[tuple[float, float, float], float]: ...
 def render_exact(scene: SceneDict, spp: int, shadows: bool = True) -> ExactImageDict: ...
+def oracle_refusal(scene: SceneDict) -> Optional[str]: ...
+def reference_normals(scene: SceneDict, object: int, uvs: np.ndarray, base_normals: np.ndarray, tangents: np.ndarray,
+                      uv_scale: np.ndarray) -> np.ndarray: ...
+def reference_directions(axes: np.ndarray, tan_r: np.ndarray, q: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]: ...
 def tessellate(scene: SceneDict, texels_per_vertex: float, object: int = 0) -> TessellationDict: ...
 def mesh_from_arrays(positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray, indices: np.ndarray,
                      tangents: Optional[np.ndarray] = None) -> MeshFromArrays: ...

@@ -25,7 +25,7 @@ from typing import Any, Optional, Sequence
 
 import numpy as np
 
-from . import _methods, metrics
+from . import _core, _methods, metrics
 from ._heatmap import heat
 from ._frame import Frame
 from ._render import Renderer
@@ -158,7 +158,7 @@ def explore(scene: Scene, methods: Optional[Sequence[str]] = None, reference: st
             self._scene = scene
             self._renderer = Renderer()
             self._refs: OrderedDict = OrderedDict()
-            self._exact = reference == "exact"  # until render_exact refuses the scene (a curved mesh)
+            self._exact = reference == "exact"  # until the oracle refuses the scene (a curved mesh)
             self.observe(self._changed, names=["method", "view", "compare", "steps", "azimuth", "elevation",
                                                "distance", "size", "dragging"])
             self._update()
@@ -188,13 +188,13 @@ def explore(scene: Scene, methods: Optional[Sequence[str]] = None, reference: st
             key = (round(self.azimuth, 3), round(self.elevation, 3), round(self.distance, 5), sc.camera.width)
             if key not in self._refs:
                 refs = None
-                if self._exact:
+                if self._exact and _core.oracle_refusal(sc._describe()) is None:
                     from . import reference as R
-                    try:
-                        ex = R.render_exact(sc, spp=1, cache=False)
-                        refs = (ex, ex)  # its uv, mask and visibility are the oracle's (pk.exact_uv)
-                    except ValueError:  # render_exact takes planar meshes: the mesh from here on
-                        self._exact = False
+                    ex = R.render_exact(sc, spp=1, cache=False)
+                    refs = (ex, ex)  # its uv, mask and visibility are the oracle's (pk.exact_uv)
+                else:  # the oracle takes planar meshes (render_exact casts with Mitsuba, too slow
+                    # to orbit): the mesh from here on
+                    self._exact = False
                 self._refs[key] = refs or (self._renderer.render(sc, _methods.Tessellated(0.5)), None)
                 while len(self._refs) > 16:
                     self._refs.popitem(last=False)

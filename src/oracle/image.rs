@@ -87,17 +87,29 @@ fn share(set: &[DVec3], q: usize, n: usize) -> impl Iterator<Item = &DVec3> {
     set.iter().skip(start).step_by(step.max(1))
 }
 
-/// The exact image of a planar scene at `spp` samples per pixel (a square, 1 to 256).
-/// `shadows` false leaves out the light and ambient rays (every light fully visible, ao = 1):
-/// the colour of the displacement alone, for methods measured without shadows.
-pub fn render_exact(scene: &Scene, spp: u32, shadows: bool) -> Result<ExactImage> {
-    let k = (spp as f64).sqrt().round() as u32;
-    if spp == 0 || k * k != spp || k > 16 {
-        return Err(Error::arg(
-            "spp",
-            format!("must be a square number of samples per pixel from 1 to 256, got {spp}"),
-        ));
+/// The directions sample `q` of `n` traces for hits found elsewhere (a ray cast on the displaced
+/// mesh, `pk.reference` on curved meshes and in Mitsuba): with `tan_r` > 0 its share of the 64
+/// over the disk of angular radius atan(tan_r) about the unit `axis` (a light), with `tan_r` = 0
+/// the axis alone (a point or a sharp light), and with `tan_r` < 0 its share of the 64
+/// cosine-weighted directions about the unit normal `axis` (ambient). Exactly the sets and the
+/// sharing of `render_exact`.
+pub fn sample_directions(axis: DVec3, tan_r: f64, q: usize, n: usize) -> Vec<DVec3> {
+    if tan_r < 0.0 {
+        let (t, b) = perpendiculars(axis, axis.x.abs() >= 0.9);
+        share(&cosine_directions(), q, n)
+            .map(|d| t * d.x + b * d.y + axis * d.z)
+            .collect()
+    } else if tan_r > 0.0 {
+        share(&disk_directions(axis, tan_r), q, n).copied().collect()
+    } else {
+        vec![axis]
     }
+}
+
+/// The oracle for `render_exact`, or why the scene is not one it takes: one untransformed object
+/// on a planar mesh (every vertex normal its triangle's normal). `pk.reference.render_exact`
+/// asks first, and casts against the mesh with Mitsuba where the oracle refuses.
+pub(crate) fn exact_oracle(scene: &Scene) -> Result<Oracle<'_>> {
     let oracle = Oracle::new(scene, "render_exact")?;
     let obj = &scene.objects[0];
     // a curved mesh's triangles are not its surface: the oracle's planar base would be wrong
@@ -114,11 +126,31 @@ pub fn render_exact(scene: &Scene, spp: u32, shadows: bool) -> Result<ExactImage
             if vn.dot(n).abs() < 1.0 - 1e-6 {
                 return Err(Error::arg(
                     "mesh",
-                    "render_exact takes planar meshes (every vertex normal its triangle's normal: a plane, a cube, a flat mesh); for a curved mesh use pk.reference.render_mitsuba",
+                    "the CPU oracle takes planar meshes (every vertex normal its triangle's normal: a plane, a cube, a flat mesh); for a curved mesh, pk.reference.render_exact casts against the displaced mesh with Mitsuba",
                 ));
             }
         }
     }
+    Ok(oracle)
+}
+
+/// Why the oracle cannot render `scene` exactly (`exact_oracle`'s error), or None when it can.
+pub fn oracle_refusal(scene: &Scene) -> Option<String> {
+    exact_oracle(scene).err().map(|e| e.to_string())
+}
+
+/// The exact image of a planar scene at `spp` samples per pixel (a square, 1 to 256).
+/// `shadows` false leaves out the light and ambient rays (every light fully visible, ao = 1):
+/// the colour of the displacement alone, for methods measured without shadows.
+pub fn render_exact(scene: &Scene, spp: u32, shadows: bool) -> Result<ExactImage> {
+    let k = (spp as f64).sqrt().round() as u32;
+    if spp == 0 || k * k != spp || k > 16 {
+        return Err(Error::arg(
+            "spp",
+            format!("must be a square number of samples per pixel from 1 to 256, got {spp}"),
+        ));
+    }
+    let oracle = exact_oracle(scene)?;
     let cam = &scene.camera;
     let (w, h) = (cam.width, cam.height);
     let mut fine = cam.clone();

@@ -3,7 +3,10 @@
 
 use super::nd_array;
 use super::scene_args::scene_from_py;
+use crate::error::Error;
 use crate::oracle::exact_hits;
+use glam::{DVec2, DVec3};
+use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -45,4 +48,94 @@ pub fn render_exact<'py>(
     d.set_item("color", nd_array(py, (h, w, 3), o.color)?)?;
     d.set_item("coverage", nd_array(py, (h, w), o.coverage)?)?;
     Ok(d)
+}
+
+fn columns<const N: usize>(a: &PyReadonlyArray2<'_, f64>, name: &str, rows: usize) -> PyResult<Vec<[f64; N]>> {
+    let v = a.as_array();
+    if v.shape() != [rows, N] {
+        return Err(Error::arg(name, format!("expected shape ({rows}, {N}), got {:?}", v.shape())).into());
+    }
+    Ok(v.outer_iter().map(|r| std::array::from_fn(|k| r[k])).collect())
+}
+
+/// The reference shading normal (docs/conventions.md) at hits found by a ray cast on object
+/// `object`'s displaced mesh: uvs (N, 2) mesh uv, and the base frame interpolated at each hit
+/// from `tessellate`'s base_normals (N, 3), tangents (N, 4) and uv_scale (N, 2). (N, 3) f64.
+#[pyfunction]
+#[pyo3(signature = (scene, object, uvs, base_normals, tangents, uv_scale))]
+pub fn reference_normals<'py>(
+    py: Python<'py>,
+    scene: &Bound<'py, PyDict>,
+    object: usize,
+    uvs: PyReadonlyArray2<'py, f64>,
+    base_normals: PyReadonlyArray2<'py, f64>,
+    tangents: PyReadonlyArray2<'py, f64>,
+    uv_scale: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let scene = scene_from_py(scene)?;
+    let obj = scene.objects.get(object).ok_or_else(|| {
+        Error::arg("object", format!("the scene has {} objects", scene.objects.len()))
+    })?;
+    let n = uvs.as_array().shape()[0];
+    let (uv, bn) = (columns::<2>(&uvs, "uvs", n)?, columns::<3>(&base_normals, "base_normals", n)?);
+    let (tg, sc) = (columns::<4>(&tangents, "tangents", n)?, columns::<2>(&uv_scale, "uv_scale", n)?);
+    let mat = &obj.material;
+    let out = py.detach(|| {
+        let tiling = mat.tiling as f64;
+        let mut out = Vec::with_capacity(n * 3);
+        for i in 0..n {
+            let nb = DVec3::from(bn[i]).normalize_or_zero();
+            let t = DVec3::new(tg[i][0], tg[i][1], tg[i][2]);
+            let (nb, t, bt) = crate::methods::tessellated::tessellate::base_frame(nb, t, tg[i][3]);
+            let s = DVec2::from(uv[i]) * tiling;
+            let sn = crate::methods::tessellated::tessellate::displaced_normal(mat, s, nb, t, bt, DVec2::from(sc[i]));
+            out.extend(sn.to_array());
+        }
+        out
+    });
+    nd_array(py, (n, 3), out)
+}
+
+/// The directions each sample traces (`oracle::image::sample_directions`): for sample i, about
+/// the unit axes[i] with tan_r[i] (> 0 a light's disk, 0 the axis alone, < 0 the cosine set about
+/// a normal), its share as sample q[i] of n. Returns (directions (M, 3) f64, owner (M,) u32).
+#[pyfunction]
+#[pyo3(signature = (axes, tan_r, q, n))]
+pub fn reference_directions<'py>(
+    py: Python<'py>,
+    axes: PyReadonlyArray2<'py, f64>,
+    tan_r: PyReadonlyArray1<'py, f64>,
+    q: PyReadonlyArray1<'py, u32>,
+    n: u32,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+    let rows = q.as_array().len();
+    let ax = columns::<3>(&axes, "axes", rows)?;
+    let (tr, qs) = (tan_r.as_array(), q.as_array());
+    if tr.len() != rows {
+        return Err(Error::arg("tan_r", format!("expected {rows} values, got {}", tr.len())).into());
+    }
+    if n == 0 {
+        return Err(Error::arg("n", "must be at least 1").into());
+    }
+    let (tr, qs): (Vec<f64>, Vec<u32>) = (tr.to_vec(), qs.to_vec());
+    let (dirs, owner) = py.detach(|| {
+        let (mut dirs, mut owner) = (Vec::new(), Vec::new());
+        for i in 0..rows {
+            for d in crate::oracle::image::sample_directions(DVec3::from(ax[i]), tr[i], qs[i] as usize, n as usize) {
+                dirs.extend(d.to_array());
+                owner.push(i as u32);
+            }
+        }
+        (dirs, owner)
+    });
+    let m = owner.len();
+    Ok((nd_array(py, (m, 3), dirs)?, nd_array(py, m, owner)?))
+}
+
+/// Why `render_exact`'s oracle cannot take `scene` (several objects, a transform, a curved
+/// mesh), or None when it can.
+#[pyfunction]
+pub fn oracle_refusal(scene: &Bound<'_, PyDict>) -> PyResult<Option<String>> {
+    let scene = scene_from_py(scene)?;
+    Ok(crate::oracle::image::oracle_refusal(&scene))
 }

@@ -288,7 +288,8 @@ pub fn bounding_sphere(scene: &Bound<'_, PyDict>) -> PyResult<([f64; 3], f64)> {
 }
 
 /// The displaced surface of object `object` of `scene` as arrays (positions, shading normals,
-/// uvs, faces) in object space, with `texels_per_vertex` lattice spacing.
+/// uvs, faces, and the base frame each vertex was displaced from: base_normals, tangents,
+/// uv_scale) in object space, with `texels_per_vertex` lattice spacing.
 #[pyfunction]
 #[pyo3(signature = (scene, texels_per_vertex, object=0))]
 pub fn tessellate<'py>(
@@ -318,5 +319,8 @@ pub fn tessellate<'py>(
     d.set_item("normals", nd_array(py, (n, 3), t.normals.concat())?)?;
     d.set_item("uvs", nd_array(py, (n, 2), t.uvs.concat())?)?;
     d.set_item("faces", nd_array(py, (t.indices.len() / 3, 3), t.indices)?)?;
+    d.set_item("base_normals", nd_array(py, (n, 3), t.base_normals.concat())?)?;
+    d.set_item("tangents", nd_array(py, (n, 4), t.tangents.concat())?)?;
+    d.set_item("uv_scale", nd_array(py, (n, 2), t.uv_scale.concat())?)?;
     Ok(d)
 }

@@ -87,6 +87,38 @@ fn lattice(tiling: f64, texels: u32, tpv: f64) -> Vec<f64> {
     out
 }
 
+/// The reference shading normal (docs/conventions.md) at texture point `s` (mesh uv times the
+/// tiling): the base frame (unit normal `n`, tangent `t` and bitangent `bt` orthonormal, `scale`
+/// the mesh's uv per unit length along them) tilted by the height field's gradient, taken as
+/// central differences one texel apart of the bilinear field at level 0. The tessellated mesh's
+/// vertex normals, and the normal at a hit found by a ray cast on that mesh (`pk.reference`).
+pub fn displaced_normal(mat: &Material, s: DVec2, n: DVec3, t: DVec3, bt: DVec3, scale: DVec2) -> DVec3 {
+    let hm = &mat.height;
+    let tiling = mat.tiling as f64;
+    let ex = 1.0 / hm.width as f64;
+    let ey = 1.0 / hm.height as f64;
+    let hx = hm.sample(s.x + ex, s.y) - hm.sample(s.x - ex, s.y);
+    let hy = hm.sample(s.x, s.y + ey) - hm.sample(s.x, s.y - ey);
+    let gx = mat.depth as f64 * hx / (2.0 * ex) * tiling / scale.x.max(1e-12);
+    let gy = mat.depth as f64 * hy / (2.0 * ey) * tiling / scale.y.max(1e-12);
+    (n - t * gx - bt * gy).normalize_or_zero()
+}
+
+/// The base frame from a unit normal `n` and a tangent `t` (the bitangent's sign in `w`),
+/// orthonormalised as the shader does: (n, t, bt).
+pub fn base_frame(n: DVec3, t: DVec3, w: f64) -> (DVec3, DVec3, DVec3) {
+    let mut t = t - n * n.dot(t);
+    if t.length_squared() < 1e-24 {
+        t = if n.x.abs() > 0.9 {
+            n.cross(DVec3::Z)
+        } else {
+            n.cross(DVec3::X)
+        };
+    }
+    let t = t.normalize();
+    (n, t, n.cross(t) * if w < 0.0 { -1.0 } else { 1.0 })
+}
+
 /// `texels_per_vertex`: lattice spacing in texels (0.5 = two vertices per texel).
 pub fn tessellate(mesh: &Mesh, mat: &Material, texels_per_vertex: f64) -> Result<Tessellation> {
     if !(texels_per_vertex.is_finite() && (1.0 / 64.0..=1024.0).contains(&texels_per_vertex)) {
@@ -104,24 +136,8 @@ pub fn tessellate(mesh: &Mesh, mat: &Material, texels_per_vertex: f64) -> Result
         let h = hm.sample(s.x, s.y);
         let p = b.p + b.n * (mat.depth as f64 * (h - 1.0));
         // the base frame, orthonormalised as the shader does
-        let n = b.n;
-        let mut t = b.t - n * n.dot(b.t);
-        if t.length_squared() < 1e-24 {
-            t = if n.x.abs() > 0.9 {
-                n.cross(DVec3::Z)
-            } else {
-                n.cross(DVec3::X)
-            };
-        }
-        let t = t.normalize();
-        let bt = n.cross(t) * if b.w < 0.0 { -1.0 } else { 1.0 };
-        let ex = 1.0 / hm.width as f64;
-        let ey = 1.0 / hm.height as f64;
-        let hx = hm.sample(s.x + ex, s.y) - hm.sample(s.x - ex, s.y);
-        let hy = hm.sample(s.x, s.y + ey) - hm.sample(s.x, s.y - ey);
-        let gx = mat.depth as f64 * hx / (2.0 * ex) * tiling / b.scale.x.max(1e-12);
-        let gy = mat.depth as f64 * hy / (2.0 * ey) * tiling / b.scale.y.max(1e-12);
-        let sn = (n - t * gx - bt * gy).normalize_or_zero();
+        let (n, t, bt) = base_frame(b.n, b.t, b.w);
+        let sn = displaced_normal(mat, s, n, t, bt, b.scale);
         out.positions.push([p.x as f32, p.y as f32, p.z as f32]);
         out.normals.push([sn.x as f32, sn.y as f32, sn.z as f32]);
         out.uvs.push([uv.x as f32, uv.y as f32]);

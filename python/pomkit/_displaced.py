@@ -1,0 +1,41 @@
+"""The displaced surface as arrays (`_core.tessellate` with the object's transform applied), for
+the references that render it as a mesh (Mitsuba, pyrender, trimesh)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import _core
+from . import _validate as _v
+from ._scene import Scene
+
+_EXTRA = "pip install pomkit[reference]"
+
+
+def require(module: str):
+    try:
+        return __import__(module)
+    except ImportError as e:
+        raise ImportError(f"{module} is needed for references: {_EXTRA} ({e})") from None
+
+
+def displaced_arrays(scene: Scene, resolution: float = 2.0, object: int = 0) -> dict:
+    """positions, normals, uvs, faces of object `object`'s displaced surface in world space (its
+    transform applied; normals by the inverse transpose); `resolution` vertices per texel. Also
+    the base frame each vertex was displaced from, in object space (base_normals, tangents,
+    uv_scale: what `_core.reference_normals` takes)."""
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
+    resolution = _v.number("resolution", resolution, 1 / 1024, 64)  # vertices per texel
+    object = _v.integer("object", object, 0, len(scene.objects) - 1, strict=True)
+    t = _core.tessellate(scene._describe(), 1.0 / float(resolution), int(object))
+    a: dict[str, np.ndarray] = {k: np.asarray(v) for k, v in t.items()}
+    o = scene.objects[int(object)]
+    if not o.is_identity:
+        m = o.transform
+        a["positions"] = (a["positions"] @ m[:3, :3].T + m[:3, 3]).astype(np.float32)
+        n = a["normals"] @ np.linalg.inv(m[:3, :3])  # (M^-T n) as rows
+        a["normals"] = (n / np.linalg.norm(n, axis=1, keepdims=True)).astype(np.float32)
+        if np.linalg.det(m[:3, :3]) < 0:
+            a["faces"] = np.ascontiguousarray(a["faces"][:, ::-1])  # a mirror flips the winding
+    return a
