@@ -37,8 +37,9 @@ class Frame:
     timing: "gpu" when gpu_ms holds a timestamp measurement, "wall" when only wall_ms exists;
             `time_ms` gives whichever is there.
     noise_floor: a reference's own FLIP noise, the floor under any score against it: 0.0 for
-            `pk.reference.render_exact` (deterministic), the seed-against-seed FLIP for
-            `render_mitsuba(..., noise_floor=True)`, None where it is unknown (a rendered frame).
+            `pk.reference.render_exact` and the matched `render_mitsuba()` (deterministic),
+            None where it is unknown (a rendered frame, Mitsuba's Monte Carlo
+            `integrator="direct"`: measure its seed against seed).
 
     A frame holds the AOVs it was rendered with (`aovs`); reading another raises an
     AttributeError that names the `aovs=` argument of `Renderer.render`.
