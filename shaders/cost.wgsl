@@ -11,7 +11,27 @@
 //            instruction; its filter reads 4 texels, 8 between two levels).
 //   bytes:   the bytes those fetches read: 4 per float32 texel, 16 for a filtered bilinear sample
 //            (32 trilinear), 16 per gather, 16 per frame-map texel, 96 per prism visited.
+//   fragments: the fragment invocations of the surface pass at the pixel (overdraw): every
+//            fragment the method's geometry puts there that runs its shader, whether it then
+//            writes or discards (a prism face tested and missed counts). Counted only in the
+//            variants that ask (shader def COUNT_FRAGMENTS), by an atomic add into a storage
+//            buffer of one u32 per pixel (group 0, binding 3), cleared before the pass.
 #define_import_path pomkit::cost
+
+#import pomkit::globals::V
+
+#ifdef COUNT_FRAGMENTS
+@group(0) @binding(3) var<storage, read_write> fragment_counts: array<atomic<u32>>;
+#endif
+
+// Count this fragment at pixel `px` (the fragment's position, `clip.xy`): call first in a
+// surface pass's fragment entry point, before any discard.
+fn count_fragment(px: vec2<f32>) {
+#ifdef COUNT_FRAGMENTS
+    let i = u32(px.y) * u32(V.frame_width) + u32(px.x);
+    atomicAdd(&fragment_counts[i], 1u);
+#endif
+}
 
 #ifdef COUNT_FETCHES
 var<private> cost_fetches: u32;

@@ -39,6 +39,11 @@ struct View {
     shadow_size: f32,
     // depth bias of the cast-shadow lookup: two shadow-map texels, in depth units
     shadow_bias: f32,
+    // the pass's width in pixels (the fragment counter's row length: cost.wgsl)
+    frame_width: f32,
+    pad_va: f32,
+    pad_vb: f32,
+    pad_vc: f32,
 }
 
 struct ObjectUniforms {

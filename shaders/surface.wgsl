@@ -18,6 +18,7 @@
 #import pomkit::height::{height_normal, height_lod, compute_lod}
 #import pomkit::march::{Ray, Hit}
 #import pomkit::shading::shade
+#import pomkit::cost::count_fragment
 #import pomkit::object::{to_world, to_clip, normal_to_world, stretch, clip_depth, shadow_depth, shadow_light_object}
 
 @vertex
@@ -80,6 +81,7 @@ fn lod_bump_weight(lod: f32) -> f32 {
 
 @fragment
 fn fs_main(in: VertexOut) -> FsOut {
+    count_fragment(in.clip.xy);
     let f = make_frame(in.normal, in.tangent, in.uv_scale);
     let tiling = G.tiling;
     let s0 = in.uv * tiling;

@@ -120,6 +120,8 @@ pub struct SceneDefs {
     /// the frame asks for the cost counters (AOVs `fetches`, `bytes`): COUNT_FETCHES, and the
     /// cost target is written (shaders/cost.wgsl). Without it the counters compile away.
     pub count_fetches: bool,
+    /// the frame asks for the `fragments` AOV: COUNT_FRAGMENTS (shaders/cost.wgsl's counter)
+    pub count_fragments: bool,
     /// an object of the frame has a transform (TRANSFORMED): the model-space arithmetic, which
     /// each object still skips when its own is the identity (a uniform branch; in a frame of
     /// untransformed objects the arithmetic is compiled out: lavapipe runs both sides of a branch)
@@ -152,6 +154,9 @@ pub fn defs(
     }
     if frame.count_fetches {
         d.insert("COUNT_FETCHES".to_string(), ShaderDefValue::Bool(true));
+    }
+    if frame.count_fragments {
+        d.insert("COUNT_FRAGMENTS".to_string(), ShaderDefValue::Bool(true));
     }
     d.insert(
         "SHADOWS".to_string(),

@@ -78,3 +78,78 @@ def test_the_counters_are_named_not_in_all(renderer, flat0):
     assert set(pk.COST_AOVS) <= set(pk.AOV_NAMES)
     with pytest.raises(AttributeError, match="aovs="):
         _ = f.fetches
+
+
+# ---- the fragments AOV: fragment invocations of the surface pass (overdraw) ----
+
+FRAG = ("fragments", "mask")
+
+
+def _far_plane(size=48):
+    # the whole plane in view, its outline inside the frame: pixels off the plane are misses
+    return plane_scene(np.full((32, 32), 0.5, np.float32), theta_deg=30.0, size=size, dist=5.0)
+
+
+@pytest.mark.parametrize("method", [pk.Flat(), pk.Bump(), pk.POM(), pk.Exact()], ids=lambda m: m.name)
+def test_a_plane_is_one_fragment_a_pixel(renderer, method):
+    """A plane of two triangles: the rasteriser's rules put each pixel centre in exactly one of
+    them, so every covered pixel counts 1 and every other pixel 0 (a per-pixel method's march
+    runs inside that one fragment)."""
+    f = renderer.render(_far_plane(), method, aovs=FRAG)
+    assert 0.2 < f.mask.mean() < 0.9
+    assert np.all(f.fragments[f.mask] == 1) and np.all(f.fragments[~f.mask] == 0)
+
+
+def test_fragments_are_counted_only_when_named(renderer):
+    assert "fragments" in pk.COST_AOVS
+    f = renderer.render(_far_plane(), pk.Flat())
+    with pytest.raises(AttributeError, match="aovs"):
+        f.fragments
+
+
+def test_two_overlapping_objects_count_two(renderer):
+    """Two planes, one above the other, seen from above: where both cover the pixel, two
+    fragments run (the counter adds over every draw, whichever wins the depth test)."""
+    h = np.full((16, 16), 0.5, np.float32)
+    big = pk.Object(pk.Mesh.plane(2.0), pk.Material(h, depth=0.05))
+    small = pk.Object(pk.Mesh.plane(2.0), pk.Material(h, depth=0.05), pk.scenes.translate(0.3, 0.4, 0.0) @ pk.scenes.scale(0.5, 1.0, 0.5))
+    cam = pk.Camera.look_at((0.0, 6.0, 0.01), target=(0, 0, 0), up=(0, 0, -1), fov_y=30.0, width=48, height=48)
+    one = renderer.render(pk.Scene(objects=[small], camera=cam), pk.Flat(), aovs=FRAG)
+    both = renderer.render(pk.Scene(objects=[big, small], camera=cam), pk.Flat(), aovs=FRAG)
+    assert one.mask.sum() > 20
+    assert np.all(both.fragments[one.mask] == 2)
+    assert np.all(both.fragments[both.mask & ~one.mask] == 1) and np.all(both.fragments[~both.mask] == 0)
+
+
+def test_a_closed_convex_mesh_is_one_fragment_a_pixel(renderer):
+    """A sphere: back faces are culled, and the front faces tile the disc once."""
+    sc = pk.Scene(mesh=pk.Mesh.sphere(segments=32, rings=16), material=pk.Material(np.full((8, 8), 0.5, np.float32), depth=0.0),
+                  camera=pk.Camera.look_at((0, 0, 4), width=48, height=48))
+    f = renderer.render(sc, pk.Flat(), aovs=FRAG)
+    assert f.mask.sum() > 300 and np.all(f.fragments[f.mask] == 1) and np.all(f.fragments[~f.mask] == 0)
+
+
+def test_tessellated_counts_its_folds(renderer):
+    """The displaced mesh of a flat map seen from above is a plane of many triangles: 1 a pixel.
+    Of a steep map at a grazing view, its folds overlap: more than 1 where a ridge hides a
+    valley, and never 0 where it covers."""
+    top = plane_scene(np.full((32, 32), 0.5, np.float32), theta_deg=0.0, size=40, dist=5.0)
+    f = renderer.render(top, pk.Tessellated(0.5, shadows="none"), aovs=FRAG)
+    assert f.mask.mean() > 0.1 and np.all(f.fragments[f.mask] == 1)
+    steep = plane_scene(pk.textures.pyramids(32, 4), theta_deg=70.0, size=48, depth=0.2)
+    g = renderer.render(steep, pk.Tessellated(0.5, shadows="none"), aovs=FRAG)
+    assert np.all(g.fragments[g.mask] >= 1) and g.fragments.max() >= 2, g.fragments[g.mask].mean()
+
+
+def test_prism_counts_every_shell_face_it_enters(renderer):
+    """Prism rasterises the shell's boundary, front faces: on a plane each pixel's ray enters
+    the flat top once (1; the walk through the prisms runs inside that fragment), and where it
+    misses the map inside the outline its fragment still ran. On a torus a ray can enter the
+    shell twice (through the near tube, out, and into the far one): 2 there, hit or discarded."""
+    f = renderer.render(_far_plane(), pk.Prism(), aovs=FRAG)
+    assert np.all(f.fragments[f.mask] == 1)
+    torus = pk.Scene(mesh=pk.Mesh.torus(segments=48, tube_segments=24),
+                     material=pk.Material(pk.textures.cobblestones(64, cells=6), depth=0.1),
+                     camera=pk.Camera.look_at((0.0, 1.2, 2.6), fov_y=40, width=64, height=64))
+    g = renderer.render(torus, pk.Prism(), aovs=FRAG)
+    assert np.all(g.fragments[g.mask] >= 1) and (g.fragments >= 2).sum() >= 10, np.bincount(g.fragments.ravel())

@@ -14,7 +14,7 @@ __all__ = ["Frame", "AovName", "AOV_NAMES", "COST_AOVS"]
 
 #: the AOVs a render can return (`Renderer.render(..., aovs=...)`): the core's list, the one
 #: source; the Literal types them (tests/test_contracts.py holds the two equal)
-AovName = Literal["color", "uv", "depth", "mask", "coverage", "steps", "lod", "flags", "object", "fetches", "bytes"]
+AovName = Literal["color", "uv", "depth", "mask", "coverage", "steps", "lod", "flags", "object", "fetches", "bytes", "fragments"]
 AOV_NAMES: tuple[str, ...] = tuple(_core.AOV_NAMES)
 #: the cost counters: counted only when named in `aovs=` (not in "all")
 COST_AOVS: tuple[str, ...] = tuple(_core.COST_AOV_NAMES)

@@ -26,6 +26,10 @@ pub struct Capabilities {
     /// storage buffers in fragment shaders (the max pyramid, prisms, cone data): required;
     /// without them pomkit reports no usable adapter rather than rendering wrongly
     pub fragment_storage: bool,
+    /// FRAGMENT_WRITABLE_STORAGE with a storage buffer to spare per stage: the `fragments`
+    /// AOV's per-pixel counter (an atomic add in the surface pass). Fallback: asking for
+    /// `fragments` raises an error that says the adapter lacks it; nothing else needs it.
+    pub fragment_counters: bool,
     /// compute shaders (the mip and max pyramids, methods' tables): required
     pub compute_shaders: bool,
     /// textureGather on the R32Float height map (the max-mip walk's cell corners): WGSL core
@@ -57,6 +61,9 @@ impl Capabilities {
             fragment_storage: d.flags.contains(wgpu::DownlevelFlags::FRAGMENT_STORAGE)
                 && adapter.limits().max_storage_buffers_per_shader_stage
                     >= STORAGE_BUFFERS_PER_STAGE,
+            fragment_counters: d.flags.contains(wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE)
+                && adapter.limits().max_storage_buffers_per_shader_stage
+                    > STORAGE_BUFFERS_PER_STAGE,
             compute_shaders: d.flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS),
             gather: adapter
                 .get_texture_format_features(wgpu::TextureFormat::R32Float)
@@ -102,6 +109,11 @@ impl Capabilities {
                 "storage buffers in fragment shaders",
                 self.fragment_storage,
                 "required: no usable adapter",
+            ),
+            (
+                "writable storage in fragment shaders",
+                self.fragment_counters,
+                "the `fragments` AOV (overdraw) raises an error naming the adapter",
             ),
             (
                 "compute shaders",

@@ -27,6 +27,10 @@ pub enum Source {
     /// the cost target's channel `c` (shaders/cost.wgsl), where hit (0 elsewhere); written only
     /// when asked for (shader def COUNT_FETCHES)
     Cost(usize),
+    /// the fragment counter (shaders/cost.wgsl: a storage buffer, `Targets::counter`), every
+    /// pixel, hit or not; counted only when asked for (shader def COUNT_FRAGMENTS). It needs
+    /// no render target: `target` names the colour target, which every frame reads.
+    Fragments,
 }
 
 /// The colour target's bit that marks a hit (channel 3, bit 31; shaders/aov.wgsl).
@@ -75,7 +79,7 @@ impl Source {
     pub const fn target(self) -> usize {
         match self {
             Source::ColorRgb | Source::ColorLow28 | Source::ColorHigh4 => 0,
-            Source::Hit | Source::Coverage => 0,
+            Source::Hit | Source::Coverage | Source::Fragments => 0,
             Source::Geo(_) => 1,
             Source::Id => 2,
             Source::Cost(_) => 3,
@@ -105,7 +109,7 @@ pub struct Aov {
 }
 
 /// Every AOV, in the order of `Frame.aovs` and Python's `AOV_NAMES`.
-pub const AOVS: [Aov; 11] = [
+pub const AOVS: [Aov; 12] = [
     Aov {
         name: "color",
         comps: 3,
@@ -183,6 +187,13 @@ pub const AOVS: [Aov; 11] = [
         source: Source::Cost(1),
         doc: "bytes those fetches read (a filtered sample: 4 bytes per texel its filter reads); 0 where no hit",
     },
+    Aov {
+        name: "fragments",
+        comps: 1,
+        dtype: Dtype::U32,
+        source: Source::Fragments,
+        doc: "fragment invocations of the surface pass at the pixel (overdraw), whether they wrote or discarded: Flat on a plane 1, Prism every prism face tested, Tessellated every triangle fragment; counted everywhere, hit or not",
+    },
 ];
 
 const fn names() -> [&'static str; AOVS.len()] {
@@ -199,7 +210,7 @@ const fn standard_bits() -> u32 {
     let mut bits = 0;
     let mut i = 0;
     while i < AOVS.len() {
-        if !matches!(AOVS[i].source, Source::Cost(_)) {
+        if !matches!(AOVS[i].source, Source::Cost(_) | Source::Fragments) {
             bits |= 1 << i;
         }
         i += 1;
@@ -292,6 +303,10 @@ impl Aovs {
     pub fn counts_fetches(self) -> bool {
         self.targets()[Source::Cost(0).target()]
     }
+    /// Whether the frame asks for the fragment counter (shader def COUNT_FRAGMENTS).
+    pub fn counts_fragments(self) -> bool {
+        self.has("fragments")
+    }
 }
 
 /// The targets a pass writes: `read`, or, when the adapter cannot leave a gap in its colour
@@ -330,8 +345,8 @@ pub struct Frame {
 }
 
 /// The targets' texels as read back, aligned with `TARGETS` (None when not read): each pixel's
-/// `words` u32 words, row-major.
-pub struct Texels(pub [Option<Vec<u32>>; TARGETS.len()]);
+/// `words` u32 words, row-major; and the fragment counter, one u32 a pixel (None when not read).
+pub struct Texels(pub [Option<Vec<u32>>; TARGETS.len()], pub Option<Vec<u32>>);
 
 impl Texels {
     /// Pixel `i`'s words of target `t` (the target was read).
@@ -427,6 +442,7 @@ impl Frame {
                             .collect(),
                     ),
                     Source::Cost(c) => AovData::U32(where_hit(&|i| t.px(k, i)[c], 0)),
+                    Source::Fragments => AovData::U32(t.1.clone().unwrap_or_else(|| vec![0; n])),
                 })
             })
             .collect();
@@ -475,7 +491,7 @@ mod tests {
             ),
             Some(vec![4; n]),
             Some([9, 36].repeat(n)),
-        ]);
+        ], Some((0..n as u32).collect()));
         let f = Frame::decode(w, h, Aovs::ALL, &t, None, 0.0);
         for (a, d) in AOVS.iter().zip(&f.data) {
             let d = d.as_ref().expect("every AOV");
@@ -531,7 +547,7 @@ mod tests {
             None,
             None,
             None,
-        ]);
+        ], None);
         let f1 = Frame::decode(2, 1, Aovs::parse(&["object"]).unwrap(), &t1, None, 0.0);
         assert_eq!(f1.get("object"), Some(&AovData::I32(vec![0, -1])));
     }
@@ -554,7 +570,7 @@ mod tests {
                 })
                 .collect()
         };
-        let t = Texels([Some(color), Some(geo(n, 0)), None, None]);
+        let t = Texels([Some(color), Some(geo(n, 0)), None, None], None);
         let (ss, rest) = Aovs::parse(&["color", "coverage", "uv", "object"])
             .unwrap()
             .split_supersampled();
@@ -564,7 +580,7 @@ mod tests {
             Some(geo(2, 9)),
             Some(vec![5, 7]),
             None,
-        ]);
+        ], None);
         let plain = Frame::decode(2, 1, rest.unwrap(), &t1, Some(0.5), 1.0);
         let f = Frame::supersampled(big, 2, Some(plain));
         assert_eq!((f.width, f.height), (2, 1));

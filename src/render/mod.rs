@@ -273,6 +273,15 @@ impl Renderer {
     pub fn render_many(&self, scenes: &[Scene], method: &Method, aovs: Aovs) -> Result<Vec<Frame>> {
         method.validate()?;
         self.ctx.check_alive()?;
+        if aovs.counts_fragments() && !self.ctx.caps.fragment_counters {
+            return Err(Error::arg(
+                "aovs",
+                format!(
+                    "the `fragments` AOV counts with an atomic add in the fragment shader, and this adapter ({}) has no writable storage buffers in fragment shaders; leave `fragments` out, or use another adapter (python -m pomkit info lists what each has)",
+                    self.ctx.info.name
+                ),
+            ));
+        }
         let spec = method.spec();
         let filtering = self.effective_filtering(spec.pixel.filtering);
         let arg = spec.shader_arg;
@@ -296,6 +305,7 @@ impl Renderer {
                     shadow_map: shadow.is_some(),
                     displaced_depth: scene.objects.len() > 1,
                     count_fetches: aovs.counts_fetches(),
+                    count_fragments: aovs.counts_fragments(),
                     transformed: scene.objects.iter().any(|o| !o.transform.is_identity()),
                     sphere_lights: scene
                         .lights
@@ -310,10 +320,11 @@ impl Renderer {
                 .map(|s| self.shadow_target(s.size))
                 .transpose()?;
             let shadow_view = shadow_view.as_deref();
+            let tg = self.targets(scene.camera.width, scene.camera.height)?;
             let (binds, draws) =
-                self.draws(scene, &spec, &variant, shadow.as_ref(), shadow_view)?;
+                self.draws(scene, &spec, &variant, shadow.as_ref(), shadow_view, &tg)?;
             let next = self.submit(
-                scene,
+                tg,
                 &variant,
                 shadow_view,
                 &binds,
@@ -375,18 +386,24 @@ impl Renderer {
         Ok(v)
     }
 
-    /// Group 0 of a frame: the view block and the shadow map (or its stand-in).
-    fn view_bind_group(&self, view: &wgpu::Buffer, shadow: &wgpu::TextureView) -> wgpu::BindGroup {
+    /// Group 0 of a frame: the view block, the shadow map (or its stand-in) and, where the
+    /// adapter has them, the targets' fragment counter.
+    fn view_bind_group(
+        &self,
+        view: &wgpu::Buffer,
+        shadow: &wgpu::TextureView,
+        targets: &Targets,
+    ) -> wgpu::BindGroup {
         use wgpu::BindingResource as R;
-        self.ctx.bind_group(
-            "view",
-            &self.pipelines.view_bgl,
-            vec![
-                view.as_entire_binding(),
-                R::TextureView(shadow),
-                R::Sampler(&self.fixed.shadow_sampler),
-            ],
-        )
+        let mut entries = vec![
+            view.as_entire_binding(),
+            R::TextureView(shadow),
+            R::Sampler(&self.fixed.shadow_sampler),
+        ];
+        if let Some((c, _)) = &targets.counter {
+            entries.push(c.as_entire_binding());
+        }
+        self.ctx.bind_group("view", &self.pipelines.view_bgl, entries)
     }
 
     /// The frame's view bind groups and every object's draw: its resources (made or found in
@@ -398,6 +415,7 @@ impl Renderer {
         variant: &pipelines::Variant,
         shadow: Option<&shadow_map::ShadowSetup>,
         shadow_view: Option<&wgpu::TextureView>,
+        targets: &Targets,
     ) -> Result<(FrameBinds, Vec<Draw>)> {
         use wgpu::BindingResource as R;
         let ctx = &self.ctx;
@@ -414,9 +432,9 @@ impl Renderer {
                 wgpu::BufferUsages::UNIFORM,
             );
             let binds = FrameBinds {
-                view: self.view_bind_group(&view, shadow_view.unwrap_or(&f.no_shadow)),
+                view: self.view_bind_group(&view, shadow_view.unwrap_or(&f.no_shadow), targets),
                 // the shadow-map pass cannot sample the map it writes
-                shadow: shadow_view.map(|_| self.view_bind_group(&view, &f.no_shadow)),
+                shadow: shadow_view.map(|_| self.view_bind_group(&view, &f.no_shadow, targets)),
             };
             Ok((params, binds))
         })?;
@@ -466,7 +484,7 @@ impl Renderer {
 
     fn submit(
         &self,
-        scene: &Scene,
+        tg: Arc<Targets>,
         variant: &pipelines::Variant,
         shadow_view: Option<&wgpu::TextureView>,
         binds: &FrameBinds,
@@ -475,7 +493,6 @@ impl Renderer {
         (read, written): ([bool; aovs::TARGETS.len()], [bool; aovs::TARGETS.len()]),
     ) -> Result<Pending> {
         let ctx = &self.ctx;
-        let (w, h) = (scene.camera.width, scene.camera.height);
         ctx.scoped(|| {
             let mut enc = ctx
                 .device
@@ -491,7 +508,9 @@ impl Renderer {
                     draws,
                 );
             }
-            let tg = self.targets(w, h)?;
+            if aovs.counts_fragments() {
+                tg.encode_counter_clear(&mut enc);
+            }
             {
                 let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("surface"),
@@ -522,7 +541,7 @@ impl Renderer {
                     d.mesh.draw(&mut pass);
                 }
             }
-            tg.encode_readback(&mut enc, read);
+            tg.encode_readback(&mut enc, read, aovs.counts_fragments());
             let t0 = std::time::Instant::now();
             let submission = ctx.queue.submit([enc.finish()]);
             Ok(Pending {

@@ -111,13 +111,22 @@ impl Pipelines {
                 )
             };
             let uniform = |b: u32| layout::buffer(b, vf, wgpu::BufferBindingType::Uniform);
+            let mut view_entries = vec![
+                uniform(0),
+                layout::texture(1, vf, wgpu::TextureSampleType::Depth),
+                layout::sampler(2, vf, wgpu::SamplerBindingType::Comparison),
+            ];
+            if ctx.caps.fragment_counters {
+                // the `fragments` AOV's counter (shaders/cost.wgsl), bound in every frame
+                view_entries.push(layout::buffer(
+                    3,
+                    wgpu::ShaderStages::FRAGMENT,
+                    wgpu::BufferBindingType::Storage { read_only: false },
+                ));
+            }
             let view_bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("pomkit view"),
-                entries: &[
-                    uniform(0),
-                    layout::texture(1, vf, wgpu::TextureSampleType::Depth),
-                    layout::sampler(2, vf, wgpu::SamplerBindingType::Comparison),
-                ],
+                entries: &view_entries,
             });
             let object_bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("pomkit object"),

@@ -26,6 +26,9 @@ pub struct Targets {
     pub queries: Option<wgpu::QuerySet>,
     pub ts_resolve: Option<wgpu::Buffer>,
     pub ts_read: Option<wgpu::Buffer>,
+    /// the `fragments` AOV's counter (one u32 a pixel, shaders/cost.wgsl) and its readback,
+    /// where the adapter has writable storage in fragment shaders (`fragment_counters`)
+    pub counter: Option<(wgpu::Buffer, wgpu::Buffer)>,
 }
 
 /// Bytes per row of a readback buffer of the widest target (256-aligned).
@@ -93,6 +96,19 @@ impl Targets {
                 )
             }),
             ts_read: ts.then(|| buf("ts read", 16, rb)),
+            counter: ctx.caps.fragment_counters.then(|| {
+                let size = (w as u64 * h as u64 * 4).max(4);
+                (
+                    buf(
+                        "fragment counter",
+                        size,
+                        wgpu::BufferUsages::STORAGE
+                            | wgpu::BufferUsages::COPY_SRC
+                            | wgpu::BufferUsages::COPY_DST,
+                    ),
+                    buf("fragment counter read", size, rb),
+                )
+            }),
         }
     }
 
@@ -126,8 +142,24 @@ impl Targets {
             .collect()
     }
 
-    /// Copy the targets `read` and the pass's timestamps into the readback buffers.
-    pub fn encode_readback(&self, enc: &mut wgpu::CommandEncoder, read: [bool; TARGETS.len()]) {
+    /// Zero the fragment counter before a pass that counts (COUNT_FRAGMENTS).
+    pub fn encode_counter_clear(&self, enc: &mut wgpu::CommandEncoder) {
+        if let Some((c, _)) = &self.counter {
+            enc.clear_buffer(c, 0, None);
+        }
+    }
+
+    /// Copy the targets `read`, the fragment counter when `fragments`, and the pass's
+    /// timestamps into the readback buffers.
+    pub fn encode_readback(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        read: [bool; TARGETS.len()],
+        fragments: bool,
+    ) {
+        if let (true, Some((c, r))) = (fragments, &self.counter) {
+            enc.copy_buffer_to_buffer(c, 0, r, 0, c.size());
+        }
         for ((tg, d), used) in self.targets.iter().zip(&TARGETS).zip(read) {
             if !used {
                 continue;
@@ -173,6 +205,10 @@ impl Targets {
             .map(|(t, _)| &t.buf)
             .collect();
         let n_targets = bufs.len();
+        let fragments = aovs.counts_fragments() && self.counter.is_some();
+        if let (true, Some((_, r))) = (fragments, &self.counter) {
+            bufs.push(r);
+        }
         if let Some(b) = &self.ts_read {
             bufs.push(b);
         }
@@ -196,11 +232,15 @@ impl Targets {
                     out
                 })
             });
+            let fragments = fragments.then(|| {
+                bytemuck::cast_slice::<u8, u32>(&raw[n_targets][..w * h * 4]).to_vec()
+            });
+            let ts = n_targets + fragments.is_some() as usize;
             let gpu_ms = self.ts_read.as_ref().and_then(|_| {
-                let t: &[u64] = bytemuck::cast_slice(&raw[n_targets][..16]);
+                let t: &[u64] = bytemuck::cast_slice(&raw[ts][..16]);
                 (t[1] > t[0]).then(|| (t[1] - t[0]) as f64 * period / 1e6)
             });
-            Frame::decode(self.w, self.h, aovs, &Texels(texels), gpu_ms, wall_ms)
+            Frame::decode(self.w, self.h, aovs, &Texels(texels, fragments), gpu_ms, wall_ms)
         })
     }
 }

@@ -43,6 +43,10 @@ uniform_struct! {
         pub shadow_texel: f32,
         pub shadow_size: f32,
         pub shadow_bias: f32,
+        pub frame_width: f32,
+        pub pad_va: f32,
+        pub pad_vb: f32,
+        pub pad_vc: f32,
     }
 }
 
@@ -135,6 +139,10 @@ pub fn view(scene: &Scene, shadow: Option<&super::shadow_map::ShadowSetup>) -> V
         shadow_texel: shadow.map(|s| s.texel).unwrap_or(0.0),
         shadow_size: shadow.map(|s| s.size as f32).unwrap_or(1.0),
         shadow_bias: shadow.map(|s| s.bias).unwrap_or(0.0),
+        frame_width: scene.camera.width as f32,
+        pad_va: 0.0,
+        pad_vb: 0.0,
+        pad_vc: 0.0,
     }
 }
 

@@ -176,12 +176,13 @@ fn every_variant_translates_to_every_backend() {
     for m in builtin_variants() {
         let spec = m.spec();
         // plain; with a shadow map; and every frame def on (several transformed objects, sphere
-        // lights, the cost counters)
+        // lights, the cost and fragment counters)
         for (shadow_map, all) in [(false, false), (true, false), (true, true)] {
             let frame = SceneDefs {
                 shadow_map,
                 displaced_depth: all,
                 count_fetches: all,
+                count_fragments: all,
                 transformed: all,
                 sphere_lights: all,
             };

@@ -20,7 +20,7 @@
 // (DISPLACED_DEPTH); with one, the entries' rasterised depth orders the fragments (a ray's later
 // entry lies behind its earlier one's whole walk), which keeps the early depth test.
 
-#import pomkit::cost::fetched
+#import pomkit::cost::{fetched, count_fragment}
 #import pomkit::globals::{G, V}
 #import pomkit::vertex::{VertexIn, VertexOut, pass_through}
 #import pomkit::aov::{FsOut, write_aovs, FLAG_BOUND}
@@ -296,6 +296,7 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
 
 @fragment
 fn fs_prism(in: VertexOut) -> FsOut {
+    count_fragment(in.clip.xy);
     let tiling = G.tiling;
     let lod = compute_lod(in.uv * tiling);
     // object space, as in surface.wgsl
