@@ -52,6 +52,18 @@ struct Hit {
     exited: bool,
 }
 
+// A ray that does not descend into the shell in its fragment's frame (v_ts.z >= -GRAZING: on
+// a curved mesh, a silhouette fragment whose interpolated normal faces away from the view): no
+// walk can find the field along it (its slope, dsdh, is clamped to 1e6 texture units per
+// height), so the traversals (Exact, ConeStep) end at the entry, as Flat shows it, instead of
+// walking to their iteration bound (measured on a torus: 48 pixels at 4096 iterations held a
+// 256² frame at 43 ms against POM's 5).
+const GRAZING: f32 = 0.0;
+
+fn does_not_descend(r: Ray) -> bool {
+    return r.v_ts.z >= -GRAZING;
+}
+
 fn planar_hit(r: Ray, s: vec2<f32>, h: f32, steps: f32, flags: u32) -> Hit {
     var hit: Hit;
     hit.s = s;

@@ -346,3 +346,133 @@ def pareto_front(points):
             front.append(i)
             best = points[i][1]
     return front
+
+
+# ---------------------------------------------------------------- the cost model over every method
+
+#: the per-frame counts the cost model fits GPU ms with (shaders/cost.wgsl; docs/cost.md)
+COST_TERMS = ("fetches", "fragments", "primitives")
+
+#: the pixel block that runs in lock step (a SIMD group: 8 x 4 = 32 lanes, a warp)
+GROUP = (4, 8)
+
+
+def group_total(a: np.ndarray, block: tuple[int, int] = GROUP) -> float:
+    """The work of a per-pixel count `a` (H, W) when the pixels of each `block` run in lock
+    step: every lane waits for the block's longest, so each block costs its maximum times its
+    size. Summed over the frame (the blocks tile it from the top-left; the edges' partial blocks
+    count their own pixels)."""
+    h, w = a.shape
+    bh, bw = block
+    ph, pw = -h % bh, -w % bw
+    x = np.pad(a.astype(np.float64), ((0, ph), (0, pw)), constant_values=-np.inf)
+    m = x.reshape((h + ph) // bh, bh, (w + pw) // bw, bw).max(axis=(1, 3))
+    n = np.isfinite(x).reshape((h + ph) // bh, bh, (w + pw) // bw, bw).sum(axis=(1, 3))
+    return float(np.sum(np.where(n > 0, m, 0.0) * n))
+
+
+def primitives(scene: _scene.Scene, method) -> int:
+    """The triangles a frame submits to the rasteriser for `method`: the base meshes' for the
+    per-pixel methods, the displaced mesh's for Tessellated (its lattice at `texels_per_vertex`),
+    and for Prism the shell's boundary (a top and a bottom per base triangle; the unshared sides
+    of an open mesh's border are left out, a few per cent). What a user counts on their own
+    scene to estimate the cost with the model's coefficients."""
+    from . import _core
+    n = 0
+    for i, o in enumerate(scene.objects):
+        base = len(o.mesh.indices) // 3
+        if isinstance(method, _methods.Tessellated):
+            t = _core.tessellate(scene._describe(), float(method.texels_per_vertex), i)
+            n += int(t["faces"].shape[0])
+        elif isinstance(method, _methods.Prism):
+            n += 2 * base
+        else:
+            n += base
+    return n
+
+
+def cost_rows(r: _render.Renderer, scenes: dict, methods: list, min_repeats: int = 3,
+              max_repeats: int = 9) -> list[dict]:
+    """Per scene and method: GPU ms (`time_methods`: warm-up, interleaved rounds, median) and
+    the frame's totals of fetches, fragments and steps (one render that counts them, not timed)
+    and its primitives."""
+    rows = []
+    for sname, sc in scenes.items():
+        ts = time_methods(r, sc, methods, min_repeats=min_repeats, max_repeats=max_repeats)
+        for m, t in zip(methods, ts):
+            f = r.render(sc, m, aovs=("mask", "fetches", "fragments", "steps"))
+            rows.append(dict(chart="cost_model", scene=sname, method=m.name, label=label(m), gpu_ms=t["ms"],
+                             gpu_ms_p25=t["ms_p25"], gpu_ms_p75=t["ms_p75"], march_ms=t["march_ms"], timing=t["timing"],
+                             fetches=float(f.fetches.sum(dtype=np.float64)),
+                             fragments=float(f.fragments.sum(dtype=np.float64)),
+                             steps=float(f.steps.sum(dtype=np.float64)), primitives=float(primitives(sc, m)),
+                             fetches_group=group_total(f.fetches), steps_group=group_total(f.steps),
+                             pixels=int(f.mask.size)))
+    return rows
+
+
+def fit_model(rows: list[dict], terms: Iterable[str] = COST_TERMS, y: str = "gpu_ms") -> dict:
+    """Least squares `y = a + sum(c_t * t)` over `rows` (per-frame totals), with R² and the
+    worst relative error of a row. Returns a, the coefficients by term (ms per unit), r2,
+    max_rel_err, n."""
+    terms = list(terms)
+    rows = [x for x in rows if np.isfinite(x.get(y, np.nan))]
+    X = np.array([[1.0] + [float(x[t]) for t in terms] for x in rows])
+    Y = np.array([float(x[y]) for x in rows])
+    if len(rows) <= len(terms) + 1:
+        return dict(a=float("nan"), coef={t: float("nan") for t in terms}, r2=float("nan"), max_rel_err=float("nan"),
+                    n=len(rows))
+    # scale the columns so that the solve is well conditioned, then undo it
+    s = np.maximum(np.abs(X).max(0), 1e-30)
+    c, *_ = np.linalg.lstsq(X / s, Y, rcond=None)
+    c = c / s
+    pred = X @ c
+    r2 = 1.0 - float(np.sum((Y - pred) ** 2)) / float(np.sum((Y - Y.mean()) ** 2))
+    return dict(a=float(c[0]), coef={t: float(v) for t, v in zip(terms, c[1:])}, r2=r2,
+                max_rel_err=float(np.max(np.abs(pred - Y) / np.maximum(Y, 1e-9))), n=len(rows))
+
+
+def _shadows_off(cls, **kw):
+    import inspect
+    if "shadows" in inspect.signature(cls).parameters:
+        kw.setdefault("shadows", "none")
+    return cls(**kw)
+
+
+def cost_model_suite(size: int = 256, quick: bool = False) -> tuple[dict, list]:
+    """The cost model's scenes and methods: planar maps at 45-70° (bricks, the gravel
+    photograph tiled twice, the terrain DEM) and a torus and a sphere with two tiles of
+    cobblestones; every built-in method with shadows off, Tessellated at three lattices, Prism
+    both ways, POM at two step budgets."""
+    def plane(h, theta, tiling=1.0):
+        return plane_scene(h, theta, size, depth=0.08, tiling=tiling)
+
+    def curved(mesh):
+        m = _scene.Mesh.torus(segments=48, tube_segments=24) if mesh == "torus" else _scene.Mesh.sphere(segments=48, rings=24)
+        return _scene.Scene(mesh=m, material=_scene.Material(textures.cobblestones(256, cells=8), depth=0.06, tiling=2.0),
+                            camera=_scene.Camera.look_at((0.4, 1.6, 2.8), fov_y=40, width=size, height=size))
+
+    scenes = {"bricks 45°": plane(textures.bricks(256), 45.0), "gravel 70°": plane(textures.real("gravel", 256), 70.0, 2.0),
+              "terrain 60°": plane(textures.real("terrain", 256), 60.0), "torus": curved("torus"), "sphere": curved("sphere")}
+    if quick:
+        scenes = {k: scenes[k] for k in ("bricks 45°", "torus")}
+    M, off = _methods, _shadows_off
+    methods = [off(M.Flat), off(M.Bump), off(M.Parallax), off(M.SteepParallax, steps=16), off(M.POM),
+               off(M.POM, min_steps=16, max_steps=64), off(M.Relief), off(M.ConeStep), off(M.Exact), off(M.DistanceMapping),
+               off(M.NCS), off(M.CurvedRelief), off(M.Prism), off(M.Prism, exact=True),
+               off(M.Tessellated, texels_per_vertex=1.0), off(M.Tessellated, texels_per_vertex=0.5),
+               off(M.Tessellated, texels_per_vertex=2.0)]
+    return scenes, methods
+
+
+#: the model's two forms: the counts themselves, and with the search's counts taken per SIMD group
+COST_MODELS = {"per pixel": ("fetches", "fragments", "primitives"),
+               "per SIMD group": ("fetches_group", "steps_group", "fragments", "primitives")}
+
+
+def cost_model(r: _render.Renderer, size: int = 256, quick: bool = False) -> dict:
+    """GPU ms of every method over `cost_model_suite`, and the least-squares fits of
+    `COST_MODELS` (docs/cost.md): rows and fits by name."""
+    scenes, methods = cost_model_suite(size, quick)
+    rows = cost_rows(r, scenes, methods, min_repeats=2 if quick else 3, max_repeats=4 if quick else 9)
+    return dict(rows=rows, fits={k: fit_model(rows, t) for k, t in COST_MODELS.items()})

@@ -5,10 +5,15 @@
 
 #import pomkit::globals::G
 #import pomkit::aov::FLAG_BOUND
-#import pomkit::march::{Ray, Hit, planar_hit}
+#import pomkit::march::{Ray, Hit, planar_hit, does_not_descend}
 #import pomkit::maxmip::{maxmip_traverse, positive_start}
 
 fn march(r: Ray) -> Hit {
+    if (does_not_descend(r)) {
+        var entry = planar_hit(r, r.s, 1.0, 0.0, 0u);
+        entry.lod = 0.0;
+        return entry;
+    }
     let d = r.dsdh * G.map_size;
     let p0 = positive_start(r.s, d);
     let tr = maxmip_traverse(p0.x, p0.y, 1.0, d.x, d.y, -1.0, 2.0, G.max_iterations);

@@ -16,7 +16,7 @@ import numpy as np
 
 import pomkit as pk
 from pomkit import presets
-from pomkit.bench import fit_cost, pareto_front, plane_scene, sweep, swimming, time_methods, write_csv
+from pomkit.bench import cost_model, fit_cost, pareto_front, plane_scene, sweep, swimming, time_methods, write_csv
 
 #: what the bench needs beyond the library (the `bench` extra)
 NEEDS = ("matplotlib", "pandas", "tqdm")
@@ -357,6 +357,12 @@ def run_bench(out: str = "pomkit-out/bench", quick: bool = False, spp: int = 1) 
         f"a {fit['a']:.2f} ms, b {fit['b'] * 1e3:.1f} us/fetch, R² {fit['r2']:.3f} (n {fit['n']})")
     goals["cost_fit march_ms = a + b * fetches (per-pixel methods)"] = (
         f"a {fit_m['a']:.2f} ms, b {fit_m['b'] * 1e3:.1f} us/fetch, R² {fit_m['r2']:.3f} (n {fit_m['n']})")
+    # the cost model over every method (docs/cost.md): ms = a + sum(c_t * per-frame count t)
+    cm = cost_model(r, quick=quick)
+    for name, fm in cm["fits"].items():
+        coefs = ", ".join(f"{t} {v * 1e6:.3g} ns" for t, v in fm["coef"].items())
+        goals[f"cost_model {name}: gpu_ms = a + sum(c * count) over every method (goal R² >= 0.95)"] = (
+            f"a {fm['a']:.2f} ms, {coefs}, R² {fm['r2']:.3f}, worst row off by {100 * fm['max_rel_err']:.0f}% (n {fm['n']})")
     # the speed goals over suites of scenes: worst case and median (apps/suite.py)
     from pomkit.apps import suite
     print("  the goals over the planar and curved suites ...")
@@ -385,7 +391,7 @@ def run_bench(out: str = "pomkit-out/bench", quick: bool = False, spp: int = 1) 
     for k, v in goals.items():
         print(f"  goal {k}: {v}")
 
-    write_csv(table + at + ft + tiling_rows + swim + curved + bevy_rows, outdir / "bench.csv")
+    write_csv(table + at + ft + tiling_rows + swim + curved + bevy_rows + cm["rows"], outdir / "bench.csv")
     with open(outdir / "goals.txt", "w") as fh:
         from pomkit._info import machine
         for field, value in machine().items():

@@ -18,7 +18,7 @@
 #import pomkit::cost::fetched
 #import pomkit::globals::G
 #import pomkit::aov::FLAG_BOUND
-#import pomkit::march::{Ray, Hit, planar_hit}
+#import pomkit::march::{Ray, Hit, planar_hit, does_not_descend}
 #import pomkit::maxmip::{cell_intersect, maxmip_traverse, positive_start}
 #import pomkit::height::{height_at, wrap_i}
 
@@ -52,6 +52,11 @@ fn below(r: Ray, t: f32) -> bool {
 }
 
 fn march(r: Ray) -> Hit {
+    if (does_not_descend(r)) {
+        var entry = planar_hit(r, r.s, 1.0, 0.0, 0u);
+        entry.lod = 0.0;
+        return entry;
+    }
     // cell space, per unit of height drop t (the ray is at height 1 - t)
     let d = r.dsdh * G.map_size;
     let a = max(abs(d.x), abs(d.y));
