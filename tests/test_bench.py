@@ -130,22 +130,34 @@ def test_regions_split_interior_and_outline():
 
 
 def test_fit_model_recovers_a_plane_and_says_how_well():
-    """ms = 2 + 3e-6 fetches + 5e-5 fragments + 1e-4 primitives, sampled where the terms vary
+    """ms = 2 + 3e-6 fetches + 1e-7 bytes + 5e-5 fragments + 1e-4 primitives, sampled where the terms vary
     independently (per-frame totals in the millions, as a real frame's): the least squares gives
     the coefficients back and R² 1; noise lowers R² below 1, and the worst relative error says
     which row the model misses most."""
     from pomkit.bench import fit_model
     rng = np.random.default_rng(0)
-    rows = [dict(fetches=float(f), fragments=float(g), primitives=float(p))
-            for f, g, p in zip(rng.uniform(0, 4e6, 40), rng.uniform(6e4, 3e5, 40), rng.uniform(2, 6e5, 40))]
+    rows = [dict(fetches=float(f), bytes=float(b), fragments=float(g), primitives=float(p))
+            for f, b, g, p in zip(rng.uniform(0, 4e6, 40), rng.uniform(0, 6e7, 40), rng.uniform(6e4, 3e5, 40),
+                                  rng.uniform(2, 6e5, 40))]
     for x in rows:
-        x["gpu_ms"] = 2.0 + 3e-6 * x["fetches"] + 5e-5 * x["fragments"] + 1e-4 * x["primitives"]
+        x["gpu_ms"] = 2.0 + 3e-6 * x["fetches"] + 1e-7 * x["bytes"] + 5e-5 * x["fragments"] + 1e-4 * x["primitives"]
     fit = fit_model(rows)
     assert fit["r2"] > 1 - 1e-9 and abs(fit["a"] - 2.0) < 1e-6 and fit["n"] == 40
-    assert np.allclose([fit["coef"][k] for k in ("fetches", "fragments", "primitives")], [3e-6, 5e-5, 1e-4], rtol=1e-6)
+    assert np.allclose([fit["coef"][k] for k in ("fetches", "bytes", "fragments", "primitives")], [3e-6, 1e-7, 5e-5, 1e-4],
+                       rtol=1e-6)
     for x in rows:
         x["gpu_ms"] *= rng.uniform(0.8, 1.2)
     noisy = fit_model(rows)
     assert 0.5 < noisy["r2"] < 0.999 and noisy["max_rel_err"] > 0.05
     # too few rows for the terms: NaN, not a fit that means nothing
-    assert np.isnan(fit_model(rows[:3])["r2"])
+    assert np.isnan(fit_model(rows[:4])["r2"])
+
+
+def test_group_total_charges_each_block_its_longest_lane():
+    from pomkit.bench import group_total
+    a = np.zeros((4, 8))
+    a[0, 0] = 100  # one slow lane: its 4 x 8 block of 32 waits for it
+    assert group_total(a) == 3200 and a.sum() == 100
+    # a partial block at the edge counts its own pixels
+    b = np.ones((5, 9))
+    assert group_total(b) == 45

@@ -351,7 +351,7 @@ def pareto_front(points):
 # ---------------------------------------------------------------- the cost model over every method
 
 #: the per-frame counts the cost model fits GPU ms with (shaders/cost.wgsl; docs/cost.md)
-COST_TERMS = ("fetches", "fragments", "primitives")
+COST_TERMS = ("fetches", "bytes", "fragments", "primitives")
 
 #: the pixel block that runs in lock step (a SIMD group: 8 x 4 = 32 lanes, a warp)
 GROUP = (4, 8)
@@ -394,19 +394,21 @@ def primitives(scene: _scene.Scene, method) -> int:
 def cost_rows(r: _render.Renderer, scenes: dict, methods: list, min_repeats: int = 3,
               max_repeats: int = 9) -> list[dict]:
     """Per scene and method: GPU ms (`time_methods`: warm-up, interleaved rounds, median) and
-    the frame's totals of fetches, fragments and steps (one render that counts them, not timed)
-    and its primitives."""
+    the frame's totals of fetches, bytes, fragments and steps (one render that counts them, not
+    timed), the search's counts per SIMD group (`group_total`) and its primitives."""
     rows = []
     for sname, sc in scenes.items():
         ts = time_methods(r, sc, methods, min_repeats=min_repeats, max_repeats=max_repeats)
         for m, t in zip(methods, ts):
-            f = r.render(sc, m, aovs=("mask", "fetches", "fragments", "steps"))
+            f = r.render(sc, m, aovs=("mask", "fetches", "bytes", "fragments", "steps"))
             rows.append(dict(chart="cost_model", scene=sname, method=m.name, label=label(m), gpu_ms=t["ms"],
                              gpu_ms_p25=t["ms_p25"], gpu_ms_p75=t["ms_p75"], march_ms=t["march_ms"], timing=t["timing"],
                              fetches=float(f.fetches.sum(dtype=np.float64)),
                              fragments=float(f.fragments.sum(dtype=np.float64)),
                              steps=float(f.steps.sum(dtype=np.float64)), primitives=float(primitives(sc, m)),
+                             bytes=float(f.bytes.sum(dtype=np.float64)),
                              fetches_group=group_total(f.fetches), steps_group=group_total(f.steps),
+                             bytes_group=group_total(f.bytes),
                              pixels=int(f.mask.size)))
     return rows
 
@@ -465,9 +467,10 @@ def cost_model_suite(size: int = 256, quick: bool = False) -> tuple[dict, list]:
     return scenes, methods
 
 
-#: the model's two forms: the counts themselves, and with the search's counts taken per SIMD group
-COST_MODELS = {"per pixel": ("fetches", "fragments", "primitives"),
-               "per SIMD group": ("fetches_group", "steps_group", "fragments", "primitives")}
+#: the model's two forms: the counts themselves, and with the search's counts taken per SIMD
+#: group (a group waits for its longest lane)
+COST_MODELS = {"per pixel": COST_TERMS,
+               "per SIMD group": ("fetches_group", "bytes_group", "fragments", "primitives")}
 
 
 def cost_model(r: _render.Renderer, size: int = 256, quick: bool = False) -> dict:
