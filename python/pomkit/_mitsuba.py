@@ -362,6 +362,9 @@ def cast_render(scene: Scene, spp: int, variant: str | None, resolution: float |
     `render(spp=)` (the pixel centres of a k-times finer camera, as render_exact), colour their mean, and pixel-centre uv, depth, mask, object and
     visibility. See the module's doc."""
     v = mitsuba_variant(variant)
+    if not v.startswith(("llvm", "cuda")):
+        raise RuntimeError(f"the matched render casts rays in batches, which needs a JIT variant of Mitsuba (llvm_ad_rgb: "
+                           f"Debian's libllvm19), not {v}; or use integrator='direct'")
     mi = require("mitsuba")
     resolution = auto_resolution(scene, resolution)
     k = math.isqrt(spp)
