@@ -479,3 +479,39 @@ def cost_model(r: _render.Renderer, size: int = 256, quick: bool = False) -> dic
     scenes, methods = cost_model_suite(size, quick)
     rows = cost_rows(r, scenes, methods, min_repeats=2 if quick else 3, max_repeats=4 if quick else 9)
     return dict(rows=rows, fits={k: fit_model(rows, t) for k, t in COST_MODELS.items()})
+
+
+def ao_cost(r: _render.Renderer, size: int = 256, quick: bool = False) -> list[dict]:
+    """Dachsbacher & Tatarchuk 2007's one figure, reproduced: the cost of horizon AO with 4 and 8
+    directions over the same frame without it. Prism and POM with horizon shadows (DT07's set-up:
+    a directional light and ambient), on planar scenes and the torus, GPU ms of interleaved rounds.
+    Per scene and method: the frame's ms at 0, 4 and 8 directions and the AO's share of the frame
+    with it, (ms_k - ms_0) / ms_k (the paper: about 35 % of the frame rate)."""
+    from . import _scene as S
+    light = [S.DirectionalLight((-0.4, -1.0, -0.3), 3.0)]
+
+    def plane(h, theta):
+        return plane_scene(h, theta, size, depth=0.08).replace(lights=light, ambient=0.2)
+
+    torus = S.Scene(mesh=S.Mesh.torus(segments=48, tube_segments=24),
+                    material=S.Material(textures.cobblestones(256, cells=8), depth=0.06, tiling=2.0),
+                    camera=S.Camera.look_at((0.4, 1.6, 2.8), fov_y=40, width=size, height=size), lights=light, ambient=0.2)
+    scenes = {"bricks 45°": plane(textures.bricks(256), 45.0), "terrain 60°": plane(textures.real("terrain", 256), 60.0),
+              "torus": torus}
+    if quick:
+        scenes = {"bricks 45°": scenes["bricks 45°"]}
+    rows = []
+    for name, sc in scenes.items():
+        for cls in (_methods.Prism, _methods.POM):
+            ms = [cls(shadows="horizon", ao_directions=k) for k in (0, 4, 8)]
+            t = time_methods(r, sc, ms, min_repeats=3 if quick else 5, max_repeats=5 if quick else 15, baseline=False)
+            base = np.array(t[0]["times"])
+            row = dict(chart="ao_cost", scene=name, method=cls.__name__, ms_0=t[0]["ms"], ms_4=t[1]["ms"], ms_8=t[2]["ms"],
+                       timing=t[0]["timing"])
+            for k, tk in ((4, t[1]), (8, t[2])):
+                # the share per round (the same round's frames), then the median: steadier than
+                # a ratio of medians on a noisy machine
+                tt = np.array(tk["times"])
+                row[f"ao_share_{k}"] = float(np.median((tt - base) / np.maximum(tt, 1e-9)))
+            rows.append(row)
+    return rows

@@ -16,7 +16,7 @@ import numpy as np
 
 import pomkit as pk
 from pomkit import presets
-from pomkit.bench import cost_model, fit_cost, pareto_front, plane_scene, sweep, swimming, time_methods, write_csv
+from pomkit.bench import ao_cost, cost_model, fit_cost, pareto_front, plane_scene, sweep, swimming, time_methods, write_csv
 
 #: what the bench needs beyond the library (the `bench` extra)
 NEEDS = ("matplotlib", "pandas", "tqdm")
@@ -363,6 +363,13 @@ def run_bench(out: str = "pomkit-out/bench", quick: bool = False, spp: int = 1) 
         coefs = ", ".join(f"{t} {v * 1e6:.3g} ns" for t, v in fm["coef"].items())
         goals[f"cost_model {name}: gpu_ms = a + sum(c * count) over every method (goal R² >= 0.95)"] = (
             f"a {fm['a']:.2f} ms, {coefs}, R² {fm['r2']:.3f}, worst row off by {100 * fm['max_rel_err']:.0f}% (n {fm['n']})")
+    # DT07's figure: horizon AO's share of the frame with 4 and 8 directions (the paper: ~35 %)
+    ao = ao_cost(r, quick=quick)
+    for nd in (4, 8):
+        shares = [x[f"ao_share_{nd}"] for x in ao]
+        goals[f"dt07_ao_share_{nd}_directions (the paper: about 35 % of the frame)"] = (
+            f"{100 * min(shares):.0f}-{100 * max(shares):.0f} % (median {100 * float(np.median(shares)):.0f} %) over "
+            f"{len(ao)} scene-method pairs")
     # the speed goals over suites of scenes: worst case and median (apps/suite.py)
     from pomkit.apps import suite
     print("  the goals over the planar and curved suites ...")
@@ -391,7 +398,7 @@ def run_bench(out: str = "pomkit-out/bench", quick: bool = False, spp: int = 1) 
     for k, v in goals.items():
         print(f"  goal {k}: {v}")
 
-    write_csv(table + at + ft + tiling_rows + swim + curved + bevy_rows + cm["rows"], outdir / "bench.csv")
+    write_csv(table + at + ft + tiling_rows + swim + curved + bevy_rows + cm["rows"] + ao, outdir / "bench.csv")
     with open(outdir / "goals.txt", "w") as fh:
         from pomkit._info import machine
         for field, value in machine().items():
