@@ -2,7 +2,10 @@
 match their scenes (scripts/make_demo_refs.py re-makes them when a scene changes), and the page
 holds a pk.choose answer and the LOD legend."""
 
+import html
+
 import numpy as np
+import pytest
 
 import pomkit as pk
 from pomkit.apps import page
@@ -30,6 +33,13 @@ def test_the_page(tmp_path, monkeypatch):
     # casts, the reference extra being installed here), the shipped Mitsuba render beside them
     assert text.count("vs render_exact (noise-free)") == 2 and "Mitsuba's ray casts" in text
     assert "pk.choose" in text and "lod_legend.png" in text
+    # the command that opens the widget on the page's scenes is on the page, and it runs
+    assert html.escape(page.EXPLORE_COMMAND) in text
+    pytest.importorskip("anywidget")
+    w = {}
+    exec(page.EXPLORE_COMMAND.replace("pk.explore(planar_scene())", "w['x'] = pk.explore(planar_scene(64), size=64)"),
+         {"w": w})
+    assert w["x"].image[:4] == b"\x89PNG" and w["x"].stats
     for png in ("pareto.png", "lod.png", "planar_Exact.png", "planar_Exact_uv.png", "curved_Prism.png", "curved_exact.png",
                 "curved_mitsuba.png"):
         assert (tmp_path / "out" / png).exists(), png

@@ -22,6 +22,12 @@ REFS = Path(__file__).resolve().parent.parent / "data" / "demo"
 UV_MAX = 2.0  # texels: the uv heat map's scale
 
 
+#: what the page prints to open `pk.explore` on its own two scenes (tests/test_demo.py runs it)
+EXPLORE_COMMAND = ("import pomkit as pk\n"
+                   "from pomkit.apps.page import planar_scene, curved_scene\n"
+                   "pk.explore(planar_scene())   # or curved_scene()")
+
+
 def planar_scene(size: int = 256) -> pk.Scene:
     """Bricks with an albedo on a plane at 62° from the normal, framed on the surface (no sky)."""
     h = pk.textures.bricks(256)
@@ -213,6 +219,10 @@ def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
                    methods=["SteepParallax", "POM", "Relief", "ConeStep", "Exact"])
     parts.append("<h2>Which method should I ship?</h2><p><code>pk.choose(heights=pk.textures.bricks(128), "
                  "angles=(40, 75), resolution=96, max_uv_error=0.5)</code></p><pre>" + html.escape(str(ch)) + "</pre>")
+    # the same scenes, live: the notebook widget (issue 32)
+    parts.append("<h2>Explore these scenes live</h2><p>In a notebook (JupyterLab, Notebook 7, VS Code, Colab; the "
+                 "<code>notebooks</code> extra), orbit either scene, switch methods and views, and compare with the "
+                 "reference:</p><pre>" + html.escape(EXPLORE_COMMAND) + "</pre>")
     # the LOD, at a glance
     pom = r.render(planar, pk.POM(mip_filtering=True))
     levels = float(np.log2(256))
