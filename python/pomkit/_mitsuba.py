@@ -330,9 +330,11 @@ def _fraction(caster: _Caster, h: dict, sel: np.ndarray, axes: np.ndarray, tan_r
     return out
 
 
-def _shade(caster: _Caster, scene: Scene, h: dict, q: np.ndarray, n: int, shadows: bool) -> tuple[np.ndarray, np.ndarray]:
+def _shade(caster: _Caster, scene: Scene, h: dict, q: np.ndarray, n: int, shadows: bool,
+           ambient_rays: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """The reference shading of hits `h` (sample q of n each); returns (colour, the first
-    directional light's visibility, NaN where it does not apply)."""
+    directional light's visibility, NaN where it does not apply). `ambient_rays=False` leaves
+    out the ambient occlusion rays (ao = 1), for a pass that wants the visibility alone."""
     valid, nrm = h["valid"], h["n"]
     direct = np.zeros((len(valid), 3))
     vis0 = np.full(len(valid), np.nan)
@@ -349,7 +351,7 @@ def _shade(caster: _Caster, scene: Scene, h: dict, q: np.ndarray, n: int, shadow
             vis0 = np.where(lit, vis, np.nan)
     ambient = np.asarray(scene.ambient, np.float64)
     ao = np.ones(len(valid))
-    if shadows and ambient.max() > 0:
+    if shadows and ambient_rays and ambient.max() > 0:
         ao = _fraction(caster, h, valid, nrm, np.full(len(valid), -1.0), q, n)
     alb = h["albedo"]
     color = np.where(valid[:, None], alb / math.pi * direct + alb * ambient * ao[:, None], 0.0)
@@ -387,7 +389,7 @@ def cast_render(scene: Scene, spp: int, variant: str | None, resolution: float |
     # the pixel centres: uv, depth, mask, object, and the first light's visibility over its disk
     px, py = np.meshgrid(np.arange(w), np.arange(hgt))
     h = caster.hits(((px + 0.5) / w).ravel(), ((py + 0.5) / hgt).ravel())
-    _, vis = _shade(caster, scene, h, np.zeros(w * hgt, np.uint32), 1, shadows)
+    _, vis = _shade(caster, scene, h, np.zeros(w * hgt, np.uint32), 1, shadows, ambient_rays=False)
     mask = h["valid"].reshape(hgt, w)
     uv = np.where(mask[..., None], h["uv"].reshape(hgt, w, 2), np.nan).astype(np.float32)
     return dict(color=color, coverage=coverage, uv=uv, depth=np.where(mask, h["t"].reshape(hgt, w), np.nan).astype(np.float32),

@@ -61,7 +61,9 @@ impl Capabilities {
             fragment_storage: d.flags.contains(wgpu::DownlevelFlags::FRAGMENT_STORAGE)
                 && adapter.limits().max_storage_buffers_per_shader_stage
                     >= STORAGE_BUFFERS_PER_STAGE,
-            fragment_counters: d.flags.contains(wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE)
+            fragment_counters: d
+                .flags
+                .contains(wgpu::DownlevelFlags::FRAGMENT_WRITABLE_STORAGE)
                 && adapter.limits().max_storage_buffers_per_shader_stage
                     > STORAGE_BUFFERS_PER_STAGE,
             compute_shaders: d.flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS),

@@ -100,7 +100,9 @@ pub fn sample_directions(axis: DVec3, tan_r: f64, q: usize, n: usize) -> Vec<DVe
             .map(|d| t * d.x + b * d.y + axis * d.z)
             .collect()
     } else if tan_r > 0.0 {
-        share(&disk_directions(axis, tan_r), q, n).copied().collect()
+        share(&disk_directions(axis, tan_r), q, n)
+            .copied()
+            .collect()
     } else {
         vec![axis]
     }

@@ -50,12 +50,22 @@ pub fn render_exact<'py>(
     Ok(d)
 }
 
-fn columns<const N: usize>(a: &PyReadonlyArray2<'_, f64>, name: &str, rows: usize) -> PyResult<Vec<[f64; N]>> {
+fn columns<const N: usize>(
+    a: &PyReadonlyArray2<'_, f64>,
+    name: &str,
+    rows: usize,
+) -> PyResult<Vec<[f64; N]>> {
     let v = a.as_array();
     if v.shape() != [rows, N] {
-        return Err(Error::arg(name, format!("expected shape ({rows}, {N}), got {:?}", v.shape())).into());
+        return Err(Error::arg(
+            name,
+            format!("expected shape ({rows}, {N}), got {:?}", v.shape()),
+        )
+        .into());
     }
-    Ok(v.outer_iter().map(|r| std::array::from_fn(|k| r[k])).collect())
+    Ok(v.outer_iter()
+        .map(|r| std::array::from_fn(|k| r[k]))
+        .collect())
 }
 
 /// The reference shading normal (docs/conventions.md) at hits found by a ray cast on object
@@ -73,12 +83,16 @@ pub fn reference_normals<'py>(
     uv_scale: PyReadonlyArray2<'py, f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let scene = scene_from_py(scene)?;
-    let obj = scene.objects.get(object).ok_or_else(|| {
-        Error::arg("object", format!("the scene has {} objects", scene.objects.len()))
-    })?;
+    let obj = scene.object(object)?;
     let n = uvs.as_array().shape()[0];
-    let (uv, bn) = (columns::<2>(&uvs, "uvs", n)?, columns::<3>(&base_normals, "base_normals", n)?);
-    let (tg, sc) = (columns::<4>(&tangents, "tangents", n)?, columns::<2>(&uv_scale, "uv_scale", n)?);
+    let (uv, bn) = (
+        columns::<2>(&uvs, "uvs", n)?,
+        columns::<3>(&base_normals, "base_normals", n)?,
+    );
+    let (tg, sc) = (
+        columns::<4>(&tangents, "tangents", n)?,
+        columns::<2>(&uv_scale, "uv_scale", n)?,
+    );
     let mat = &obj.material;
     let out = py.detach(|| {
         let tiling = mat.tiling as f64;
@@ -88,7 +102,14 @@ pub fn reference_normals<'py>(
             let t = DVec3::new(tg[i][0], tg[i][1], tg[i][2]);
             let (nb, t, bt) = crate::methods::tessellated::tessellate::base_frame(nb, t, tg[i][3]);
             let s = DVec2::from(uv[i]) * tiling;
-            let sn = crate::methods::tessellated::tessellate::displaced_normal(mat, s, nb, t, bt, DVec2::from(sc[i]));
+            let sn = crate::methods::tessellated::tessellate::displaced_normal(
+                mat,
+                s,
+                nb,
+                t,
+                bt,
+                DVec2::from(sc[i]),
+            );
             out.extend(sn.to_array());
         }
         out
@@ -112,7 +133,9 @@ pub fn reference_directions<'py>(
     let ax = columns::<3>(&axes, "axes", rows)?;
     let (tr, qs) = (tan_r.as_array(), q.as_array());
     if tr.len() != rows {
-        return Err(Error::arg("tan_r", format!("expected {rows} values, got {}", tr.len())).into());
+        return Err(
+            Error::arg("tan_r", format!("expected {rows} values, got {}", tr.len())).into(),
+        );
     }
     if n == 0 {
         return Err(Error::arg("n", "must be at least 1").into());
@@ -121,7 +144,12 @@ pub fn reference_directions<'py>(
     let (dirs, owner) = py.detach(|| {
         let (mut dirs, mut owner) = (Vec::new(), Vec::new());
         for i in 0..rows {
-            for d in crate::oracle::image::sample_directions(DVec3::from(ax[i]), tr[i], qs[i] as usize, n as usize) {
+            for d in crate::oracle::image::sample_directions(
+                DVec3::from(ax[i]),
+                tr[i],
+                qs[i] as usize,
+                n as usize,
+            ) {
                 dirs.extend(d.to_array());
                 owner.push(i as u32);
             }

@@ -300,12 +300,7 @@ pub fn tessellate<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene_from_py(scene)?;
     scene.validate()?;
-    let obj = scene.objects.get(object).ok_or_else(|| {
-        Error::arg(
-            "object",
-            format!("the scene has {} objects", scene.objects.len()),
-        )
-    })?;
+    let obj = scene.object(object)?;
     let t = py.detach(move || {
         crate::methods::tessellated::tessellate::tessellate(
             &obj.mesh,
@@ -319,7 +314,10 @@ pub fn tessellate<'py>(
     d.set_item("normals", nd_array(py, (n, 3), t.normals.concat())?)?;
     d.set_item("uvs", nd_array(py, (n, 2), t.uvs.concat())?)?;
     d.set_item("faces", nd_array(py, (t.indices.len() / 3, 3), t.indices)?)?;
-    d.set_item("base_normals", nd_array(py, (n, 3), t.base_normals.concat())?)?;
+    d.set_item(
+        "base_normals",
+        nd_array(py, (n, 3), t.base_normals.concat())?,
+    )?;
     d.set_item("tangents", nd_array(py, (n, 4), t.tangents.concat())?)?;
     d.set_item("uv_scale", nd_array(py, (n, 2), t.uv_scale.concat())?)?;
     Ok(d)

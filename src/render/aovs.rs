@@ -479,19 +479,22 @@ mod tests {
                 c
             })
             .collect();
-        let t = Texels([
-            Some(colors),
-            // pixel 0 misses (distance -1)
-            Some(
-                (0..n)
-                    .flat_map(|i| {
-                        [0.1f32, 0.2, if i == 0 { -1.0 } else { 2.0 }, 0.5].map(f32::to_bits)
-                    })
-                    .collect(),
-            ),
-            Some(vec![4; n]),
-            Some([9, 36].repeat(n)),
-        ], Some((0..n as u32).collect()));
+        let t = Texels(
+            [
+                Some(colors),
+                // pixel 0 misses (distance -1)
+                Some(
+                    (0..n)
+                        .flat_map(|i| {
+                            [0.1f32, 0.2, if i == 0 { -1.0 } else { 2.0 }, 0.5].map(f32::to_bits)
+                        })
+                        .collect(),
+                ),
+                Some(vec![4; n]),
+                Some([9, 36].repeat(n)),
+            ],
+            Some((0..n as u32).collect()),
+        );
         let f = Frame::decode(w, h, Aovs::ALL, &t, None, 0.0);
         for (a, d) in AOVS.iter().zip(&f.data) {
             let d = d.as_ref().expect("every AOV");
@@ -542,12 +545,15 @@ mod tests {
         assert_eq!(all.targets_for(1), [true, true, false, false]);
         assert_eq!(all.targets_for(2), [true, true, true, false]);
         // one object: the id is 0 wherever hit without its target
-        let t1 = Texels([
-            Some([0, 0, 0, HIT_BIT, 0, 0, 0, 0].to_vec()),
+        let t1 = Texels(
+            [
+                Some([0, 0, 0, HIT_BIT, 0, 0, 0, 0].to_vec()),
+                None,
+                None,
+                None,
+            ],
             None,
-            None,
-            None,
-        ], None);
+        );
         let f1 = Frame::decode(2, 1, Aovs::parse(&["object"]).unwrap(), &t1, None, 0.0);
         assert_eq!(f1.get("object"), Some(&AovData::I32(vec![0, -1])));
     }
@@ -575,12 +581,15 @@ mod tests {
             .unwrap()
             .split_supersampled();
         let big = Frame::decode(w, h, ss.unwrap(), &t, Some(1.5), 2.0);
-        let t1 = Texels([
-            Some([0, 0, 0, HIT_BIT].repeat(2)),
-            Some(geo(2, 9)),
-            Some(vec![5, 7]),
+        let t1 = Texels(
+            [
+                Some([0, 0, 0, HIT_BIT].repeat(2)),
+                Some(geo(2, 9)),
+                Some(vec![5, 7]),
+                None,
+            ],
             None,
-        ], None);
+        );
         let plain = Frame::decode(2, 1, rest.unwrap(), &t1, Some(0.5), 1.0);
         let f = Frame::supersampled(big, 2, Some(plain));
         assert_eq!((f.width, f.height), (2, 1));

@@ -403,7 +403,8 @@ impl Renderer {
         if let Some((c, _)) = &targets.counter {
             entries.push(c.as_entire_binding());
         }
-        self.ctx.bind_group("view", &self.pipelines.view_bgl, entries)
+        self.ctx
+            .bind_group("view", &self.pipelines.view_bgl, entries)
     }
 
     /// The frame's view bind groups and every object's draw: its resources (made or found in

@@ -232,15 +232,21 @@ impl Targets {
                     out
                 })
             });
-            let fragments = fragments.then(|| {
-                bytemuck::cast_slice::<u8, u32>(&raw[n_targets][..w * h * 4]).to_vec()
-            });
+            let fragments = fragments
+                .then(|| bytemuck::cast_slice::<u8, u32>(&raw[n_targets][..w * h * 4]).to_vec());
             let ts = n_targets + fragments.is_some() as usize;
             let gpu_ms = self.ts_read.as_ref().and_then(|_| {
                 let t: &[u64] = bytemuck::cast_slice(&raw[ts][..16]);
                 (t[1] > t[0]).then(|| (t[1] - t[0]) as f64 * period / 1e6)
             });
-            Frame::decode(self.w, self.h, aovs, &Texels(texels, fragments), gpu_ms, wall_ms)
+            Frame::decode(
+                self.w,
+                self.h,
+                aovs,
+                &Texels(texels, fragments),
+                gpu_ms,
+                wall_ms,
+            )
         })
     }
 }

@@ -462,6 +462,16 @@ impl Scene {
 
     /// The only object, for what is defined on one object (the CPU oracle, the displaced mesh);
     /// `what` names the caller in the error.
+    /// Object `i` of the scene, or an error on the argument `object` that says how many there are.
+    pub fn object(&self, i: usize) -> Result<&Object> {
+        self.objects.get(i).ok_or_else(|| {
+            Error::arg(
+                "object",
+                format!("the scene has {} objects", self.objects.len()),
+            )
+        })
+    }
+
     pub fn only_object(&self, what: &str) -> Result<&Object> {
         match self.objects.as_slice() {
             [o] => Ok(o),

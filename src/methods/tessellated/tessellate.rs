@@ -92,7 +92,14 @@ fn lattice(tiling: f64, texels: u32, tpv: f64) -> Vec<f64> {
 /// the mesh's uv per unit length along them) tilted by the height field's gradient, taken as
 /// central differences one texel apart of the bilinear field at level 0. The tessellated mesh's
 /// vertex normals, and the normal at a hit found by a ray cast on that mesh (`pk.reference`).
-pub fn displaced_normal(mat: &Material, s: DVec2, n: DVec3, t: DVec3, bt: DVec3, scale: DVec2) -> DVec3 {
+pub fn displaced_normal(
+    mat: &Material,
+    s: DVec2,
+    n: DVec3,
+    t: DVec3,
+    bt: DVec3,
+    scale: DVec2,
+) -> DVec3 {
     let hm = &mat.height;
     let tiling = mat.tiling as f64;
     let ex = 1.0 / hm.width as f64;
