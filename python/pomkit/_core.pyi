@@ -143,13 +143,6 @@ class TessellationDict(TypedDict):
 
 
 @type_check_only
-class ExactImageDict(TypedDict):
-    """`render_exact`'s colour and coverage."""
-    color: np.ndarray        # (H, W, 3) float32
-    coverage: np.ndarray     # (H, W) float32
-
-
-@type_check_only
 class OracleDict(TypedDict):
     """The CPU oracle's arrays (`exact_uv`)."""
     uv: np.ndarray           # (H, W, 2) float64
@@ -157,6 +150,13 @@ class OracleDict(TypedDict):
     mask: np.ndarray         # (H, W) bool
     cells: np.ndarray        # (H, W) uint32
     visibility: np.ndarray   # (H, W) float64
+
+
+@type_check_only
+class ExactImageDict(OracleDict):
+    """`render_exact`'s colour and coverage, and the oracle's frame at the pixel centres."""
+    color: np.ndarray        # (H, W, 3) float32
+    coverage: np.ndarray     # (H, W) float32
 
 
 @type_check_only

@@ -87,11 +87,10 @@ def render_exact(scene: Scene, spp: int = 16, shadows: bool = True, cache: bool 
 
     def compute():
         t0 = time.perf_counter()
-        d = _core.render_exact(scene._describe(), spp, bool(shadows))
-        o = _core.exact_uv(scene._describe(), 0.0)
-        return dict(color=d["color"], coverage=d["coverage"], uv=o["uv"].astype(np.float32),
-                    depth=o["depth"].astype(np.float32), mask=o["mask"], visibility=o["visibility"].astype(np.float32),
-                    object=np.where(o["mask"], 0, -1).astype(np.int32), ms=np.array(1e3 * (time.perf_counter() - t0)))
+        d = _core.render_exact(scene._describe(), spp, bool(shadows))  # with the pixel centres' hits
+        return dict(color=d["color"], coverage=d["coverage"], uv=d["uv"].astype(np.float32),
+                    depth=d["depth"].astype(np.float32), mask=d["mask"], visibility=d["visibility"].astype(np.float32),
+                    object=np.where(d["mask"], 0, -1).astype(np.int32), ms=np.array(1e3 * (time.perf_counter() - t0)))
 
     a = cached("exact", key, compute, use_cache=cache)
     arrays = {k: a[k] for k in ("color", "coverage", "uv", "depth", "mask", "visibility", "object")}

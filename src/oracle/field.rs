@@ -1,48 +1,187 @@
 //! The oracle's walk of the bilinear, repeating height field: a ray, cell by cell (a 2-D DDA
 //! over the cells between texel centres), meets each cell's bilinear patch as a quadratic in
 //! the ray parameter, solved in closed form.
+//!
+//! A max pyramid lets the walk skip: a block of 2^k x 2^k cells whose highest texel lies below
+//! the ray over the whole of the ray's way through it holds no hit, so the walk leaves it in one
+//! step (the max-mip traversal of the GPU's Exact, in float64). The answer is the cell walk's:
+//! a block is skipped only when no point of it can be at or above the ray.
 
 use super::MAX_CELLS;
 use crate::scene::HeightMap;
 use glam::DVec2;
+
+/// The height field with its max pyramid: level k (k >= 1) holds, for each block of 2^k x 2^k
+/// cells of one period (blocks at the period's right and bottom edges may be narrower), the
+/// highest texel among the block's corners. Cell (i, j) spans texel centres i..i+1, j..j+1.
+pub struct Field<'a> {
+    pub hm: &'a HeightMap,
+    /// levels[k - 1] is level k
+    levels: Vec<MaxLevel>,
+}
+
+struct MaxLevel {
+    w: usize,
+    h: usize,
+    max: Vec<f32>,
+}
+
+impl<'a> Field<'a> {
+    pub fn new(hm: &'a HeightMap) -> Field<'a> {
+        let (w, h) = (hm.width as usize, hm.height as usize);
+        // level 1 from the texels: block (bx, by) covers cells 2bx..2bx+2 (at most w), so
+        // texels 2bx..=min(2bx + 2, w) (texel w is texel 0 of the next period); rows in parallel
+        let (w1, h1) = (w.div_ceil(2), h.div_ceil(2));
+        let wrap = |i: usize, n: usize| if i == n { 0 } else { i };
+        let max = super::par_rows(h1, |by| {
+            let mut out = vec![0f32; w1];
+            for y in 2 * by..=(2 * by + 2).min(h) {
+                let row = &hm.data[wrap(y, h) * w..][..w];
+                for (bx, o) in out.iter_mut().enumerate() {
+                    for x in 2 * bx..=(2 * bx + 2).min(w) {
+                        *o = o.max(row[wrap(x, w)]);
+                    }
+                }
+            }
+            out
+        })
+        .concat();
+        let mut levels = vec![MaxLevel { w: w1, h: h1, max }];
+        loop {
+            let p = levels.last().expect("level 1");
+            if p.w == 1 && p.h == 1 {
+                break;
+            }
+            let (nw, nh) = (p.w.div_ceil(2), p.h.div_ceil(2));
+            let mut max = vec![0f32; nw * nh];
+            for by in 0..nh {
+                for bx in 0..nw {
+                    let mut m = 0f32;
+                    for y in 2 * by..(2 * by + 2).min(p.h) {
+                        for x in 2 * bx..(2 * bx + 2).min(p.w) {
+                            m = m.max(p.max[y * p.w + x]);
+                        }
+                    }
+                    max[by * nw + bx] = m;
+                }
+            }
+            levels.push(MaxLevel { w: nw, h: nh, max });
+        }
+        Field { hm, levels }
+    }
+
+    /// The field without its pyramid: the plain cell walk (what the pyramid must agree with).
+    #[cfg(test)]
+    fn cell_walk_only(hm: &'a HeightMap) -> Field<'a> {
+        Field {
+            hm,
+            levels: Vec::new(),
+        }
+    }
+
+    /// The skip from cell (ci, cj) at level k for the ray (x0 + dx*lam, y0 + dy*lam, h0 +
+    /// dh*lam) in cell space, now at lam = la: when the ray stays above the level-k block
+    /// holding the cell until it leaves the block (or reaches lam_max), the lam where it leaves
+    /// and the cell it enters there.
+    #[allow(clippy::too_many_arguments)]
+    fn skip(
+        &self,
+        k: usize,
+        (ci, cj): (i64, i64),
+        (x0, y0, h0): (f64, f64, f64),
+        (dx, dy, dh): (f64, f64, f64),
+        la: f64,
+        lam_max: f64,
+    ) -> Option<(f64, i64, i64)> {
+        let lv = &self.levels[k - 1];
+        let (w, h) = (self.hm.width as i64, self.hm.height as i64);
+        // the block's cell range in unwrapped cell indices: [lo, hi)
+        let range = |c: i64, n: i64| {
+            let (p, l) = (c.div_euclid(n), c.rem_euclid(n));
+            let b = l >> k;
+            (b, p * n + (b << k), p * n + ((b + 1) << k).min(n))
+        };
+        let (bx, x_lo, x_hi) = range(ci, w);
+        let (by, y_lo, y_hi) = range(cj, h);
+        let top = lv.max[by as usize * lv.w + bx as usize] as f64;
+        let exit = |d: f64, o: f64, lo: i64, hi: i64| {
+            if d > 1e-300 {
+                (hi as f64 - o) / d
+            } else if d < -1e-300 {
+                (lo as f64 - o) / d
+            } else {
+                f64::INFINITY
+            }
+        };
+        let ex = exit(dx, x0, x_lo, x_hi);
+        let ey = exit(dy, y0, y_lo, y_hi);
+        let l_exit = ex.min(ey);
+        if l_exit.is_nan() || l_exit <= la {
+            return None;
+        }
+        // the ray is straight: its lowest point in [la, end] is at one end
+        let end = l_exit.min(lam_max);
+        let low = if dh > 0.0 {
+            h0 + dh * la
+        } else {
+            h0 + dh * end
+        };
+        if !(low > top + 1e-12) {
+            return None;
+        }
+        if l_exit >= lam_max {
+            return Some((l_exit, ci, cj));
+        }
+        let cell =
+            |o: f64, d: f64, lo: i64, hi: i64| ((o + d * l_exit).floor() as i64).clamp(lo, hi - 1);
+        Some(if ex <= ey {
+            let ni = if dx > 0.0 { x_hi } else { x_lo - 1 };
+            (l_exit, ni, cell(y0, dy, y_lo, y_hi))
+        } else {
+            let nj = if dy > 0.0 { y_hi } else { y_lo - 1 };
+            (l_exit, cell(x0, dx, x_lo, x_hi), nj)
+        })
+    }
+}
 
 /// The light ray (s0 + ds*lam, h0 + dh*lam), dh > 0, from a point on the surface up to h = 1:
 /// true where no point of the bilinear field lies above it. It starts `bias` above the surface
 /// (at least 1e-9: the point's own patch) and ends `bias` below the top, so that a blocker must
 /// rise more than `bias` above the ray (the GPU's exact shadows use 1e-4); a point at the top
 /// (h0 >= 1 - bias) has left the shell.
-pub fn light_ray_free(hm: &HeightMap, s0: DVec2, h0: f64, ds: DVec2, dh: f64, bias: f64) -> bool {
+pub fn light_ray_free(f: &Field, s0: DVec2, h0: f64, ds: DVec2, dh: f64, bias: f64) -> bool {
     let top = 1.0 - bias.max(0.0);
     let h0 = h0 + bias.max(1e-9);
     if h0 >= top {
         return true;
     }
-    walk_cells(hm, s0, h0, ds, dh, (top - h0) / dh).0.is_none()
+    walk_cells(f, s0, h0, ds, dh, (top - h0) / dh).0.is_none()
 }
 
 /// First ray parameter lam >= 0 where the ray (s0 + ds*lam, 1 + dh*lam), dh < 0, meets the
 /// bilinear height field. Always found by lam = -1/dh (the floor), heights being >= 0.
-pub fn march_height_field(hm: &HeightMap, s0: DVec2, ds: DVec2, dh: f64) -> Option<(f64, u32)> {
+pub fn march_height_field(f: &Field, s0: DVec2, ds: DVec2, dh: f64) -> Option<(f64, u32)> {
     if dh >= 0.0 {
         return None;
     }
     let lam_max = -1.0 / dh;
-    let (hit, cells) = walk_cells(hm, s0, 1.0, ds, dh, lam_max);
+    let (hit, cells) = walk_cells(f, s0, 1.0, ds, dh, lam_max);
     Some((hit.unwrap_or(lam_max), cells))
 }
 
 /// The cell walk of the ray (s0 + ds*lam, h0 + dh*lam) over lam in [0, lam_max]: the first lam
 /// at which the bilinear field is at or above the ray (None if there is none: for a descending
-/// ray, the floor at lam_max is the caller's to report), and the cells walked. A walk that
-/// reaches MAX_CELLS stops there and reports lam_max.
+/// ray, the floor at lam_max is the caller's to report), and the steps taken (cells walked plus
+/// blocks skipped). A walk that reaches MAX_CELLS steps stops there and reports lam_max.
 fn walk_cells(
-    hm: &HeightMap,
+    f: &Field,
     s0: DVec2,
     h0: f64,
     ds: DVec2,
     dh: f64,
     lam_max: f64,
 ) -> (Option<f64>, u32) {
+    let hm = f.hm;
     let (wf, hf) = (hm.width as f64, hm.height as f64);
     // texel space: cell (i, j) spans [i, i+1] x [j, j+1] between texel centres
     let x0 = s0.x * wf - 0.5;
@@ -72,8 +211,24 @@ fn walk_cells(
     };
     let mut la = 0.0f64;
     let mut cells = 0u32;
-    loop {
+    // the level to try first: one above the last that skipped
+    let mut k_first = 1usize;
+    'walk: loop {
         cells += 1;
+        if cells >= MAX_CELLS {
+            return (Some(lam_max), cells);
+        }
+        for k in (1..=k_first.min(f.levels.len())).rev() {
+            if let Some((l, ni, nj)) = f.skip(k, (ci, cj), (x0, y0, h0), (dx, dy, dh), la, lam_max)
+            {
+                if l >= lam_max {
+                    return (None, cells);
+                }
+                (la, ci, cj, k_first) = (l, ni, nj, k + 1);
+                continue 'walk;
+            }
+        }
+        k_first = 1;
         let tx = next_x(ci);
         let ty = next_y(cj);
         let lb = tx.min(ty).min(lam_max);
@@ -82,9 +237,6 @@ fn walk_cells(
         }
         if lb >= lam_max {
             return (None, cells);
-        }
-        if cells >= MAX_CELLS {
-            return (Some(lam_max), cells);
         }
         if tx <= ty {
             ci += step_i;
@@ -123,7 +275,7 @@ fn cell_hit(
     let c = h00 + a1 * xa + a2 * ya + a3 * xa * ya - hra;
     let b = a1 * dx + a2 * dy + a3 * (xa * dy + ya * dx) - dh;
     let a = a3 * dx * dy;
-    let len = lb - la;
+    let len = (lb - la).max(0.0);
     if c >= 0.0 {
         return Some(la);
     }
@@ -164,4 +316,93 @@ fn cell_hit(
         return Some(la + hi);
     }
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small deterministic generator (the tests need no crate for it).
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// Maps of odd and even sizes: noise, plateaus at exactly 0 and 1, a lone spike, cliffs.
+    fn maps() -> Vec<HeightMap> {
+        let mut r = Lcg(7);
+        let mut out = Vec::new();
+        for (w, h) in [(1u32, 1u32), (2, 3), (7, 13), (64, 64), (33, 17), (100, 36)] {
+            let n = (w * h) as usize;
+            out.push(HeightMap::new(w, h, (0..n).map(|_| r.next() as f32).collect()).unwrap());
+            let plateaus = (0..n)
+                .map(|i| {
+                    if (i / 5) % 3 == 0 {
+                        1.0
+                    } else if (i / 3) % 2 == 0 {
+                        0.0
+                    } else {
+                        0.5
+                    }
+                })
+                .collect();
+            out.push(HeightMap::new(w, h, plateaus).unwrap());
+            let mut spike = vec![0.0f32; n];
+            spike[n / 2] = 1.0;
+            out.push(HeightMap::new(w, h, spike).unwrap());
+            let cliffs = (0..n)
+                .map(|i| if (i as u32 % w) < w / 2 { 0.9 } else { 0.05 })
+                .collect();
+            out.push(HeightMap::new(w, h, cliffs).unwrap());
+        }
+        out
+    }
+
+    #[test]
+    fn the_pyramid_changes_no_answer() {
+        let mut r = Lcg(11);
+        let mut skipped = 0u64;
+        for hm in maps() {
+            let (fast, slow) = (Field::new(&hm), Field::cell_walk_only(&hm));
+            for i in 0..400 {
+                let s0 = DVec2::new(r.next() * 3.0 - 1.0, r.next() * 3.0 - 1.0);
+                let a = r.next() * std::f64::consts::TAU;
+                // from steep to grazing; now and then exactly along an axis
+                let run = 0.02 + 40.0 * r.next() * r.next();
+                let mut ds = DVec2::new(a.cos(), a.sin()) * run / hm.width.max(hm.height) as f64;
+                if i % 17 == 0 {
+                    ds.y = 0.0;
+                }
+                if i % 23 == 0 {
+                    ds = DVec2::ZERO;
+                }
+                let dh = 0.05 + r.next();
+                let down = (
+                    march_height_field(&fast, s0, ds, -dh),
+                    march_height_field(&slow, s0, ds, -dh),
+                );
+                let (Some((lf, cf)), Some((ls, cs))) = down else {
+                    panic!("a descending ray always ends")
+                };
+                assert!((lf - ls).abs() <= 1e-9 * (1.0 + ls), "down: {lf} vs {ls}");
+                skipped += cs.saturating_sub(cf) as u64;
+                let h0 = r.next();
+                for bias in [0.0, 3e-5] {
+                    assert_eq!(
+                        light_ray_free(&fast, s0, h0, ds, dh, bias),
+                        light_ray_free(&slow, s0, h0, ds, dh, bias),
+                        "up from h0 = {h0}"
+                    );
+                }
+            }
+        }
+        // the pyramid is used at all
+        assert!(skipped > 10_000, "{skipped}");
+    }
 }

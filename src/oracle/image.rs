@@ -16,7 +16,10 @@
 //! samples share the direction sets: sample q traces the directions d with d mod k² = q, so
 //! that each pixel averages every direction once however many samples it has.
 
-use super::{disk_directions, par_rows, perpendiculars, stratified_disk, Oracle, OracleHit};
+use super::{
+    disk_directions, oracle_hits, par_rows, perpendiculars, stratified_disk, Oracle, OracleHit,
+    OracleHits,
+};
 use crate::error::{Error, Result};
 use crate::scene::{Albedo, Light, Scene};
 use glam::{DVec2, DVec3};
@@ -31,6 +34,8 @@ pub struct ExactImage {
     pub height: u32,
     pub color: Vec<f32>,
     pub coverage: Vec<f32>,
+    /// the oracle's frame at the pixel centres (`exact_hits` at light bias 0)
+    pub centres: OracleHits,
 }
 
 /// 64 cosine-weighted directions about +z: the stratified disk lifted to the hemisphere
@@ -159,6 +164,22 @@ pub fn render_exact(scene: &Scene, spp: u32, shadows: bool) -> Result<ExactImage
     (fine.width, fine.height, fine.window) = (w * k, h * k, None);
     let basis = fine.basis();
     let cosines = cosine_directions();
+    // a directional light's disk is the same at every hit: its directions once
+    let disks: Vec<Option<Vec<DVec3>>> = scene
+        .lights
+        .iter()
+        .map(|l| match l {
+            Light::Directional {
+                direction,
+                angular_diameter,
+                ..
+            } if *angular_diameter > 0.0 => Some(disk_directions(
+                -DVec3::from(*direction).normalize(),
+                (0.5 * angular_diameter).to_radians().tan(),
+            )),
+            _ => None,
+        })
+        .collect();
     let ambient = DVec3::from(scene.ambient.map(|x| x as f64));
     let n = (k * k) as usize;
     // per pixel of each row: the mean colour of its samples and the fraction that hit
@@ -176,7 +197,16 @@ pub fn render_exact(scene: &Scene, spp: u32, shadows: bool) -> Result<ExactImage
                     };
                     hits += 1;
                     let p = basis.eye + dir * hit.dist;
-                    sum += shade(scene, &oracle, &hit, p, ambient, &cosines, (q, n), shadows);
+                    sum += shade(
+                        scene,
+                        &oracle,
+                        &hit,
+                        p,
+                        ambient,
+                        (&cosines, &disks),
+                        (q, n),
+                        shadows,
+                    );
                 }
                 (sum / n as f64, hits as f32 / n as f32)
             })
@@ -192,6 +222,7 @@ pub fn render_exact(scene: &Scene, spp: u32, shadows: bool) -> Result<ExactImage
         height: h,
         color,
         coverage,
+        centres: oracle_hits(scene, &oracle, 0.0),
     })
 }
 
@@ -204,14 +235,14 @@ fn shade(
     hit: &OracleHit,
     p: DVec3,
     ambient: DVec3,
-    cosines: &[DVec3],
+    (cosines, disks): (&[DVec3], &[Option<Vec<DVec3>>]),
     (q, n): (usize, usize),
     shadows: bool,
 ) -> DVec3 {
     let nrm = shading_normal(o, hit);
     let albedo = albedo_at(&o.mat.albedo, hit.s);
     let mut direct = DVec3::ZERO;
-    for l in &scene.lights {
+    for (l, disk) in scene.lights.iter().zip(disks) {
         let (to_light, e, tan_r) = match l {
             Light::Directional {
                 direction,
@@ -245,13 +276,17 @@ fn shade(
             direct += e * ndl;
             continue;
         }
-        let set = if tan_r > 0.0 {
-            disk_directions(to_light, tan_r)
-        } else {
-            vec![to_light]
+        let own;
+        let set: &[DVec3] = match disk {
+            Some(d) => d,
+            None if tan_r > 0.0 => {
+                own = disk_directions(to_light, tan_r);
+                &own
+            }
+            None => std::slice::from_ref(&to_light),
         };
         let (mut lit, mut all) = (0usize, 0usize);
-        for d in share(&set, q, n) {
+        for d in share(set, q, n) {
             all += 1;
             lit += o.reaches(hit, *d, 0.0) as usize;
         }

@@ -17,10 +17,10 @@
 pub mod field;
 pub mod image;
 
-pub use field::{light_ray_free, march_height_field};
+pub use field::{light_ray_free, march_height_field, Field};
 
 use crate::error::{Error, Result};
-use crate::scene::{HeightMap, Scene};
+use crate::scene::Scene;
 use glam::{DMat3, DVec2, DVec3};
 
 #[derive(Clone, Debug)]
@@ -62,6 +62,8 @@ pub const MAX_CELLS: u32 = 4_000_000;
 pub(crate) struct Oracle<'a> {
     pub(crate) tris: Vec<Tri>,
     pub(crate) mat: &'a crate::scene::Material,
+    /// the height field with its max pyramid
+    field: Field<'a>,
 }
 
 impl<'a> Oracle<'a> {
@@ -120,6 +122,7 @@ impl<'a> Oracle<'a> {
         Ok(Oracle {
             tris,
             mat: &obj.material,
+            field: Field::new(&obj.material.height),
         })
     }
 
@@ -130,7 +133,7 @@ impl<'a> Oracle<'a> {
             eye,
             dir,
             &self.tris,
-            &m.height,
+            &self.field,
             m.depth as f64,
             m.tiling as f64,
         )
@@ -139,7 +142,7 @@ impl<'a> Oracle<'a> {
     /// Whether the ray from the hit along the world direction `l` leaves the shell.
     pub(crate) fn reaches(&self, hit: &OracleHit, l: DVec3, bias: f64) -> bool {
         let m = self.mat;
-        light_reaches(hit, l, &m.height, m.depth as f64, m.tiling as f64, bias)
+        light_reaches(hit, l, &self.field, m.depth as f64, m.tiling as f64, bias)
     }
 }
 
@@ -153,6 +156,11 @@ pub fn exact_hits(scene: &Scene, light_bias: f64) -> Result<OracleHits> {
         ));
     }
     let oracle = Oracle::new(scene, "the CPU oracle (exact_uv)")?;
+    Ok(oracle_hits(scene, &oracle, light_bias))
+}
+
+/// `exact_hits` with the oracle built (render_exact builds it once for both).
+pub(crate) fn oracle_hits(scene: &Scene, oracle: &Oracle, light_bias: f64) -> OracleHits {
     let cam = &scene.camera;
     let basis = cam.basis();
     let (w, h) = (cam.width, cam.height);
@@ -197,7 +205,7 @@ pub fn exact_hits(scene: &Scene, light_bias: f64) -> Result<OracleHits> {
             out.visibility[idx] = vis;
         }
     }
-    Ok(out)
+    out
 }
 
 /// `f(row)` for every row in 0..rows, on the machine's cores (at most 8 threads, each a band
@@ -237,7 +245,7 @@ fn trace<'a>(
     eye: DVec3,
     dir: DVec3,
     tris: &'a [Tri],
-    hm: &HeightMap,
+    field: &Field,
     depth: f64,
     tiling: f64,
 ) -> Option<OracleHit<'a>> {
@@ -284,7 +292,7 @@ fn trace<'a>(
         });
     }
     let ds = DVec2::new(c.x, c.y) * tiling;
-    let (lam, cells) = march_height_field(hm, s0, ds, dh)?;
+    let (lam, cells) = march_height_field(field, s0, ds, dh)?;
     let s = s0 + ds * lam;
     let h = (1.0 + dh * lam).clamp(0.0, 1.0);
     Some(OracleHit {
@@ -366,7 +374,7 @@ pub(crate) fn stratified_disk() -> Vec<DVec2> {
 fn light_reaches(
     hit: &OracleHit,
     l: DVec3,
-    hm: &HeightMap,
+    field: &Field,
     depth: f64,
     tiling: f64,
     bias: f64,
@@ -379,7 +387,7 @@ fn light_reaches(
         return false;
     }
     light_ray_free(
-        hm,
+        field,
         hit.s,
         hit.h,
         DVec2::new(c.x, c.y) * tiling,
@@ -391,6 +399,7 @@ fn light_reaches(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::HeightMap;
 
     #[test]
     fn constant_height_analytic() {
@@ -402,7 +411,8 @@ mod tests {
             // per unit world length: horizontal sin(theta) (1 world unit = 0.5 uv on a size-2 plane)
             let ds = DVec2::new(theta.sin() * 0.5, 0.0);
             let dh = -theta.cos() / depth;
-            let (lam, _) = march_height_field(&hm, DVec2::new(0.3, 0.4), ds, dh).unwrap();
+            let (lam, _) =
+                march_height_field(&Field::new(&hm), DVec2::new(0.3, 0.4), ds, dh).unwrap();
             let expect = (1.0 - c as f32 as f64) * depth / theta.cos();
             assert!((lam - expect).abs() < 1e-9, "c={c}: {lam} vs {expect}");
         }
@@ -417,7 +427,7 @@ mod tests {
         let s0 = DVec2::new(30.5 / 64.0, 32.5 / 64.0);
         // horizontal 10 texels per unit height drop: reaches texel 40 at h = 0.0
         let ds = DVec2::new(10.0 / 64.0, 0.0);
-        let (lam, _) = march_height_field(&hm, s0, ds, -1.0).unwrap();
+        let (lam, _) = march_height_field(&Field::new(&hm), s0, ds, -1.0).unwrap();
         let s = s0.x + ds.x * lam;
         assert!(
             s * 64.0 - 0.5 > 38.9 && s * 64.0 - 0.5 < 40.0,
@@ -431,7 +441,7 @@ mod tests {
         // a plateau at exactly h = 1 is lit: its light rays start at the top of the shell
         let hm = HeightMap::new(8, 8, vec![1.0; 64]).unwrap();
         assert!(light_ray_free(
-            &hm,
+            &Field::new(&hm),
             DVec2::new(0.3, 0.6),
             1.0,
             DVec2::new(0.5, 0.0),
@@ -451,14 +461,22 @@ mod tests {
         let hm = HeightMap::new(32, 32, data).unwrap();
         let ds = DVec2::new(4.0 / 32.0, 0.0);
         // texel-space x of the point: s.x * 32 - 0.5
-        let free =
-            |x: f64| light_ray_free(&hm, DVec2::new((x + 0.5) / 32.0, 0.5), 0.0, ds, 1.0, 0.0);
+        let free = |x: f64| {
+            light_ray_free(
+                &Field::new(&hm),
+                DVec2::new((x + 0.5) / 32.0, 0.5),
+                0.0,
+                ds,
+                1.0,
+                0.0,
+            )
+        };
         assert!(free(3.9));
         assert!(!free(4.1));
         assert!(!free(6.9));
         // on the wall's top (h = 1) it is lit
         assert!(light_ray_free(
-            &hm,
+            &Field::new(&hm),
             DVec2::new(10.5 / 32.0, 0.5),
             1.0,
             ds,
@@ -468,7 +486,14 @@ mod tests {
         // with the GPU's bias, a floor point whose ray clears the ramp's top by less than it is
         // also lit: x0 = 4.0002 passes 5e-5 below the top (blocked exactly, free with 1e-4)
         let biased = |x: f64, b: f64| {
-            light_ray_free(&hm, DVec2::new((x + 0.5) / 32.0, 0.5), 0.0, ds, 1.0, b)
+            light_ray_free(
+                &Field::new(&hm),
+                DVec2::new((x + 0.5) / 32.0, 0.5),
+                0.0,
+                ds,
+                1.0,
+                b,
+            )
         };
         assert!(!biased(4.0002, 0.0));
         assert!(biased(4.0002, 1e-4));

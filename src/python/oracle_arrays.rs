@@ -21,18 +21,26 @@ pub fn exact_uv<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene_from_py(scene)?;
     let o = py.detach(move || exact_hits(&scene, light_bias))?;
-    let (h, w) = (o.height as usize, o.width as usize);
     let d = PyDict::new(py);
+    hits_into(&d, o)?;
+    Ok(d)
+}
+
+/// The oracle's frame into `d`: uv, depth, mask, cells, visibility.
+fn hits_into(d: &Bound<'_, PyDict>, o: crate::oracle::OracleHits) -> PyResult<()> {
+    let py = d.py();
+    let (h, w) = (o.height as usize, o.width as usize);
     d.set_item("uv", nd_array(py, (h, w, 2), o.uv)?)?;
     d.set_item("depth", nd_array(py, (h, w), o.depth)?)?;
     d.set_item("mask", nd_array(py, (h, w), o.mask)?)?;
     d.set_item("cells", nd_array(py, (h, w), o.cells)?)?;
     d.set_item("visibility", nd_array(py, (h, w), o.visibility)?)?;
-    Ok(d)
+    Ok(())
 }
 
 /// The exact image (`oracle/image.rs`): dict with color (H, W, 3) f32 and coverage (H, W) f32
-/// from k x k exact samples per pixel shaded with the reference shading.
+/// from k x k exact samples per pixel shaded with the reference shading, and the oracle's frame
+/// at the pixel centres (as `exact_uv` at light bias 0: uv, depth, mask, cells, visibility).
 #[pyfunction]
 #[pyo3(signature = (scene, spp, shadows=true))]
 pub fn render_exact<'py>(
@@ -47,6 +55,7 @@ pub fn render_exact<'py>(
     let d = PyDict::new(py);
     d.set_item("color", nd_array(py, (h, w, 3), o.color)?)?;
     d.set_item("coverage", nd_array(py, (h, w), o.coverage)?)?;
+    hits_into(&d, o.centres)?;
     Ok(d)
 }
 
