@@ -13,7 +13,7 @@ setup:
 	scripts/setup.sh
 
 setup-test:
-	scripts/setup.sh test reference notebooks bench distributed
+	scripts/setup.sh test reference notebooks bench distributed browser
 
 setup-bench:
 	scripts/setup.sh bench

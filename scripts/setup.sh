@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Set up pomkit from a fresh Debian machine with Rust and Python 3.11:
 #   system packages (Mesa's software Vulkan/GL drivers where no adapter is found; Debian's
-#   libllvm19 for Mitsuba's LLVM variant and OSMesa/EGL for pyrender when extras are asked for),
+#   libllvm19 for Mitsuba's LLVM variant, OSMesa/EGL for pyrender and Chromium for the browser
+#   tests when those extras are asked for),
 #   a venv in .venv, and a release build of the extension installed into it.
 # Usage: scripts/setup.sh [extra ...]   e.g. scripts/setup.sh test reference
 set -euo pipefail
@@ -34,6 +35,11 @@ for e in "${EXTRAS[@]}"; do
     # Mitsuba's llvm_ad_rgb needs LLVM >= 16 (Debian's 15 crashes); pyrender renders headless
     # through EGL or OSMesa.
     apt_install libllvm19 libegl1 libegl-mesa0 libgl1-mesa-dri libosmesa6
+  fi
+  if [ "$e" = "browser" ]; then
+    # a real browser for tests/test_browser.py: Debian's Chromium (Playwright cannot download its
+    # own here; it drives this one through executable_path)
+    apt_install chromium
   fi
 done
 

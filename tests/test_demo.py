@@ -40,7 +40,10 @@ def test_the_page(tmp_path, monkeypatch):
     exec(page.EXPLORE_COMMAND.replace("pk.explore(planar_scene())", "w['x'] = pk.explore(planar_scene(64), size=64)"),
          {"w": w})
     assert w["x"].image[:4] == b"\x89PNG" and w["x"].stats
-    for png in ("pareto.png", "lod.png", "planar_Exact.png", "planar_Exact_uv.png", "curved_Prism.png", "curved_exact.png",
+    # the chart: plotly, its script beside the page (no CDN), a point per method of both scenes
+    assert 'src="plotly.min.js"' in text and (tmp_path / "out" / "plotly.min.js").stat().st_size > 1e6
+    assert "cdn" not in text.lower()
+    for png in ("lod.png", "planar_Exact.png", "planar_Exact_uv.png", "curved_Prism.png", "curved_exact.png",
                 "curved_mitsuba.png"):
         assert (tmp_path / "out" / png).exists(), png
     assert np.asarray(page.lod_legend(8.0)).shape[1] == 256

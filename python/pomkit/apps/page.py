@@ -7,8 +7,10 @@ a `pk.choose` answer for one built-in map, and the LOD as a false-colour overlay
 
 from __future__ import annotations
 
+import functools
 import html
 import json
+import textwrap
 import time
 from pathlib import Path
 from typing import Callable, Optional
@@ -139,7 +141,7 @@ def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: d
         f = r.render(scene, m, spp=4)
         e = pk.metrics.uv_error(f, uv_ref, scene)
         row = dict(scene=name, method=label, gpu_ms=f.time_ms or float("nan"), uv_p95=e["p95"], mask_iou=e["mask_iou"],
-                   safety=m.safety)
+                   safety=m.safety, settings=repr(m))
         imgs = [_save(f.to_srgb8(), outdir / f"{name}_{label}.png"),
                 _save(heat(e["image"], UV_MAX, f.mask | uv_ref.mask), outdir / f"{name}_{label}_uv.png")]
         if flip_ref is not None:
@@ -171,6 +173,39 @@ def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: d
     return f"<h2>{name}</h2>{ref_html}<table>{head}{''.join(cells)}</table>", rows
 
 
+def chart(rows: list[dict], outdir: Path) -> str:
+    """The speed/accuracy chart of `rows` (section's) as HTML: plotly, its script written beside
+    the page as plotly.min.js (no CDN), each point's hover its scene, method, settings and
+    figures. Without plotly (the demo extra), a note."""
+    try:
+        import plotly.graph_objects as go
+        from plotly.offline import get_plotlyjs
+    except ImportError:
+        return "<h2>Speed against accuracy</h2><p>(plotly not installed: no chart; <code>pip install pomkit[demo]</code>)</p>"
+    fig = go.Figure()
+    esc = functools.partial(html.escape, quote=False)
+    for scene in dict.fromkeys(r["scene"] for r in rows):
+        for safety, symbol in (("safe", "diamond"), ("approximate", "circle")):
+            pts = [r for r in rows if r["scene"] == scene and (r["safety"] == "safe") == (safety == "safe")]
+            if not pts:
+                continue
+            hover = [f"<b>{esc(r['method'])}</b> ({esc(scene)}, {esc(r['safety'])})<br>"
+                     f"{'<br>'.join(esc(x) for x in textwrap.wrap(r['settings'], 70))}<br>"
+                     f"{r['gpu_ms']:.2f} GPU ms · uv p95 {r['uv_p95']:.3f} texel"
+                     + (f" · FLIP {r['flip']:.4f}" if "flip" in r else "") for r in pts]
+            fig.add_trace(go.Scatter(
+                x=[r["gpu_ms"] for r in pts], y=[max(r["uv_p95"], 1e-3) for r in pts], mode="markers+text",
+                text=[r["method"] for r in pts], textposition="top center", hovertext=hover, hoverinfo="text",
+                marker=dict(symbol=symbol, size=10), name=f"{scene}, {safety}"))
+    fig.update_layout(width=900, height=560, template="plotly_white",
+                      title="Speed against accuracy (hover a point for its settings; diamonds: safe methods)",
+                      xaxis=dict(type="log", title="GPU ms (4 spp + 1 spp passes, this adapter)"),
+                      yaxis=dict(type="log", title="uv p95 against the reference geometry (texels; 0 shown at 0.001)"))
+    (outdir / "plotly.min.js").write_text(get_plotlyjs(), encoding="utf-8")
+    div = fig.to_html(full_html=False, include_plotlyjs="directory", div_id="pareto")
+    return ("<h2>Speed against accuracy</h2>" + div + "<p>The full sweep: <code>python -m pomkit bench</code>.</p>")
+
+
 def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
     t0 = time.perf_counter()
     outdir = Path(out)
@@ -192,28 +227,8 @@ def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
         curved_ref = None
     s2, rows2 = section(r, outdir, "curved", curved, CURVED, tess, "Tessellated(0.5)", curved_ref)
     parts += [s1, s2]
-    # speed against accuracy, the methods above
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        fig, ax = plt.subplots(figsize=(6.4, 4.2))
-        for rw in rows:
-            ax.plot(rw["gpu_ms"], max(rw["uv_p95"], 1e-3), "D" if rw["safety"] == "safe" else "o")
-            ax.annotate(rw["method"], (rw["gpu_ms"], max(rw["uv_p95"], 1e-3)), fontsize=7, xytext=(3, 3),
-                        textcoords="offset points")
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_xlabel("GPU ms (planar scene, 4 spp + 1 spp passes)")
-        ax.set_ylabel("uv p95 vs the oracle (texels)")
-        ax.set_title("Speed against accuracy (diamonds: safe methods)")
-        fig.tight_layout()
-        fig.savefig(outdir / "pareto.png", dpi=110)
-        plt.close(fig)
-        parts.append('<h2>Speed against accuracy</h2><img src="pareto.png"><p>The full sweep: '
-                     "<code>python -m pomkit bench</code>.</p>")
-    except ImportError:
-        parts.append("<p>(matplotlib not installed: no chart)</p>")
+    # speed against accuracy, both scenes' methods: an interactive chart, plotly.js beside the page
+    parts.append(chart(rows + rows2, outdir))
     # pk.choose on one built-in map (cached after the first run)
     ch = pk.choose(heights=pk.textures.bricks(128), angles=(40.0, 75.0), resolution=96, max_uv_error=0.5, rounds=3,
                    methods=["SteepParallax", "POM", "Relief", "ConeStep", "Exact"])
@@ -232,6 +247,6 @@ def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
                  '(blue: level 0, red: the coarsest).</p><img src="lod.png"><br><img src="lod_legend.png">')
     css = ("body{font-family:sans-serif;background:#fafafa;margin:2em}img{image-rendering:pixelated;max-width:256px}"
            "td,th{padding:3px;vertical-align:top}small{color:#555}")
-    (outdir / "index.html").write_text(f"<!doctype html><meta charset=utf-8><title>pomkit demo</title><style>{css}</style>"
+    (outdir / "index.html").write_text(f"<!doctype html><meta charset=utf-8><title>pomkit demo</title><link rel=icon href='data:,'><style>{css}</style>"
                                        + "".join(parts) + f"<p><small>made in {time.perf_counter() - t0:.1f} s</small></p>")
     return outdir / "index.html"
