@@ -33,10 +33,14 @@ test: setup-test
 	@echo "== the GL backend (POMKIT_BACKEND=gl): core, method, analytic, differential, shadow and target tests =="
 	POMKIT_BACKEND=gl cargo test --release --test core_render 2>&1 | grep -E "^(test result|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
 	POMKIT_BACKEND=gl $(VENV)/python -m pytest $(GL_TESTS) -q
+	@echo "== the distributions: the manylinux2014 wheel's tag (auditwheel), the sdist built by pip, each rendering a frame =="
+	scripts/check_dist.sh
 
-# one abi3 wheel (CPython 3.10 and later) in target/wheels; setup reuses it while the sources match
+# one abi3 wheel (CPython 3.10 and later, manylinux2014: glibc 2.17 and later) in target/wheels,
+# and the sdist in target/sdist; setup reuses the wheel while the sources match
 wheel: setup
-	@ls target/wheels/pomkit-*-abi3-*.whl
+	.venv/bin/maturin sdist -o target/sdist >/dev/null
+	@ls target/wheels/pomkit-*-abi3-*.whl target/sdist/pomkit-*.tar.gz
 
 info: setup
 	$(VENV)/python -m pomkit info

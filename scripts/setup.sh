@@ -67,9 +67,17 @@ elif ! command -v cargo >/dev/null; then
   [ -n "$WHEEL" ] || { echo "[setup] no Rust toolchain and no wheel in target/wheels or dist/: install Rust (https://rustup.rs) or put a pomkit abi3 wheel in dist/" >&2; exit 1; }
   echo "[setup] no Rust toolchain: installing $WHEEL"
 else
-  echo "[setup] building the extension (release, abi3)"
   rm -rf target/wheels
-  maturin build --release --quiet -o target/wheels
+  if [ "$(uname -s)" = Linux ] && [ "${POMKIT_NO_ZIG:-}" = "" ]; then
+    # linked by zig against glibc 2.17's symbols: a manylinux2014 wheel, which installs on any
+    # Linux since CentOS 7 / RHEL 7 (glibc 2.17), not only on this machine's glibc
+    echo "[setup] building the extension (release, abi3, manylinux2014 by zig)"
+    pip install -q "ziglang>=0.13"
+    maturin build --release --quiet --zig --compatibility manylinux2014 -o target/wheels
+  else
+    echo "[setup] building the extension (release, abi3)"
+    maturin build --release --quiet -o target/wheels
+  fi
   WHEEL=$(ls target/wheels/pomkit-*.whl | head -n 1)
   echo "$HASH" > target/wheels/.source-hash
 fi

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# The distributions, checked as a user gets them (make test runs this):
+#   1. the wheel setup.sh built (target/wheels): auditwheel says it is manylinux_2_17
+#      (manylinux2014: glibc 2.17 and later, CentOS 7 / RHEL 7 onwards);
+#   2. the sdist (maturin sdist): `pip install` builds it where Rust is present;
+#   3. each installed into its own new venv renders a POM frame.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+. .venv/bin/activate
+pip install -q auditwheel
+WHEEL=$(ls target/wheels/pomkit-*-abi3-*.whl | head -n 1)
+echo "[dist] $WHEEL"
+auditwheel show "$WHEEL" > target/auditwheel.txt
+grep -q '"manylinux_2_17_x86_64"' target/auditwheel.txt \
+  || { cat target/auditwheel.txt; echo "[dist] the wheel is not manylinux_2_17 (manylinux2014)" >&2; exit 1; }
+echo "[dist] auditwheel: manylinux_2_17_x86_64"
+rm -rf target/sdist && maturin sdist -o target/sdist >/dev/null
+SDIST=$(ls target/sdist/pomkit-*.tar.gz)
+echo "[dist] $SDIST: $(tar tzf "$SDIST" | wc -l) files"
+smoke='
+import numpy as np, pomkit as pk
+s = pk.Scene(mesh=pk.Mesh.plane(2.0), material=pk.Material(pk.textures.bricks(64), depth=0.05),
+             camera=pk.Camera.look_at((0, 1.2, 1.6), width=32, height=32))
+f = pk.Renderer().render(s, pk.POM())
+assert f.color.shape == (32, 32, 3) and f.mask.mean() > 0.5 and np.isfinite(f.color).all()
+print("[dist] renders:", pk.__file__)'
+for what in "$WHEEL" "$SDIST"; do
+  d=$(mktemp -d /tmp/pomkit-dist-XXXX)
+  python -m venv "$d"
+  # the sdist compiles from its own files, in a target directory of its own (cold the first
+  # time: about 3 minutes; kept between runs of a checkout)
+  CARGO_TARGET_DIR="$PWD/target/sdist-build" "$d/bin/pip" install -q --no-cache-dir "$what"
+  (cd "$d" && "$d/bin/python" -c "$smoke")
+  rm -rf "$d"
+done
