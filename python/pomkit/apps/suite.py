@@ -5,8 +5,10 @@ goal is met only if its worst case meets it.
 
 The planar suite: three maps (bricks and cobblestones from `pk.textures`, and the USGS Jacksboro
 fault DEM that matplotlib ships, read here straight from matplotlib's sample data) at 45° and 70°.
-The curved suite: the torus and the sphere at 256², each with cobblestones (depth 0.12, one
-tile) and the DEM (depth 0.06, two tiles), seen from two elevations.
+The silhouette methods' suite (issue 33, `prism_suite`): broad plateaus, thin walls and the
+smooth DEM, depths 0.04 and 0.1, tilings 1 and 4, on the torus and the sphere at 256², each seen
+from two elevations (48 scenes; it replaces issue 25's eight: cobblestones and the DEM at one
+depth and tiling each).
 """
 
 from __future__ import annotations
@@ -40,15 +42,33 @@ def planar_suite(size: int, map_size: int = 512) -> list[tuple[str, pk.Scene]]:
     return [(f"{name} {a:g}°", plane_scene(h, a, size)) for name, h in planar_maps(map_size).items() for a in PLANAR_ANGLES]
 
 
-def curved_suite(size: int = 256) -> list[tuple[str, pk.Scene]]:
+def prism_maps(size: int = 256) -> dict[str, np.ndarray]:
+    """Issue 33's three kinds of content for the silhouette methods: broad plateaus (smooth noise
+    cut into four terraces: wide flats between cliffs), thin walls (raised two-texel walls on a
+    floor: bricks turned inside out) and smooth (the Jacksboro DEM)."""
+    n = pk.textures.noise(size, octaves=3, base=3, seed=5)
+    terraces = np.floor(np.clip(n, 0.0, 0.999) * 4.0) / 3.0
+    return {"plateaus": terraces.astype(np.float32), "thin walls": (1.0 - pk.textures.bricks(size)).astype(np.float32),
+            "smooth DEM": dem(size)}
+
+
+def prism_suite(size: int = 256) -> list[tuple[str, pk.Scene]]:
+    """The silhouette methods' suite (issue 33): the three maps of `prism_maps`, depths 0.04 and
+    0.1, tilings 1 and 4, on the torus and the sphere, each from two elevations: 48 scenes."""
     meshes = {"torus": pk.Mesh.torus(segments=48, tube_segments=24), "sphere": pk.Mesh.sphere(segments=48, rings=24)}
-    mats = {"cobblestones": pk.Material(pk.textures.cobblestones(256, cells=8), depth=0.12, tiling=1.0),
-            "DEM x2": pk.Material(dem(256), depth=0.06, tiling=2.0)}
     eyes = {"low": (0.0, 1.0, 2.8), "high": (0.0, 2.3, 1.7)}
     light = pk.DirectionalLight((-0.4, -1, -0.3), 3.0)
-    return [(f"{m} {k} {e}", pk.Scene(mesh=mesh, material=mat, lights=[light],
-                                      camera=pk.Camera.look_at(eye, fov_y=40, width=size, height=size)))
-            for m, mesh in meshes.items() for k, mat in mats.items() for e, eye in eyes.items()]
+    out = []
+    for k, h in prism_maps(256).items():
+        for depth in (0.04, 0.1):
+            for tiles in (1.0, 4.0):
+                mat = pk.Material(h, depth=depth, tiling=tiles)
+                for m, mesh in meshes.items():
+                    for e, eye in eyes.items():
+                        out.append((f"{m} {k} d{depth:g} x{tiles:g} {e}",
+                                    pk.Scene(mesh=mesh, material=mat, lights=[light],
+                                             camera=pk.Camera.look_at(eye, fov_y=40, width=size, height=size))))
+    return out
 
 
 @dataclass
@@ -159,11 +179,10 @@ def run(quick: bool = False, size: int = 512) -> tuple[dict[str, str], list[dict
     r = pk.Renderer()
     rounds = 5 if quick else 9
     planar = planar_suite(256 if quick else size)
-    curved = curved_suite(256)
     # Flat frames are cheap, and their ratio's noise is large next to it: more rounds
     goals: list[Goal] = [fixed_cost(r, planar, 3 * rounds)]
     goals += march_ratios(r, planar, rounds)
-    goals += silhouettes(r, curved, rounds + 3)
+    goals += silhouettes(r, prism_suite(256)[::4] if quick else prism_suite(256), rounds)
     g11, rows = versus_bevy_relief(r, planar, rounds)
     goals += g11
     out = {f"suite {g.name}": g.line() for g in goals}
