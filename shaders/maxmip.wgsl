@@ -19,9 +19,29 @@
 #import pomkit::height::max_at
 #import pomkit::cost::fetched
 
-// First t in [t0, t1] where the ray (x(t), y(t), h(t)) = (X0 + dX t, Y0 + dY t, h0 + dh t) meets
-// the bilinear patch of cell c, or -1.
-fn cell_intersect(c: vec2<i32>, x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32, t0: f32, t1: f32) -> f32 {
+// A point in cell space as a whole cell index and the offset within that cell ([0, 1) each).
+// Kept apart, positions relative to a cell are taken as an exact integer difference plus a small
+// offset: one f32 for the whole (X ~ several hundred once moved by whole periods) left 3e-5 cell
+// of rounding, which on steep slopes put a light ray's start below its own patch.
+struct CellPoint {
+    base: vec2<i32>,
+    frac: vec2<f32>,
+}
+
+fn cell_point(p: vec2<f32>) -> CellPoint {
+    let b = floor(p);
+    return CellPoint(vec2<i32>(b), p - b);
+}
+
+// The start's offset from cell c, in cells. The whole part is taken in f32, where both indices
+// (below 2^24) and their difference are exact.
+fn rel(st: CellPoint, c: vec2<i32>) -> vec2<f32> {
+    return (vec2<f32>(st.base) - vec2<f32>(c)) + st.frac;
+}
+
+// First t in [t0, t1] where the ray (x(t), y(t), h(t)) = (X0 + dX t, Y0 + dY t, h0 + dh t),
+// (X0, Y0) = `st`, meets the bilinear patch of cell c, or -1.
+fn cell_intersect(c: vec2<i32>, st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t0: f32, t1: f32) -> f32 {
     // the cell's four corners in one gather (level 0, wrapped by the repeating sampler): at the
     // point between the four texel centres c .. c + 1 the gather's footprint is exactly them
     // (w: (c.x, c.y), z: (c.x + 1, c.y), x: (c.x, c.y + 1), y: (c.x + 1, c.y + 1))
@@ -34,8 +54,9 @@ fn cell_intersect(c: vec2<i32>, x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh:
     let a1 = b - a;
     let a2 = cc - a;
     let a3 = a - b - cc + d;
-    let xa = x0 + dx * t0 - f32(c.x);
-    let ya = y0 + dy * t0 - f32(c.y);
+    let o = rel(st, c);
+    let xa = o.x + dx * t0;
+    let ya = o.y + dy * t0;
     let hra = h0 + dh * t0;
     let qc = a + a1 * xa + a2 * ya + a3 * xa * ya - hra;
     let qb = a1 * dx + a2 * dy + a3 * (xa * dy + ya * dx) - dh;
@@ -90,7 +111,7 @@ struct Traversal {
 // floating-point rounding of the ray's position.
 // `t_max` shortens the walk (a prism's segment); a view ray reports a floor hit only when it
 // is allowed to reach the floor.
-fn maxmip_traverse(x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32, max_iterations: f32) -> Traversal {
+fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32, max_iterations: f32) -> Traversal {
     var r: Traversal;
     r.hit = false;
     r.bound = false;
@@ -106,7 +127,7 @@ fn maxmip_traverse(x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32, t_max: 
     // top-down start paid a descent through every level for each of them. Exactness does not
     // depend on where the walk starts.
     var level = 0;
-    var node = vec2<i32>(floor(vec2<f32>(x0, y0)));
+    var node = st.base;
     var it = 0u;
     var found = false;
     var t_hit = 0.0;
@@ -116,15 +137,15 @@ fn maxmip_traverse(x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32, t_max: 
     {
         var tx0 = 1e30;
         if (dx != 0.0) {
-            tx0 = (f32(node.x) + select(0.0, 1.0, dx > 0.0) - x0) / dx;
+            tx0 = (select(0.0, 1.0, dx > 0.0) - st.frac.x) / dx;
         }
         var ty0 = 1e30;
         if (dy != 0.0) {
-            ty0 = (f32(node.y) + select(0.0, 1.0, dy > 0.0) - y0) / dy;
+            ty0 = (select(0.0, 1.0, dy > 0.0) - st.frac.y) / dy;
         }
         let t_exit0 = clamp(min(tx0, ty0), 0.0, t_end);
         it = 1u;
-        let th = cell_intersect(node, x0, y0, h0, dx, dy, dh, 0.0, t_exit0);
+        let th = cell_intersect(node, st, h0, dx, dy, dh, 0.0, t_exit0);
         if (th >= 0.0) {
             found = true;
             t_hit = th;
@@ -155,17 +176,22 @@ fn maxmip_traverse(x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32, t_max: 
         }
         it = it + 1u;
         let size = f32(1 << u32(level));
+        // the node's faces, from the start: a whole number of cells (exact in f32) less its
+        // offset. (In i32, node * size - base came out wrong on lavapipe in this loop.)
+        let corner = vec2<f32>(node) * size - vec2<f32>(st.base);
+        let lo = corner - st.frac;
+        let hi = corner + size - st.frac;
         var tx = 1e30;
         if (dx > 0.0) {
-            tx = ((f32(node.x) + 1.0) * size - x0) / dx;
+            tx = hi.x / dx;
         } else if (dx < 0.0) {
-            tx = (f32(node.x) * size - x0) / dx;
+            tx = lo.x / dx;
         }
         var ty = 1e30;
         if (dy > 0.0) {
-            ty = ((f32(node.y) + 1.0) * size - y0) / dy;
+            ty = hi.y / dy;
         } else if (dy < 0.0) {
-            ty = (f32(node.y) * size - y0) / dy;
+            ty = lo.y / dy;
         }
         let t_exit = clamp(min(tx, ty), t, t_end);
         let m = max_at(node, level);
@@ -181,7 +207,7 @@ fn maxmip_traverse(x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32, t_max: 
             action = select(2u, 1u, level > 0);
         }
         if (action == 2u) {
-            let th = cell_intersect(node, x0, y0, h0, dx, dy, dh, t, t_exit);
+            let th = cell_intersect(node, st, h0, dx, dy, dh, t, t_exit);
             if (th >= 0.0) {
                 found = true;
                 t_hit = th;
@@ -192,10 +218,22 @@ fn maxmip_traverse(x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32, t_max: 
         if (action == 1u) {
             level = level - 1;
             let cs = f32(1 << u32(level));
-            let p = vec2<f32>(x0 + dx * t, y0 + dy * t) / cs;
-            // the child the ray is about to travel through: on a boundary, the one ahead
-            let c = vec2<i32>(i32(select(ceil(p.x) - 1.0, floor(p.x), dx >= 0.0)), i32(select(ceil(p.y) - 1.0, floor(p.y), dy >= 0.0)));
-            node = clamp(c, 2 * node, 2 * node + vec2<i32>(1, 1));
+            // the child the ray is in at t (on the middle face, the one ahead), decided by the
+            // t at which it crosses the middle face, taken as the faces' t are: a position
+            // rounded on its own could name the child the ray just left
+            let mid = (vec2<f32>(2 * node) + 1.0) * cs - vec2<f32>(st.base) - st.frac;
+            var up = vec2<bool>(mid.x <= 0.0, mid.y <= 0.0);
+            if (dx > 0.0) {
+                up.x = t >= mid.x / dx;
+            } else if (dx < 0.0) {
+                up.x = t < mid.x / dx;
+            }
+            if (dy > 0.0) {
+                up.y = t >= mid.y / dy;
+            } else if (dy < 0.0) {
+                up.y = t < mid.y / dy;
+            }
+            node = 2 * node + select(vec2<i32>(0, 0), vec2<i32>(1, 1), up);
         } else {
             // leave the node across the face the ray exits by, then look at the coarser level
             t = t_exit;
@@ -229,9 +267,11 @@ fn maxmip_traverse(x0: f32, y0: f32, h0: f32, dx: f32, dy: f32, dh: f32, t_max: 
 // node it visits over its whole length has non-negative indices. With negative indices the
 // traversal looped to its bound on lavapipe (integer ops on negative i32 in lane-divergent
 // loops); with non-negative ones every index operation is plain.
-fn positive_start(s0: vec2<f32>, d: vec2<f32>) -> vec2<f32> {
+fn positive_start(s0: vec2<f32>, d: vec2<f32>) -> CellPoint {
     let p = s0 * G.map_size - 0.5;
-    let q = p - floor(p / G.map_size) * G.map_size;
+    let b = floor(p);
+    // whole numbers below 2^24: exact in f32
+    let wrapped = b - floor(b / G.map_size) * G.map_size;
     let periods = floor(abs(d) / G.map_size) + 2.0;
-    return q + periods * G.map_size;
+    return CellPoint(vec2<i32>(wrapped + periods * G.map_size), p - b);
 }

@@ -11,7 +11,7 @@ On every case:
   - with shadows="exact", a safe method draws no false shadow (black where the oracle lights the
     point) and no false light, except within EDGE_PX pixels of the oracle's shadow edge or the
     outline, where a float32 walk and a float64 walk may pass on either side of a silhouette, and
-    where a blocker grazes the light ray within the GPU's stated bias (3e-5 of the shell depth:
+    where a blocker grazes the light ray within the GPU's stated bias (1e-6 of the shell depth:
     the oracle with and without that bias disagree). Found by this suite: a 1-texel checker of
     odd size lit along a texel row at 8 degrees, where the ray grazes saddle ridges by 1e-5.
 
@@ -44,7 +44,7 @@ HIT_P99 = 0.1       # texels: float32 walk vs float64 walk (test_methods measure
 HIT_FAR = 0.5       # texels
 HIT_FAR_FRAC = 0.01  # rays grazing a cliff's top edge: float32 and float64 may pass on either side
 EDGE_PX = 1.5       # pixels from the oracle's shadow edge or the outline where the shadow test may differ
-EXACT_SHADOW_BIAS = 3e-5  # shadows.wgsl: a blocker must rise this much (shell depths) above the light ray
+EXACT_SHADOW_BIAS = 1e-6  # shadows.wgsl: a blocker must rise this much (shell depths) above the light ray
 
 PLANAR = {
     "Parallax": pk.Parallax, "SteepParallax": pk.SteepParallax, "POM": pk.POM, "Relief": pk.Relief,
@@ -92,7 +92,7 @@ def check_case(renderer, scene, label: str) -> dict:
     ov = oracle.visibility
     o_shadow = np.isfinite(ov) & (ov < 0.5)
     o_dist = _edge_distance(o_shadow, np.isfinite(ov))
-    # blockers within the GPU's stated light-ray bias (3e-5 of the shell) of the ray: either
+    # blockers within the GPU's stated light-ray bias (1e-6 of the shell) of the ray: either
     # verdict is right (the exact oracle and one with the GPU's bias disagree there)
     grazing = np.isfinite(ov) & ((pk.exact_uv(scene, light_bias=EXACT_SHADOW_BIAS).visibility < 0.5) != o_shadow)
     stats = {"renders": 0, "safe_shadow_px": 0, "worst_p99": 0.0, "worst_far": 0.0}
@@ -227,8 +227,10 @@ def test_real_content(renderer, name, theta, elev):
 def test_pinned_grazing_saddles_within_the_bias(renderer):
     """Found by the suite (300 random examples): a 1-texel checker of odd size (31x31, tiling
     1.37) lit along a texel row 8 degrees above the horizon. Two pixels' light rays graze saddle
-    ridges by 1e-5 to 3e-5 of the shell depth, within the GPU's stated 3e-5 bias: lit on the GPU,
-    shadowed by the exact oracle, shadowed by neither once the oracle takes the same bias."""
+    ridges by 1e-5 to 3e-5 of the shell depth: within the GPU's bias of the time (3e-5), they were
+    lit on the GPU and shadowed by the exact oracle. With the bias at 1e-6 (issue 30: the walk's
+    start kept as a whole cell and an offset) the GPU agrees with the exact oracle here too; the
+    biased and the exact oracle differ on at most 1% of the pixels."""
     n = 31
     h = ((np.arange(n)[None, :] + np.arange(n)[:, None]) % 2).astype(np.float32)
     e = np.radians(8.0)
@@ -237,4 +239,4 @@ def test_pinned_grazing_saddles_within_the_bias(renderer):
     exact = pk.exact_uv(scene).visibility
     biased = pk.exact_uv(scene, light_bias=EXACT_SHADOW_BIAS).visibility
     both = np.isfinite(exact)
-    assert 0 < int(((exact < 0.5) != (biased < 0.5))[both].sum()) < 0.01 * both.sum()
+    assert int(((exact < 0.5) != (biased < 0.5))[both].sum()) < 0.01 * both.sum()

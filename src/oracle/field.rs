@@ -393,7 +393,7 @@ mod tests {
                 assert!((lf - ls).abs() <= 1e-9 * (1.0 + ls), "down: {lf} vs {ls}");
                 skipped += cs.saturating_sub(cf) as u64;
                 let h0 = r.next();
-                for bias in [0.0, 3e-5] {
+                for bias in [0.0, 1e-6, 3e-5] {
                     assert_eq!(
                         light_ray_free(&fast, s0, h0, ds, dh, bias),
                         light_ray_free(&slow, s0, h0, ds, dh, bias),

@@ -19,7 +19,7 @@
 #import pomkit::globals::G
 #import pomkit::aov::FLAG_BOUND
 #import pomkit::march::{Ray, Hit, planar_hit, does_not_descend}
-#import pomkit::maxmip::{cell_intersect, maxmip_traverse, positive_start}
+#import pomkit::maxmip::{cell_intersect, cell_point, maxmip_traverse, positive_start}
 #import pomkit::height::{height_at, wrap_i}
 
 // the method's own resources (group 2, bindings 1 and 2): the cone map, base and w per cell, in
@@ -60,7 +60,8 @@ fn march(r: Ray) -> Hit {
     // cell space, per unit of height drop t (the ray is at height 1 - t)
     let d = r.dsdh * G.map_size;
     let a = max(abs(d.x), abs(d.y));
-    let p0 = positive_start(r.s, d);
+    let st = positive_start(r.s, d);
+    let p0 = vec2<f32>(st.base) + st.frac;
     let n = u32(params.max_steps);
     var t = 0.0;
     var i = 0u;
@@ -83,7 +84,7 @@ fn march(r: Ray) -> Hit {
             t_exit = min(t_exit, t + (edge.y - p.y) / d.y);
         }
         t_exit = max(t_exit, t);
-        let th = cell_intersect(c, p0.x, p0.y, 1.0, d.x, d.y, -1.0, t, t_exit);
+        let th = cell_intersect(c, st, 1.0, d.x, d.y, -1.0, t, t_exit);
         if (th >= 0.0) {
             t = th;
             found = true;
@@ -98,7 +99,7 @@ fn march(r: Ray) -> Hit {
     if (!found && t < 1.0) {
         // max_steps cells walked: the max-mip walk finishes the ray, still exact
         let p = p0 + d * t;
-        let tr = maxmip_traverse(p.x, p.y, 1.0 - t, d.x, d.y, -1.0, 2.0, G.max_iterations);
+        let tr = maxmip_traverse(cell_point(p), 1.0 - t, d.x, d.y, -1.0, 2.0, G.max_iterations);
         t = t + tr.t;
         steps = steps + tr.iters;
         flags = select(0u, FLAG_BOUND, tr.bound);

@@ -238,7 +238,7 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
                 // exact=True: the max-mip traversal along the segment, parameterised by height
                 let slope = (s_x - s_e) / abs(dh_seg) * G.map_size;
                 let p0 = positive_start(s_e, slope);
-                let tr = maxmip_traverse(p0.x, p0.y, h_e, slope.x, slope.y, sign(dh_seg), abs(dh_seg), G.max_iterations);
+                let tr = maxmip_traverse(p0, h_e, slope.x, slope.y, sign(dh_seg), abs(dh_seg), G.max_iterations);
                 steps = steps + tr.iters;
                 if (tr.hit) {
                     hit = tr.t / abs(dh_seg);
