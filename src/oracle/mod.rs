@@ -460,41 +460,26 @@ mod tests {
         }
         let hm = HeightMap::new(32, 32, data).unwrap();
         let ds = DVec2::new(4.0 / 32.0, 0.0);
-        // texel-space x of the point: s.x * 32 - 0.5
-        let free = |x: f64| {
-            light_ray_free(
-                &Field::new(&hm),
-                DVec2::new((x + 0.5) / 32.0, 0.5),
-                0.0,
-                ds,
-                1.0,
-                0.0,
-            )
+        let field = Field::new(&hm);
+        // the ray from the floor at texel-space x (s.x * 32 - 0.5), `b` the bias
+        let biased = |x: f64, b: f64| {
+            light_ray_free(&field, DVec2::new((x + 0.5) / 32.0, 0.5), 0.0, ds, 1.0, b)
         };
+        let free = |x: f64| biased(x, 0.0);
         assert!(free(3.9));
         assert!(!free(4.1));
         assert!(!free(6.9));
         // on the wall's top (h = 1) it is lit
         assert!(light_ray_free(
-            &Field::new(&hm),
+            &field,
             DVec2::new(10.5 / 32.0, 0.5),
             1.0,
             ds,
             1.0,
             0.0
         ));
-        // with the GPU's bias, a floor point whose ray clears the ramp's top by less than it is
-        // also lit: x0 = 4.0002 passes 5e-5 below the top (blocked exactly, free with 1e-4)
-        let biased = |x: f64, b: f64| {
-            light_ray_free(
-                &Field::new(&hm),
-                DVec2::new((x + 0.5) / 32.0, 0.5),
-                0.0,
-                ds,
-                1.0,
-                b,
-            )
-        };
+        // with a bias, a floor point whose ray clears the ramp's top by less than it is also
+        // lit: x0 = 4.0002 passes 5e-5 below the top (blocked exactly, free with 1e-4)
         assert!(!biased(4.0002, 0.0));
         assert!(biased(4.0002, 1e-4));
     }
