@@ -78,9 +78,12 @@ class _Watch:
 @pytest.fixture(scope="module")
 def demo_page(tmp_path_factory):
     from pomkit.apps import page
-    os.environ["POMKIT_CACHE"] = str(tmp_path_factory.mktemp("cache"))
     out = tmp_path_factory.mktemp("demo")
-    page.run_page(out, size=256)
+    # a cache of its own for this page, restored after (set for good, it reached the notebooks
+    # that run after the tests)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("POMKIT_CACHE", str(tmp_path_factory.mktemp("cache")))
+        page.run_page(out, size=256)
     return out
 
 

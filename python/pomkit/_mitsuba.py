@@ -73,15 +73,15 @@ def _mi_mesh(mi, arrays: dict, bsdf, name: str = "displaced", object: int | None
     m = mi.Mesh(name, n, f, props=props, has_vertex_normals=True, has_vertex_texcoords=True)
     if object is not None:
         tg = np.asarray(arrays["tangents"], np.float32)
-        m.add_attribute("vertex_bn", 3, np.ascontiguousarray(arrays["base_normals"], np.float32).ravel())
-        m.add_attribute("vertex_tg", 3, np.ascontiguousarray(tg[:, :3]).ravel())
-        m.add_attribute("vertex_ts", 3, np.ascontiguousarray(np.c_[tg[:, 3], arrays["uv_scale"]], np.float32).ravel())
+        m.add_attribute("vertex_bn", 3, _slack(arrays["base_normals"]))
+        m.add_attribute("vertex_tg", 3, _slack(tg[:, :3]))
+        m.add_attribute("vertex_ts", 3, _slack(np.c_[tg[:, 3], arrays["uv_scale"]]))
         m.add_attribute("vertex_object", 1, np.full(n, float(object), np.float32))
     p = mi.traverse(m)
-    p["vertex_positions"] = np.array(arrays["positions"], np.float32).ravel()
-    p["vertex_normals"] = np.ascontiguousarray(arrays["normals"], np.float32).ravel()
-    p["vertex_texcoords"] = np.ascontiguousarray(arrays["uvs"], np.float32).ravel()
-    p["faces"] = np.ascontiguousarray(arrays["faces"], np.uint32).ravel()
+    p["vertex_positions"] = _slack(arrays["positions"])
+    p["vertex_normals"] = _slack(arrays["normals"])
+    p["vertex_texcoords"] = _slack(arrays["uvs"])
+    p["faces"] = _slack(arrays["faces"], np.uint32)
     p.update()
     return m
 
@@ -209,9 +209,20 @@ def direct_render(scene: Scene, spp: int, seed: int, variant: str | None, resolu
 
 # ---------------------------------------------------------------- Mitsuba as the ray caster
 
+def _slack(a: np.ndarray, dtype=np.float32) -> np.ndarray:
+    """`a` as a flat contiguous array whose buffer has 256 bytes to spare after its end. Twice
+    in CI a Dr.Jit worker thread segfaulted in notebook 06 on a 64-byte (AVX-512) load that ran
+    past the end of a buffer into an unmapped page; where an array handed to Mitsuba is read as
+    it is, a vector read at its end then stays in memory the array owns."""
+    a = np.asarray(a, dtype).ravel()
+    buf = np.zeros(a.size + 256 // a.itemsize, dtype)
+    buf[:a.size] = a
+    return buf[:a.size]
+
+
 def _vec(mi, cls, a: np.ndarray):
     a = np.asarray(a, np.float32)
-    return cls(*[np.ascontiguousarray(a[:, c]) for c in range(a.shape[1])])
+    return cls(*[_slack(a[:, c]) for c in range(a.shape[1])])
 
 
 def _np(x) -> np.ndarray:
@@ -250,7 +261,7 @@ class _Caster:
         """Cast the camera rays through film positions (fx, fy) in [0, 1]² (x right, y down)."""
         mi = self.mi
         sensor = self.sc.sensors()[0]
-        ray, _ = sensor.sample_ray(0.0, 0.5, mi.Point2f(fx.astype(np.float32), fy.astype(np.float32)),
+        ray, _ = sensor.sample_ray(0.0, 0.5, mi.Point2f(_slack(fx), _slack(fy)),
                                    mi.Point2f(0.5, 0.5))
         si = self.sc.ray_intersect(ray)
         valid = np.array(si.is_valid(), bool)
@@ -310,7 +321,7 @@ class _Caster:
         o = p + ng * side * ((1 + np.abs(p).max(1, keepdims=True)) * eps)
         ray = mi.Ray3f(_vec(mi, mi.Point3f, o), _vec(mi, mi.Vector3f, d))
         if maxt is not None:
-            ray.maxt = mi.Float(np.asarray(maxt * (1 - 1e-4), np.float32))
+            ray.maxt = mi.Float(_slack(maxt * (1 - 1e-4)))
         return ~np.array(self.sc.ray_test(ray), bool)
 
 
