@@ -33,10 +33,11 @@ fn cell_point(p: vec2<f32>) -> CellPoint {
     return CellPoint(vec2<i32>(b), p - b);
 }
 
-// The start's offset from cell c, in cells. The whole part is taken in f32, where both indices
-// (below 2^24) and their difference are exact.
-fn rel(st: CellPoint, c: vec2<i32>) -> vec2<f32> {
-    return (vec2<f32>(st.base) - vec2<f32>(c)) + st.frac;
+// A whole-cell position x (a cell's or node's corner, a middle face) less the start: the whole
+// part taken in f32, where both (below 2^24) and their difference are exact, then the offset.
+// (In i32, node * size - base came out wrong on lavapipe in the traversal's loop.)
+fn from_start(st: CellPoint, x: vec2<f32>) -> vec2<f32> {
+    return (x - vec2<f32>(st.base)) - st.frac;
 }
 
 // First t in [t0, t1] where the ray (x(t), y(t), h(t)) = (X0 + dX t, Y0 + dY t, h0 + dh t),
@@ -54,9 +55,9 @@ fn cell_intersect(c: vec2<i32>, st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f3
     let a1 = b - a;
     let a2 = cc - a;
     let a3 = a - b - cc + d;
-    let o = rel(st, c);
-    let xa = o.x + dx * t0;
-    let ya = o.y + dy * t0;
+    let o = from_start(st, vec2<f32>(c));
+    let xa = dx * t0 - o.x;
+    let ya = dy * t0 - o.y;
     let hra = h0 + dh * t0;
     let qc = a + a1 * xa + a2 * ya + a3 * xa * ya - hra;
     let qb = a1 * dx + a2 * dy + a3 * (xa * dy + ya * dx) - dh;
@@ -176,11 +177,9 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
         }
         it = it + 1u;
         let size = f32(1 << u32(level));
-        // the node's faces, from the start: a whole number of cells (exact in f32) less its
-        // offset. (In i32, node * size - base came out wrong on lavapipe in this loop.)
-        let corner = vec2<f32>(node) * size - vec2<f32>(st.base);
-        let lo = corner - st.frac;
-        let hi = corner + size - st.frac;
+        // the node's faces, from the start
+        let lo = from_start(st, vec2<f32>(node) * size);
+        let hi = from_start(st, (vec2<f32>(node) + 1.0) * size);
         var tx = 1e30;
         if (dx > 0.0) {
             tx = hi.x / dx;
@@ -221,7 +220,7 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
             // the child the ray is in at t (on the middle face, the one ahead), decided by the
             // t at which it crosses the middle face, taken as the faces' t are: a position
             // rounded on its own could name the child the ray just left
-            let mid = (vec2<f32>(2 * node) + 1.0) * cs - vec2<f32>(st.base) - st.frac;
+            let mid = from_start(st, (vec2<f32>(2 * node) + 1.0) * cs);
             var up = vec2<bool>(mid.x <= 0.0, mid.y <= 0.0);
             if (dx > 0.0) {
                 up.x = t >= mid.x / dx;
