@@ -19,7 +19,7 @@ from pomkit import presets
 from pomkit.bench import ao_cost, cost_model, fit_cost, pareto_front, plane_scene, sweep, swimming, time_methods, write_csv
 
 #: what the bench needs beyond the library (the `bench` extra)
-NEEDS = ("matplotlib", "pandas", "tqdm")
+NEEDS = ("matplotlib", "pandas", "tqdm", "skimage")
 
 
 def missing_extra() -> list[str]:
