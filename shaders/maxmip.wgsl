@@ -15,7 +15,7 @@
 
 #define_import_path pomkit::maxmip
 
-#import pomkit::globals::{G, height_tex, height_samp}
+#import pomkit::globals::{G, height_tex, height_samp, max_atlas}
 #import pomkit::height::max_at
 #import pomkit::cost::fetched
 
@@ -105,157 +105,141 @@ struct Traversal {
     bound: bool,
 }
 
+// The max of node `node` of a level k >= 1 (nodes of `size` = 2^k cells; `inv_cells` =
+// 1 / (map size in cells)), from the atlas, for k <= the top level (whose size divides the map).
+// No integer division, no table: on lavapipe vector integer division is scalarised, and a
+// uniform array indexed per lane (G.max_offsets) cost 7 % of Exact's march.
+// - The wrap: floor((n + 0.5) / dims) by the reciprocal is exact for 0 <= n < 2^22 (the
+//   quotient lies >= 0.5 / (n + 0.5) of itself from a whole number; the product's rounding is
+//   below 2^-23 of it). Nodes are non-negative (positive_start) and below 2^22 for any ray that
+//   crosses fewer than 4 million cells.
+// - The atlas offset: level k lies after levels 1 .. k - 1, whose widths W / 2, W / 4, ...
+//   sum to W - 2 W / 2^k when 2^(k - 1) divides W, as it does up to the top level
+//   (heightmap.rs's max_atlas; its test the_traversal_s_atlas_offsets_are_the_table_s).
+fn node_max(node: vec2<i32>, size: f32, inv_cells: vec2<f32>) -> f32 {
+    let dims = G.map_size / size;
+    let nf = vec2<f32>(node);
+    let p = nf - floor((nf + 0.5) * (size * inv_cells)) * dims;
+    fetched(1u, 4u);
+    let off = G.map_size.x - 2.0 * dims.x;
+    return textureLoad(max_atlas, vec2<i32>(p + vec2<f32>(off, 0.0)), 0).r;
+}
+
 // Walk the ray from (X0, Y0, h0) with per-t slope (dX, dY) and dh = -1 (view ray, down to the
 // floor) or +1 (light ray, up to the top of the shell). The current node is integer state:
 // a skipped node hands over to its neighbour across the face the ray leaves by, and a descent
-// picks the child that holds the ray, clamped to the parent, so that no boundary case depends on
-// floating-point rounding of the ray's position.
+// picks the child that holds the ray, so that no boundary case depends on floating-point
+// rounding of the ray's position.
 // `t_max` shortens the walk (a prism's segment); a view ray reports a floor hit only when it
 // is allowed to reach the floor.
+//
+// Two loops. The inner one walks the levels k >= 1 with one read (a node's max) and compares:
+// it ascends past nodes the ray passes above and descends into nodes it dips below, down to a
+// cell, the candidate. The outer one meets the candidate's bilinear patch (its four corners in
+// one gather): a hit ends the walk, a miss moves on to the next cell and up a level. A cell's
+// max is never read on its own: the patch test answers for it. On a SIMD machine (lavapipe runs
+// both sides of every branch a lane of the group takes) the patch arithmetic then runs once per
+// candidate, not once per step, and each step reads one texture, not two: Exact's march cost
+// 0.74x what it did with the patch test inside the one loop (docs/cost.md).
 fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32, max_iterations: f32) -> Traversal {
     var r: Traversal;
     r.hit = false;
     r.bound = false;
-    r.iters = 0.0;
     let t_full = select(1.0 - h0, h0, dh < 0.0);
     let t_end = min(t_full, t_max);
     let top = i32(G.top_max_level);
-    var t = 0.0;
     let max_it = u32(max_iterations);
     let step = vec2<i32>(select(-1, 1, dx >= 0.0), select(-1, 1, dy >= 0.0));
-    // The walk starts bottom-up, at the cell the ray starts in, and ascends as it skips nodes:
-    // most rays meet the surface within a few cells of where they enter the shell, and a
-    // top-down start paid a descent through every level for each of them. Exactness does not
-    // depend on where the walk starts.
+    // per axis: 1 / slope (1e30 parallel to the axis), and which face the ray leaves a node by
+    let ahead = vec2<bool>(dx > 0.0, dy > 0.0);
+    let behind = vec2<bool>(dx < 0.0, dy < 0.0);
+    let moves = vec2<bool>(dx != 0.0, dy != 0.0);
+    let inv = select(vec2<f32>(1e30), vec2<f32>(1.0) / vec2<f32>(dx, dy), moves);
+    let exit_face = select(vec2<f32>(0.0), vec2<f32>(1.0), ahead);
+    let inv_cells = vec2<f32>(1.0) / G.map_size;
     var level = 0;
+    var size = 1.0;
     var node = st.base;
-    var it = 0u;
+    var t = 0.0;
+    var it = 1u;
     var found = false;
     var t_hit = 0.0;
-    // The cell the ray starts in, first: where the ray starts on or just above the surface (a
-    // plateau, the top of a prism segment) this is the hit, found in one step instead of a
-    // descent through every level. Exact either way: it is the first cell the ray crosses.
-    {
-        var tx0 = 1e30;
-        if (dx != 0.0) {
-            tx0 = (select(0.0, 1.0, dx > 0.0) - st.frac.x) / dx;
+    // the current node's exit: t across each face, and the t at which the ray leaves
+    var tf = select(vec2<f32>(1e30), (exit_face - st.frac) * inv, moves);
+    var t_exit = clamp(min(tf.x, tf.y), 0.0, t_end);
+    // The cell the ray starts in is a candidate if the ray dips below its max there (a plateau
+    // at the top of the shell, a light ray's start on the surface, a prism segment's start):
+    // the hit is then found without a walk. Otherwise the walk starts at the next cell, one
+    // level up: most rays meet the surface within a few cells of where they enter, and a
+    // top-down start paid a descent through every level for each of them.
+    var cand = min(h0, h0 + dh * t_exit) <= max_at(node, 0);
+    loop {
+        if (!cand) {
+            // on from the current node (a cell whose patch missed, or the start cell): across
+            // the face the ray leaves by, and up a level
+            t = t_exit;
+            node = node + select(vec2<i32>(0), step, vec2<bool>(tf.x <= tf.y, tf.y <= tf.x));
+            if (level < top) {
+                level = level + 1;
+                size = size * 2.0;
+                node = node >> vec2<u32>(1u);
+            }
+            loop {
+                if (t >= t_end) {
+                    break;
+                }
+                if (it >= max_it) {
+                    r.bound = true;
+                    break;
+                }
+                it = it + 1u;
+                // the node's exit faces, from the start
+                tf = select(vec2<f32>(1e30), from_start(st, (vec2<f32>(node) + exit_face) * size) * inv, moves);
+                t_exit = clamp(min(tf.x, tf.y), t, t_end);
+                if (level == 0) {
+                    cand = true;
+                    break;
+                }
+                let m = node_max(node, size, inv_cells);
+                // the ray's lowest point over [t, t_exit]
+                let below = min(h0 + dh * t, h0 + dh * t_exit) <= m;
+                // both moves, then one select. Descend: a descending ray first jumps to where
+                // it dips below the max; the child that holds it there is decided by the t at
+                // which it crosses the middle faces, taken as the exit faces' t are (a position
+                // rounded on its own could name the child the ray just left).
+                let td = select(t, max(t, h0 - m), dh < 0.0);
+                let mid = from_start(st, (vec2<f32>(2 * node) + 1.0) * (0.5 * size));
+                let tm = mid * inv;
+                let upper = select(select(mid <= vec2<f32>(0.0), vec2<bool>(td < tm.x, td < tm.y), behind),
+                                   vec2<bool>(td >= tm.x, td >= tm.y), ahead);
+                let child = 2 * node + select(vec2<i32>(0), vec2<i32>(1), upper);
+                // skip: across the exit face, then up a level
+                let asc = level < top;
+                var next = node + select(vec2<i32>(0), step, vec2<bool>(tf.x <= tf.y, tf.y <= tf.x));
+                next = select(next, next >> vec2<u32>(1u), asc);
+                node = select(next, child, below);
+                level = select(select(level, level + 1, asc), level - 1, below);
+                size = select(select(size, size * 2.0, asc), size * 0.5, below);
+                t = select(t_exit, td, below);
+            }
+            if (!cand) {
+                break;
+            }
         }
-        var ty0 = 1e30;
-        if (dy != 0.0) {
-            ty0 = (select(0.0, 1.0, dy > 0.0) - st.frac.y) / dy;
-        }
-        let t_exit0 = clamp(min(tx0, ty0), 0.0, t_end);
-        it = 1u;
-        let th = cell_intersect(node, st, h0, dx, dy, dh, 0.0, t_exit0);
+        cand = false;
+        let th = cell_intersect(node, st, h0, dx, dy, dh, t, t_exit);
         if (th >= 0.0) {
             found = true;
             t_hit = th;
-        }
-        // on to the next cell, and up from there
-        t = t_exit0;
-        if (tx0 <= ty0) {
-            node.x = node.x + step.x;
-        }
-        if (ty0 <= tx0) {
-            node.y = node.y + step.y;
-        }
-        if (top > 0) {
-            level = 1;
-            node = vec2<i32>(floor(vec2<f32>(node) * 0.5));
+            break;
         }
     }
-    loop {
-        if (found) {
-            break;
-        }
-        if (t >= t_end) {
-            break;
-        }
-        if (it >= max_it) {
-            r.bound = true;
-            break;
-        }
-        it = it + 1u;
-        let size = f32(1 << u32(level));
-        // the node's faces, from the start
-        let lo = from_start(st, vec2<f32>(node) * size);
-        let hi = from_start(st, (vec2<f32>(node) + 1.0) * size);
-        var tx = 1e30;
-        if (dx > 0.0) {
-            tx = hi.x / dx;
-        } else if (dx < 0.0) {
-            tx = lo.x / dx;
-        }
-        var ty = 1e30;
-        if (dy > 0.0) {
-            ty = hi.y / dy;
-        } else if (dy < 0.0) {
-            ty = lo.y / dy;
-        }
-        let t_exit = clamp(min(tx, ty), t, t_end);
-        let m = max_at(node, level);
-        // the ray's lowest point over [t, t_exit]
-        let low = min(h0 + dh * t, h0 + dh * t_exit);
-        // 0: skip the node, 1: descend into it, 2: intersect the cell (level 0)
-        var action = 0u;
-        if (low <= m) {
-            if (dh < 0.0) {
-                // descending: jump to where the ray dips below the node's max
-                t = max(t, h0 - m);
-            }
-            action = select(2u, 1u, level > 0);
-        }
-        if (action == 2u) {
-            let th = cell_intersect(node, st, h0, dx, dy, dh, t, t_exit);
-            if (th >= 0.0) {
-                found = true;
-                t_hit = th;
-                break;
-            }
-            action = 0u;
-        }
-        if (action == 1u) {
-            level = level - 1;
-            let cs = f32(1 << u32(level));
-            // the child the ray is in at t (on the middle face, the one ahead), decided by the
-            // t at which it crosses the middle face, taken as the faces' t are: a position
-            // rounded on its own could name the child the ray just left
-            let mid = from_start(st, (vec2<f32>(2 * node) + 1.0) * cs);
-            var up = vec2<bool>(mid.x <= 0.0, mid.y <= 0.0);
-            if (dx > 0.0) {
-                up.x = t >= mid.x / dx;
-            } else if (dx < 0.0) {
-                up.x = t < mid.x / dx;
-            }
-            if (dy > 0.0) {
-                up.y = t >= mid.y / dy;
-            } else if (dy < 0.0) {
-                up.y = t < mid.y / dy;
-            }
-            node = 2 * node + select(vec2<i32>(0, 0), vec2<i32>(1, 1), up);
-        } else {
-            // leave the node across the face the ray exits by, then look at the coarser level
-            t = t_exit;
-            if (tx <= ty) {
-                node.x = node.x + step.x;
-            }
-            if (ty <= tx) {
-                node.y = node.y + step.y;
-            }
-            if (level < top) {
-                level = level + 1;
-                // the parent: floor(node / 2), in f32 (see wrap_i in common.wgsl)
-                node = vec2<i32>(floor(vec2<f32>(node) * 0.5));
-            }
-        }
-    }
+    r.iters = f32(it);
     if (found) {
         r.hit = true;
         r.t = t_hit;
-        r.iters = f32(it);
         return r;
     }
-    r.iters = f32(it);
     r.t = t_end;
     // a view ray always meets the floor (heights >= 0) at t_end
     r.hit = dh < 0.0 && t_end >= t_full;

@@ -531,6 +531,45 @@ mod tests {
         assert_eq!(max_pyramid(&m)[1][0], 1.0);
     }
 
+    /// maxmip.wgsl's `node_max` reads levels 1 ..= top at x = W - 2 W / 2^k, and wraps a node
+    /// n by floor((n + 0.5) * (2^k * (1 / W))) in f32: both are this table's, and exact, for
+    /// every level the traversal reads, n < 2^22.
+    #[test]
+    fn the_traversal_s_atlas_offsets_and_wrap_are_the_table_s() {
+        for (w, h) in [
+            (1, 1),
+            (2, 2),
+            (512, 512),
+            (96, 40),
+            (100, 36),
+            (8192, 8192),
+            (16384, 4096),
+            (24, 7),
+        ] {
+            let (offs, _) = max_atlas(w, h);
+            for k in 1..=top_maxmip_level(w, h) {
+                let size = (1u32 << k) as f32;
+                let dims = w as f32 / size;
+                assert_eq!(
+                    w as f32 - 2.0 * dims,
+                    offs[k as usize] as f32,
+                    "{w}x{h} level {k}"
+                );
+                let inv = 1.0f32 / w as f32;
+                let d = w >> k;
+                let mut n = 0u32;
+                while n < 1 << 22 {
+                    for m in [n, n + 1, n + d - 1, n + d] {
+                        let nf = m as f32;
+                        let q = ((nf + 0.5) * (size * inv)).floor();
+                        assert_eq!((nf - q * dims) as u32, m % d, "{w}x{h} level {k} node {m}");
+                    }
+                    n += d.max(1) * 97 + 1;
+                }
+            }
+        }
+    }
+
     #[test]
     fn the_max_atlas_fits_within_the_map_width_plus_its_levels() {
         for (w, h) in [

@@ -37,6 +37,12 @@ _MAXMIP = ("issue 11: the max-mip walk starts bottom-up at the ray's first cell 
            "3.7) and solves the same patch's quadratic from another start t: within 2.3e-5 texel (3 f32 ulps of "
            "uv on a 128-texel map), no coverage or flag changed")
 
+_TWO_LOOPS = ("issue 33: the max-mip walk finds candidate cells in an inner loop over levels >= 1 and meets each "
+              "candidate's patch in an outer loop (a cell's own max is no longer read: the patch test answers for "
+              "it), so a descending ray's patch quadratic starts from the t where it dipped below the parent's max, "
+              "not the cell's: the same root from another start, within 1.6e-5 texel (2 f32 ulps of uv on a "
+              "128-texel map), colour within 3e-6, no coverage, flag or step count changed")
+
 #: frame-key suffix -> (why its arithmetic moved, max uv change in texels, max colour change, max
 #: pixels whose coverage changed)
 TOLERANT: dict[str, tuple[str, float, float, int]] = {
@@ -48,6 +54,7 @@ TOLERANT: dict[str, tuple[str, float, float, int]] = {
     "-pom_exactf": (_SEGMENT, 1e-5, 1e-5, 0),
     "-exact": (_MAXMIP, 3e-5, 5e-6, 0),
     "-exact_shadow": (_MAXMIP, 3e-5, 5e-6, 0),
+    "-prism_exact": (_TWO_LOOPS, 2e-5, 5e-6, 0),
 }
 
 _SHADOW_START = ("issue 22: the hard, soft and exact light rays start on the height field at the hit's s (max of the "
@@ -123,7 +130,9 @@ def _check_shadow_start(key, scene, method, f):
     np.testing.assert_array_equal(f.flags, DATA[f"{key}/flags"])
     m = f.mask
     d = np.abs(f.uv[m] - DATA[f"{key}/uv"][m]) * np.array(scene.material.height.shape[::-1]) * scene.material.tiling
-    assert d.max(initial=0) <= 1e-5, f"{key}: uv moved by {d.max():.2e} texel ({_SHADOW_START})"
+    tol = _tolerance(key)  # a frame whose hit's arithmetic also moved (TOLERANT) keeps that bound
+    uv_tol = max(1e-5, tol[1]) if tol else 1e-5
+    assert d.max(initial=0) <= uv_tol, f"{key}: uv moved by {d.max():.2e} texel ({_SHADOW_START})"
     changed = int((np.abs(f.color - DATA[f"{key}/color"]).max(-1)[m] > 1e-6).sum())
     assert changed <= SHADOW_START[key], f"{key}: colour changed at {changed} pixels > {SHADOW_START[key]} ({_SHADOW_START})"
     steps = np.abs(f.steps[m].astype(np.int64) - DATA[f"{key}/steps"][m])
