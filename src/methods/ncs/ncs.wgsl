@@ -42,8 +42,7 @@ fn frame_at(uv: vec2<f32>) -> TangentFrame {
 
 // The map texel a uv falls in (wrapped): the frame the march steps with, fetched again only when
 // the ray enters another texel (one fetch; the hit's frame is the bilinear one).
-fn frame_texel_at(uv: vec2<f32>) -> vec2<i32> {
-    let dims = vec2<i32>(textureDimensions(frame_map));
+fn frame_texel_at(uv: vec2<f32>, dims: vec2<i32>) -> vec2<i32> {
     return min(vec2<i32>(fract(uv) * vec2<f32>(dims)), dims - 1);
 }
 
@@ -90,15 +89,22 @@ fn march(r: Ray) -> Hit {
     }
     // the first step goes along the rasterised frame
     var f = r.f;
-    var cell = frame_texel_at(uv);
+    let dims = vec2<i32>(textureDimensions(frame_map));
+    var cell = frame_texel_at(uv, dims);
+    // the last two points when the ray falls below the height field (the crossing between them
+    // is taken after the loop)
+    var uv1 = uv;
+    var h1 = h;
+    var d1 = d;
+    var dl = dl0;
     let ni = i32(n);
-    // the loop only marches; the hit's bilinear frame (four fetches) is taken once after it, in
-    // control flow all lanes share again (inside the loop a SIMD group would run it at every
-    // step where one of its lanes hits)
+    // the loop only marches; the crossing and the hit's bilinear frame (four fetches) are taken
+    // once after it, in control flow all lanes share again (inside the loop a SIMD group would
+    // run them at every step: lavapipe runs every branch any lane takes)
     var flags = FLAG_EARLY;
     var exited = false;
     for (var i = 0; i < ni; i = i + 1) {
-        var dl = dl0;
+        dl = dl0;
         if (params.adaptive > 0.5) {
             // at least POM's layer density: each step descends one of the shell's
             // pom_sample_count(N.V, 8, N) layers (N.V local), and at most one shell depth along
@@ -108,20 +114,15 @@ fn march(r: Ray) -> Hit {
             dl = clamp(G.depth / (ndv * layers), dl0, max(G.depth, dl0));
         }
         let step = vec3<f32>(dot(view, f.t) / f.scale.x, dot(view, f.b) / f.scale.y, dot(view, f.n) / max(G.depth, 1e-12)) * dl;
-        let uv1 = uv + step.xy;
-        let h1 = h + step.z;
+        uv1 = uv + step.xy;
+        h1 = h + step.z;
         steps = steps + 1.0;
         if (h1 > 1.0) {
             exited = true;
             break;
         }
-        let d1 = h1 - height_at(uv1 * tiling, r.lod);
+        d1 = h1 - height_at(uv1 * tiling, r.lod);
         if (d1 <= 0.0) {
-            // the crossing between the last two points
-            let t = d / max(d - d1, 1e-12);
-            uv = mix(uv, uv1, t);
-            h = mix(h, h1, t);
-            len = len + dl * t;
             flags = 0u;
             break;
         }
@@ -131,7 +132,7 @@ fn march(r: Ray) -> Hit {
         d = d1;
         // the frame changes slowly (a map texel spans several steps): fetched again only when
         // the ray enters another cell of the map
-        let c = frame_texel_at(uv);
+        let c = frame_texel_at(uv, dims);
         if (any(c != cell)) {
             f = frame_near(c);
             cell = c;
@@ -142,6 +143,13 @@ fn march(r: Ray) -> Hit {
         out.exited = true;
         out.steps = steps;
         return out;
+    }
+    if (flags == 0u) {
+        // the crossing between the last two points
+        let t = d / max(d - d1, 1e-12);
+        uv = mix(uv, uv1, t);
+        h = mix(h, h1, t);
+        len = len + dl * t;
     }
     return ncs_hit(r, uv, h, len, steps, flags, frame_at(uv));
 }

@@ -208,80 +208,105 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
     var have_d0 = false;
     var st_hit = vec2<f32>(0.0);
     var k = 0u;
-    for (; k < MAX_PRISMS; k = k + 1u) {
-        let sp = prism_span(p, o, view);
-        steps = steps + 1.0;
-        if (!sp.ok || sp.t_out <= t0) {
-            break;
-        }
-        // the walk's entry is the previous exit (the first prism's: the fragment itself)
-        var t_in = sp.t_in;
-        var st_in = sp.st_in;
-        if (t_in < t0) {
-            // entered before t0 (the first prism, or rounding at a shared side): start at t0 on
-            // the segment entry -> exit
-            let a = (t0 - t_in) / max(sp.t_out - t_in, 1e-30);
-            st_in = mix(st_in, sp.st_out, a);
-            t_in = t0;
-        }
-        let h_e = clamp(st_in.z, 0.0, 1.0);
-        let h_x = clamp(sp.st_out.z, 0.0, 1.0);
-        // a march only where the ray's lowest point in the prism is below its highest height
-        var marched = false;
-        if (min(h_e, h_x) <= prisms[p].info.x) {
-            marched = true;
-            let s_e = prism_uv(p, st_in.xy) * tiling;
-            let s_x = prism_uv(p, sp.st_out.xy) * tiling;
-            let dh_seg = h_x - h_e;
-            var hit = -1.0;
-            if (exact && abs(dh_seg) > 1e-4) {
-                // exact=True: the max-mip traversal along the segment, parameterised by height
-                let slope = (s_x - s_e) / abs(dh_seg) * G.map_size;
-                let p0 = positive_start(s_e, slope);
-                let tr = maxmip_traverse(p0, h_e, slope.x, slope.y, sign(dh_seg), abs(dh_seg), G.max_iterations);
-                steps = steps + tr.iters;
-                if (tr.hit) {
-                    hit = tr.t / abs(dh_seg);
-                }
-            } else {
-                // the shared linear search from entry to exit, at POM's layer density: a segment
-                // spanning dh of the shell's height gets n * dh layers (>= 1); the entry's sample
-                // is the previous prism's last one
-                let ndotv = -dot(view, normalize(prism_normal(p, st_in.xy)));
-                let n = max(ceil(pom_sample_count(ndotv, params.min_steps, params.max_steps, true) * abs(dh_seg)), 2.0);
-                if (!have_d0) {
-                    d0 = h_e - height_at(s_e, hl);
-                    steps = steps + 1.0;
-                }
-                let b = linear_search_from(Segment(s_e, s_x - s_e, h_e, dh_seg), n, hl, d0, 0.0);
-                steps = steps + b.steps;
-                d0 = b.d_cur;
-                if (b.d_cur <= 0.0) {
-                    hit = refine_linear(b);
-                }
-            }
-            if (hit >= 0.0) {
-                // the frame is interpolated after the loop, once (see below)
-                st_hit = mix(st_in, sp.st_out, hit).xy;
-                out.ok = true;
-                out.t = mix(t_in, sp.t_out, hit);
-                out.s = mix(s_e, s_x, hit);
-                out.h = mix(h_e, h_x, hit);
+    // Two loops, as in maxmip.wgsl: the inner one walks from prism to prism (the span, and the
+    // test of the ray's lowest point against the prism's highest height) until a prism the ray
+    // dips into, the candidate; the outer one marches the candidate's segment. On a SIMD machine
+    // that runs every branch any lane of a group takes (lavapipe), the march's code then runs
+    // once per candidate, not at every prism crossed.
+    var sp: Span;
+    var t_in = 0.0;
+    var st_in = vec3<f32>(0.0);
+    var h_e = 0.0;
+    var h_x = 0.0;
+    loop {
+        var cand = false;
+        loop {
+            if (k >= MAX_PRISMS) {
                 break;
             }
+            sp = prism_span(p, o, view);
+            steps = steps + 1.0;
+            if (!sp.ok || sp.t_out <= t0) {
+                break;
+            }
+            // the walk's entry is the previous exit (the first prism's: the fragment itself)
+            t_in = sp.t_in;
+            st_in = sp.st_in;
+            if (t_in < t0) {
+                // entered before t0 (the first prism, or rounding at a shared side): start at t0
+                // on the segment entry -> exit
+                let a = (t0 - t_in) / max(sp.t_out - t_in, 1e-30);
+                st_in = mix(st_in, sp.st_out, a);
+                t_in = t0;
+            }
+            h_e = clamp(st_in.z, 0.0, 1.0);
+            h_x = clamp(sp.st_out.z, 0.0, 1.0);
+            // a march only where the ray's lowest point in the prism is below its highest height
+            if (min(h_e, h_x) <= prisms[p].info.x) {
+                cand = true;
+                break;
+            }
+            // crossed without a march: no sample carries to the next prism
+            have_d0 = false;
+            let next = select(NONE, prisms[p].adj[min(sp.side, 2u)], sp.side <= 2u);
+            if (next == NONE) {
+                break;
+            }
+            p = next;
+            t0 = sp.t_out;
+            k = k + 1u;
         }
-        // the exit's sample carries to the next prism (not after the max-mip traversal, or a
-        // prism crossed without a march)
-        have_d0 = marched && !exact;
-        if (sp.side > 2u) {
+        if (!cand) {
             break;
         }
-        let next = prisms[p].adj[sp.side];
+        let s_e = prism_uv(p, st_in.xy) * tiling;
+        let s_x = prism_uv(p, sp.st_out.xy) * tiling;
+        let dh_seg = h_x - h_e;
+        var hit = -1.0;
+        if (exact && abs(dh_seg) > 1e-4) {
+            // exact=True: the max-mip traversal along the segment, parameterised by height
+            let slope = (s_x - s_e) / abs(dh_seg) * G.map_size;
+            let p0 = positive_start(s_e, slope);
+            let tr = maxmip_traverse(p0, h_e, slope.x, slope.y, sign(dh_seg), abs(dh_seg), G.max_iterations);
+            steps = steps + tr.iters;
+            if (tr.hit) {
+                hit = tr.t / abs(dh_seg);
+            }
+        } else {
+            // the shared linear search from entry to exit, at POM's layer density: a segment
+            // spanning dh of the shell's height gets n * dh layers (>= 1); the entry's sample
+            // is the previous prism's last one
+            let ndotv = -dot(view, normalize(prism_normal(p, st_in.xy)));
+            let n = max(ceil(pom_sample_count(ndotv, params.min_steps, params.max_steps, true) * abs(dh_seg)), 2.0);
+            if (!have_d0) {
+                d0 = h_e - height_at(s_e, hl);
+                steps = steps + 1.0;
+            }
+            let b = linear_search_from(Segment(s_e, s_x - s_e, h_e, dh_seg), n, hl, d0, 0.0);
+            steps = steps + b.steps;
+            d0 = b.d_cur;
+            if (b.d_cur <= 0.0) {
+                hit = refine_linear(b);
+            }
+        }
+        if (hit >= 0.0) {
+            // the frame is interpolated after the loop, once (see below)
+            st_hit = mix(st_in, sp.st_out, hit).xy;
+            out.ok = true;
+            out.t = mix(t_in, sp.t_out, hit);
+            out.s = mix(s_e, s_x, hit);
+            out.h = mix(h_e, h_x, hit);
+            break;
+        }
+        // the exit's sample carries to the next prism (not after the max-mip traversal)
+        have_d0 = !exact;
+        let next = select(NONE, prisms[p].adj[min(sp.side, 2u)], sp.side <= 2u);
         if (next == NONE) {
             break;
         }
         p = next;
         t0 = sp.t_out;
+        k = k + 1u;
     }
     out.steps = steps;
     if (out.ok) {
