@@ -130,21 +130,22 @@ def test_regions_split_interior_and_outline():
 
 
 def test_fit_model_recovers_a_plane_and_says_how_well():
-    """ms = 2 + 3e-6 fetches + 1e-7 bytes + 5e-5 fragments + 1e-4 primitives, sampled where the terms vary
+    """ms = 2 + 3e-6 fetches + 1e-7 bytes + 5e-5 fragments + 1e-4 primitives + 2e-5 rasterised, sampled where the terms vary
     independently (per-frame totals in the millions, as a real frame's): the least squares gives
     the coefficients back and R² 1; noise lowers R² below 1, and the worst relative error says
     which row the model misses most."""
     from pomkit.bench import fit_model
     rng = np.random.default_rng(0)
-    rows = [dict(fetches=float(f), bytes=float(b), fragments=float(g), primitives=float(p))
-            for f, b, g, p in zip(rng.uniform(0, 4e6, 40), rng.uniform(0, 6e7, 40), rng.uniform(6e4, 3e5, 40),
-                                  rng.uniform(2, 6e5, 40))]
+    rows = [dict(fetches=float(f), bytes=float(b), fragments=float(g), primitives=float(p), rasterised=float(p * q))
+            for f, b, g, p, q in zip(rng.uniform(0, 4e6, 40), rng.uniform(0, 6e7, 40), rng.uniform(6e4, 3e5, 40),
+                                     rng.uniform(2, 6e5, 40), rng.uniform(0.3, 1.0, 40))]
     for x in rows:
-        x["gpu_ms"] = 2.0 + 3e-6 * x["fetches"] + 1e-7 * x["bytes"] + 5e-5 * x["fragments"] + 1e-4 * x["primitives"]
+        x["gpu_ms"] = (2.0 + 3e-6 * x["fetches"] + 1e-7 * x["bytes"] + 5e-5 * x["fragments"] + 1e-4 * x["primitives"]
+                       + 2e-5 * x["rasterised"])
     fit = fit_model(rows)
     assert fit["r2"] > 1 - 1e-9 and abs(fit["a"] - 2.0) < 1e-6 and fit["n"] == 40
-    assert np.allclose([fit["coef"][k] for k in ("fetches", "bytes", "fragments", "primitives")], [3e-6, 1e-7, 5e-5, 1e-4],
-                       rtol=1e-6)
+    assert np.allclose([fit["coef"][k] for k in ("fetches", "bytes", "fragments", "primitives", "rasterised")],
+                       [3e-6, 1e-7, 5e-5, 1e-4, 2e-5], rtol=1e-6)
     for x in rows:
         x["gpu_ms"] *= rng.uniform(0.8, 1.2)
     noisy = fit_model(rows)
@@ -161,3 +162,25 @@ def test_group_total_charges_each_block_its_longest_lane():
     # a partial block at the edge counts its own pixels
     b = np.ones((5, 9))
     assert group_total(b) == 45
+
+
+def test_rasterised_counts_the_triangles_that_face_the_camera():
+    """The cost model's `rasterised` term: back faces are culled, so a plane seen from above sends
+    all its triangles, from below none; a sphere from outside about half (its front hemisphere,
+    less the sliver the eye's finite distance hides); Tessellated its displaced mesh's faces that
+    face the eye; Prism one per base triangle (a top facing the eye or a bottom facing it)."""
+    from pomkit.bench import primitives, rasterised
+    h = pk.textures.bricks(64)
+    above = pk.Scene(mesh=pk.Mesh.plane(), material=pk.Material(h, depth=0.05),
+                     camera=pk.Camera.look_at((0.0, 2.0, 0.5), target=(0, 0, 0), fov_y=40, width=32, height=32))
+    below = above.replace(camera=pk.Camera.look_at((0.0, -2.0, 0.5), target=(0, 0, 0), fov_y=40, width=32, height=32))
+    n = len(above.mesh.indices) // 3
+    assert rasterised(above, pk.POM()) == n and rasterised(below, pk.POM()) == 0
+    assert rasterised(above, pk.Prism()) == n == primitives(above, pk.Prism()) // 2
+    tess = pk.Tessellated(2.0)
+    assert rasterised(below, tess) < 0.01 * primitives(below, tess) < rasterised(above, tess) <= primitives(above, tess)
+    sphere = pk.Scene(mesh=pk.Mesh.sphere(segments=32, rings=16), material=pk.Material(h, depth=0.02),
+                      camera=pk.Camera.look_at((0.0, 0.0, 3.0), fov_y=40, width=32, height=32))
+    m = len(sphere.mesh.indices) // 3
+    # the eye at distance 3 sees the cap up to cos = 1/3 from the axis: (1 - 1/3) / 2 of the area
+    assert 0.25 * m < rasterised(sphere, pk.Flat()) < 0.5 * m

@@ -351,7 +351,7 @@ def pareto_front(points):
 # ---------------------------------------------------------------- the cost model over every method
 
 #: the per-frame counts the cost model fits GPU ms with (shaders/cost.wgsl; docs/cost.md)
-COST_TERMS = ("fetches", "bytes", "fragments", "primitives")
+COST_TERMS = ("fetches", "bytes", "fragments", "primitives", "rasterised")
 
 #: the pixel block that runs in lock step (a SIMD group: 8 x 4 = 32 lanes, a warp)
 GROUP = (4, 8)
@@ -391,6 +391,33 @@ def primitives(scene: _scene.Scene, method) -> int:
     return n
 
 
+def _facing(positions: np.ndarray, faces: np.ndarray, transform: np.ndarray, eye: np.ndarray) -> np.ndarray:
+    """Which triangles (counter-clockwise front faces, as the passes draw them) face `eye`."""
+    p = positions @ transform[:3, :3].T + transform[:3, 3]
+    a, b, c = p[faces[:, 0]], p[faces[:, 1]], p[faces[:, 2]]
+    n = np.cross(b - a, c - a)
+    return np.einsum("ij,ij->i", n, eye - a) > 0.0
+
+
+def rasterised(scene: _scene.Scene, method) -> int:
+    """The triangles of `primitives` that reach the rasteriser: the passes cull back faces, so
+    those that face the camera. A closed mesh sends about half of what it submits. Prism: its
+    tops where the base triangle faces the camera, and its bottoms (the base triangles turned
+    inward) where it faces away; counted on the base mesh (the shell's offset is left out)."""
+    from . import _core
+    eye = np.asarray(scene.camera.eye, dtype=np.float64)
+    n = 0
+    for i, o in enumerate(scene.objects):
+        tr = np.asarray(o.transform, dtype=np.float64)
+        if isinstance(method, _methods.Tessellated):
+            t = _core.tessellate(scene._describe(), float(method.texels_per_vertex), i)
+            n += int(_facing(np.asarray(t["positions"], np.float64), np.asarray(t["faces"]), tr, eye).sum())
+            continue
+        f = _facing(np.asarray(o.mesh.positions, np.float64), np.asarray(o.mesh.indices).reshape(-1, 3), tr, eye)
+        n += len(f) if isinstance(method, _methods.Prism) else int(f.sum())
+    return n
+
+
 def cost_rows(r: _render.Renderer, scenes: dict, methods: list, min_repeats: int = 3,
               max_repeats: int = 9) -> list[dict]:
     """Per scene and method: GPU ms (`time_methods`: warm-up, interleaved rounds, median) and
@@ -406,6 +433,7 @@ def cost_rows(r: _render.Renderer, scenes: dict, methods: list, min_repeats: int
                              fetches=float(f.fetches.sum(dtype=np.float64)),
                              fragments=float(f.fragments.sum(dtype=np.float64)),
                              steps=float(f.steps.sum(dtype=np.float64)), primitives=float(primitives(sc, m)),
+                             rasterised=float(rasterised(sc, m)),
                              bytes=float(f.bytes.sum(dtype=np.float64)),
                              fetches_group=group_total(f.fetches), steps_group=group_total(f.steps),
                              bytes_group=group_total(f.bytes),
@@ -470,7 +498,7 @@ def cost_model_suite(size: int = 256, quick: bool = False) -> tuple[dict, list]:
 #: the model's two forms: the counts themselves, and with the search's counts taken per SIMD
 #: group (a group waits for its longest lane)
 COST_MODELS = {"per pixel": COST_TERMS,
-               "per SIMD group": ("fetches_group", "bytes_group", "fragments", "primitives")}
+               "per SIMD group": ("fetches_group", "bytes_group", "fragments", "primitives", "rasterised")}
 
 
 def cost_model(r: _render.Renderer, size: int = 256, quick: bool = False) -> dict:
