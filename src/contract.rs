@@ -261,13 +261,13 @@ pub enum Pass {
     },
 }
 
-/// A mesh on the GPU: vertices, indices (None: a non-indexed draw), and buffers its builder
-/// made beside them for the method's resources to bind.
+/// A mesh on the GPU: vertices, indices (None: a non-indexed draw), and the buffers or textures
+/// its builder made beside them for the method's resources to bind.
 pub struct GpuMesh {
     pub vbuf: wgpu::Buffer,
     pub ibuf: Option<wgpu::Buffer>,
     pub count: u32,
-    pub extra: Vec<wgpu::Buffer>,
+    pub extra: Vec<Resident>,
 }
 
 impl GpuMesh {

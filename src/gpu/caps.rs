@@ -5,8 +5,8 @@
 /// `python -m pomkit info` and the bench's records.
 pub const WGPU_VERSION: &str = "30.0.1";
 
-/// Read-only storage buffers the surface pass binds per stage (the max pyramid, prisms, cone
-/// steps: render/pipelines.rs).
+/// Read-only storage buffers the surface pass may bind per stage (render/pipelines.rs; today
+/// DistanceMapping's volume: the max pyramid, the cone map and the prisms are textures).
 pub const STORAGE_BUFFERS_PER_STAGE: u32 = 3;
 
 /// What the adapter can do that pomkit uses, detected once per device, and the fallback taken

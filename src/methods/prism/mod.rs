@@ -1,6 +1,7 @@
 //! Prism POM (Dachsbacher & Tatarchuk 2007): a pass of its own (prism.wgsl) over the prisms
 //! the method extrudes from the base mesh (prisms.rs): its own geometry (the shell's boundary
-//! faces) and its own resource (the per-prism data the walk reads, group 2, binding 1).
+//! faces) and its own resource (the per-prism data the walk reads, a texture at group 2,
+//! binding 1).
 pub mod prisms;
 
 use super::{check_range, flag, Geometry, Pass, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
@@ -38,37 +39,54 @@ impl MethodGeometry for PrismShell {
             data,
         } = prisms::build(mesh, m.depth, self.outward, &m.height, m.tiling);
         let vbytes = std::mem::size_of_val(verts.as_slice()) as u64;
-        if vbytes > ctx.limits.max_buffer_size
-            || std::mem::size_of_val(data.as_slice()) as u64
-                > ctx.limits.max_storage_buffer_binding_size as u64
-        {
-            let dbytes = std::mem::size_of_val(data.as_slice()) as u64;
-            return Err(Error::limit(
-                "mesh",
-                format!(
-                    "the prisms of {} triangles need {vbytes} bytes of vertices and {dbytes} of prism data, over the device's max_buffer_size = {} or max_storage_buffer_binding_size = {}; render a mesh with fewer triangles (split it into several pk.Object, or decimate it)",
-                    mesh.indices.len() / 3,
-                    ctx.limits.max_buffer_size,
-                    ctx.limits.max_storage_buffer_binding_size
-                ),
-            ));
-        }
+        let max_dim = ctx.limits.max_texture_dimension_2d;
+        let texels = prisms::texels(&data, max_dim);
+        let (texels, _, size) = match texels {
+            Ok(t) if vbytes <= ctx.limits.max_buffer_size => t,
+            r => {
+                let most = r.err().unwrap_or(data.len());
+                return Err(Error::limit(
+                    "mesh",
+                    format!(
+                        "the prisms of {} triangles need {vbytes} bytes of vertices and a prism texture of {} texels a prism; the device takes max_buffer_size = {} and textures up to {max_dim} texels a side (at most {most} prisms); render a mesh with fewer triangles (split it into several pk.Object, or decimate it)",
+                        mesh.indices.len() / 3,
+                        prisms::TEXELS_PER_PRISM,
+                        ctx.limits.max_buffer_size,
+                    ),
+                ));
+            }
+        };
         ctx.scoped(|| {
             let vbuf = ctx.upload(
                 "prism vertices",
                 bytemuck::cast_slice(&verts),
                 wgpu::BufferUsages::VERTEX,
             );
-            let pbuf = ctx.upload(
+            let tex = ctx.texture_2d(
                 "prisms",
-                bytemuck::cast_slice(&data),
-                wgpu::BufferUsages::STORAGE,
+                size,
+                wgpu::TextureFormat::Rgba32Float,
+                wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            );
+            ctx.queue.write_texture(
+                tex.as_image_copy(),
+                bytemuck::cast_slice(&texels),
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(16 * size.0),
+                    rows_per_image: Some(size.1),
+                },
+                wgpu::Extent3d {
+                    width: size.0,
+                    height: size.1,
+                    depth_or_array_layers: 1,
+                },
             );
             Ok(GpuMesh {
                 vbuf,
                 ibuf: None,
                 count: verts.len() as u32,
-                extra: vec![pbuf],
+                extra: vec![Resident::Texture(tex.create_view(&Default::default()))],
             })
         })
     }
@@ -89,7 +107,7 @@ pub struct PrismData {
 
 impl MethodResources for PrismData {
     fn layout(&self) -> Vec<ResourceKind> {
-        vec![ResourceKind::Storage]
+        vec![ResourceKind::TextureFloat]
     }
     fn key(&self, object: &Object) -> u64 {
         // the geometry's upload holds the buffer: no second copy, keyed as the geometry is
@@ -99,12 +117,12 @@ impl MethodResources for PrismData {
         hash_bytes(&[b"prism data", &shell.key(object).to_le_bytes()])
     }
     fn build(&self, inputs: &BuildInputs<'_>) -> Result<Vec<Resident>> {
-        let buf = inputs
+        let data = inputs
             .mesh
             .extra
             .first()
             .ok_or_else(|| Error::Gpu("the prism data was not built with the prisms".into()))?;
-        Ok(vec![Resident::Buffer(buf.clone())])
+        Ok(vec![data.clone()])
     }
 }
 

@@ -31,25 +31,34 @@
 #import pomkit::shading::shade
 #import pomkit::object::{is_transformed, to_world, to_clip, normal_to_world, stretch, clip_depth, shadow_depth, shadow_light_object}
 
-struct PrismData {
-    top: array<vec4<f32>, 3>,
-    bottom: array<vec4<f32>, 3>,
-    // xy: uv, zw: uv_scale
-    uv: array<vec4<f32>, 3>,
-    normal: array<vec4<f32>, 3>,
-    tangent: array<vec4<f32>, 3>,
-    // x: the highest height under the prism
-    info: vec4<f32>,
-    // xyz: the prism across side k (NONE: the shell's boundary); w: bit k = side k's diagonal
-    adj: vec4<u32>,
-}
-
 const NONE: u32 = 0xffffffffu;
 // the most prisms one ray walks through (a grazing ray crosses a handful)
 const MAX_PRISMS: u32 = 64u;
 
-// the method's own resource (group 2, binding 1)
-@group(2) @binding(1) var<storage, read> prisms: array<PrismData>;
+// The method's own resource (group 2, binding 1): the per-prism data as texels (prisms.rs's
+// `texels`), PRISM_TEXELS a prism, a power-of-two number of prisms a row:
+//   0-2 top corners, 3-5 bottom corners (xyz), 6-8 the corners' uv (xy) and uv scale (zw),
+//   9-11 normals, 12-14 tangents, 15 info (x: the highest height under the prism),
+//   16 adjacency: x, y, z the prism across side k (-1: the shell's boundary), w the diagonal
+//   bits (bit k: side k's split).
+// A texture, not a storage buffer: on lavapipe a storage read at an index that differs across
+// the lanes of a SIMD vector is a scalar loop over them, and the walk reads a prism's corners
+// at every prism it crosses.
+const PRISM_TEXELS: u32 = 17u;
+@group(2) @binding(1) var prism_tex: texture_2d<f32>;
+
+fn prism_texel(p: u32, k: u32) -> vec4<f32> {
+    let per_row = textureDimensions(prism_tex).x / PRISM_TEXELS;
+    let shift = countTrailingZeros(per_row);
+    return textureLoad(prism_tex, vec2<u32>((p & (per_row - 1u)) * PRISM_TEXELS + k, p >> shift), 0);
+}
+
+// The prism across `side` (0-2) from the adjacency texel `adj`, or NONE (the shell's boundary,
+// or side 3: the top or the bottom).
+fn prism_across(adj: vec4<f32>, side: u32) -> u32 {
+    let a = select(select(adj.z, adj.y, side == 1u), adj.x, side == 0u);
+    return select(NONE, u32(max(a, 0.0)), side <= 2u && a >= 0.0);
+}
 
 // A boundary-face corner seen through `clip_from_world` (the camera's or the light's).
 fn prism_vertex(v: VertexIn, prism: u32, clip_from_world: mat4x4<f32>) -> VertexOut {
@@ -93,6 +102,8 @@ struct Span {
     st_out: vec3<f32>,
     side: u32,
     ok: bool,
+    // the prism's adjacency texel (prism_across)
+    adj: vec4<f32>,
 }
 
 // One boundary triangle (corners a, b, c at prism coordinates sa, sb, sc) into the span.
@@ -134,13 +145,14 @@ fn prism_span(p: u32, o: vec3<f32>, d: vec3<f32>) -> Span {
     sp.ok = false;
     // the prism's corners and adjacency (no texels: bytes only), and its max height
     fetched(0u, 128u);
-    let t0 = prisms[p].top[0].xyz;
-    let t1 = prisms[p].top[1].xyz;
-    let t2 = prisms[p].top[2].xyz;
-    let b0 = prisms[p].bottom[0].xyz;
-    let b1 = prisms[p].bottom[1].xyz;
-    let b2 = prisms[p].bottom[2].xyz;
-    let diag = prisms[p].adj.w;
+    let t0 = prism_texel(p, 0u).xyz;
+    let t1 = prism_texel(p, 1u).xyz;
+    let t2 = prism_texel(p, 2u).xyz;
+    let b0 = prism_texel(p, 3u).xyz;
+    let b1 = prism_texel(p, 4u).xyz;
+    let b2 = prism_texel(p, 5u).xyz;
+    sp.adj = prism_texel(p, 16u);
+    let diag = u32(sp.adj.w);
     // barycentrics (b1, b2) of the corners
     let s0 = vec2<f32>(0.0, 0.0);
     let s1 = vec2<f32>(1.0, 0.0);
@@ -160,19 +172,20 @@ fn bary(b: vec2<f32>) -> vec3<f32> {
 
 fn prism_uv(p: u32, b: vec2<f32>) -> vec2<f32> {
     let w = bary(b);
-    return prisms[p].uv[0].xy * w.x + prisms[p].uv[1].xy * w.y + prisms[p].uv[2].xy * w.z;
+    return prism_texel(p, 6u).xy * w.x + prism_texel(p, 7u).xy * w.y + prism_texel(p, 8u).xy * w.z;
 }
 
 fn prism_normal(p: u32, b: vec2<f32>) -> vec3<f32> {
     let w = bary(b);
-    return prisms[p].normal[0].xyz * w.x + prisms[p].normal[1].xyz * w.y + prisms[p].normal[2].xyz * w.z;
+    return prism_texel(p, 9u).xyz * w.x + prism_texel(p, 10u).xyz * w.y + prism_texel(p, 11u).xyz * w.z;
 }
 
 fn prism_frame(p: u32, b: vec2<f32>) -> TangentFrame {
     let w = bary(b);
-    let t = prisms[p].tangent[0] * w.x + prisms[p].tangent[1] * w.y + prisms[p].tangent[2] * w.z;
-    let sc = prisms[p].uv[0].zw * w.x + prisms[p].uv[1].zw * w.y + prisms[p].uv[2].zw * w.z;
-    return make_frame(prism_normal(p, b), vec4<f32>(t.xyz, select(1.0, -1.0, prisms[p].tangent[0].w < 0.0)), sc);
+    let t0 = prism_texel(p, 12u);
+    let t = t0 * w.x + prism_texel(p, 13u) * w.y + prism_texel(p, 14u) * w.z;
+    let sc = prism_texel(p, 6u).zw * w.x + prism_texel(p, 7u).zw * w.y + prism_texel(p, 8u).zw * w.z;
+    return make_frame(prism_normal(p, b), vec4<f32>(t.xyz, select(1.0, -1.0, t0.w < 0.0)), sc);
 }
 
 // The walk of a ray from `o` (a point of prism `first`'s boundary) along `view` (object space,
@@ -242,13 +255,13 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
             h_e = clamp(st_in.z, 0.0, 1.0);
             h_x = clamp(sp.st_out.z, 0.0, 1.0);
             // a march only where the ray's lowest point in the prism is below its highest height
-            if (min(h_e, h_x) <= prisms[p].info.x) {
+            if (min(h_e, h_x) <= prism_texel(p, 15u).x) {
                 cand = true;
                 break;
             }
             // crossed without a march: no sample carries to the next prism
             have_d0 = false;
-            let next = select(NONE, prisms[p].adj[min(sp.side, 2u)], sp.side <= 2u);
+            let next = prism_across(sp.adj, sp.side);
             if (next == NONE) {
                 break;
             }
@@ -300,7 +313,7 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
         }
         // the exit's sample carries to the next prism (not after the max-mip traversal)
         have_d0 = !exact;
-        let next = select(NONE, prisms[p].adj[min(sp.side, 2u)], sp.side <= 2u);
+        let next = prism_across(sp.adj, sp.side);
         if (next == NONE) {
             break;
         }

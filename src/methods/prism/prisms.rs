@@ -47,6 +47,49 @@ pub struct PrismData {
 /// No prism across a side.
 pub const NONE: u32 = u32::MAX;
 
+/// Texels (rgba32float) of one prism in the texture prism.wgsl reads (`PRISM_TEXELS` there):
+/// top[3], bottom[3], uv[3], normal[3], tangent[3], info, and the adjacency as floats (the
+/// prism's index across sides 0-2, -1 for `NONE`, and the diagonal bits in w).
+pub const TEXELS_PER_PRISM: u32 = 17;
+
+/// The per-prism data as a texture: `per_row` prisms a row (a power of two, so that the shader
+/// finds a prism's texels with a shift and a mask), each `TEXELS_PER_PRISM` texels wide, and
+/// the texture's size. On lavapipe a storage buffer read at an index that differs between the
+/// lanes of a SIMD vector is a scalar loop over the lanes, and Prism's walk reads eight of
+/// them per prism crossed; a texel fetch is one vector gather. Err: the rows exceed `max_dim`.
+pub fn texels(
+    data: &[PrismData],
+    max_dim: u32,
+) -> std::result::Result<(Vec<[f32; 4]>, u32, (u32, u32)), usize> {
+    let n = data.len().max(1);
+    let fit = (max_dim / TEXELS_PER_PRISM).max(1);
+    // the largest power of two within the limit, no wider than the mesh needs
+    let per_row = (1u32 << (31 - fit.leading_zeros())).min((n as u32).next_power_of_two());
+    let rows = n.div_ceil(per_row as usize);
+    if rows > max_dim as usize {
+        return Err(per_row as usize * max_dim as usize);
+    }
+    let width = per_row * TEXELS_PER_PRISM;
+    let mut t = vec![[0.0f32; 4]; width as usize * rows];
+    let adj = |a: u32| if a == NONE { -1.0 } else { a as f32 };
+    for (i, d) in data.iter().enumerate() {
+        let (row, col) = (i / per_row as usize, i % per_row as usize);
+        let at = row * width as usize + col * TEXELS_PER_PRISM as usize;
+        let fields = d
+            .top
+            .iter()
+            .chain(&d.bottom)
+            .chain(&d.uv)
+            .chain(&d.normal)
+            .chain(&d.tangent);
+        for (k, v) in fields.chain(std::iter::once(&d.info)).enumerate() {
+            t[at + k] = *v;
+        }
+        t[at + 16] = [adj(d.adj[0]), adj(d.adj[1]), adj(d.adj[2]), d.adj[3] as f32];
+    }
+    Ok((t, per_row, (width, rows as u32)))
+}
+
 /// The prisms of a mesh: the vertices of their boundary faces (the shell's surface: every top,
 /// the sides no other prism shares, and the bottoms where the shell is open) and the per-prism
 /// data.
@@ -276,6 +319,45 @@ mod tests {
             .filter(|d| !degenerate(d))
             .map(|d| d.adj[..3].iter().filter(|&&a| a == NONE).count())
             .sum()
+    }
+
+    /// The texture prism.wgsl reads: each prism's 17 texels at (index mod per_row, index div
+    /// per_row), per_row a power of two within the device's limit, the adjacency as floats (-1
+    /// for NONE), and an error naming how many prisms fit when the rows exceed the limit. The
+    /// shader's PRISM_TEXELS is this file's TEXELS_PER_PRISM.
+    #[test]
+    fn the_prism_texture_holds_every_prism_where_the_shader_looks() {
+        assert!(include_str!("prism.wgsl")
+            .contains(&format!("const PRISM_TEXELS: u32 = {TEXELS_PER_PRISM}u;")));
+        let hm = HeightMap::new(4, 4, vec![0.5; 16]).unwrap();
+        let mesh = Mesh::plane(2.0, 3).unwrap();
+        let p = build(&mesh, 0.1, false, &hm, 1.0);
+        let n = p.data.len();
+        // a limit of 4 prisms a row: 18 prisms in 5 rows
+        let (t, per_row, (w, h)) = texels(&p.data, 4 * TEXELS_PER_PRISM + 3).unwrap();
+        assert_eq!(
+            (per_row, w, h as usize),
+            (4, 4 * TEXELS_PER_PRISM, n.div_ceil(4))
+        );
+        let adj = |a: u32| if a == NONE { -1.0 } else { a as f32 };
+        for (i, d) in p.data.iter().enumerate() {
+            let at = (i / 4) * w as usize + (i % 4) * TEXELS_PER_PRISM as usize;
+            assert_eq!(t[at], d.top[0]);
+            assert_eq!(t[at + 5], d.bottom[2]);
+            assert_eq!(t[at + 6], d.uv[0]);
+            assert_eq!(t[at + 14], d.tangent[2]);
+            assert_eq!(t[at + 15], d.info);
+            assert_eq!(
+                t[at + 16],
+                [adj(d.adj[0]), adj(d.adj[1]), adj(d.adj[2]), d.adj[3] as f32]
+            );
+        }
+        assert!(p.data.iter().any(|d| d.adj[..3].contains(&NONE)));
+        // the widest rows fit: one row of 32 for 18 prisms under a large limit
+        assert_eq!(texels(&p.data, 16384).unwrap().1, 32);
+        // rows over the limit: an error with the prisms that fit (one a row, 17 rows, for 18)
+        assert_eq!(n, 18);
+        assert_eq!(texels(&p.data, TEXELS_PER_PRISM).err(), Some(17));
     }
 
     /// Closed meshes make closed shells: every side is shared (across the uv seams and at the
