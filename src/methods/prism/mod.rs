@@ -4,7 +4,7 @@
 //! binding 1).
 pub mod prisms;
 
-use super::{check_range, flag, Geometry, Pass, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
+use super::{check_range, Geometry, Pass, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::contract::{
     BuildInputs, GpuMesh, MethodGeometry, MethodResources, Resident, ResourceKind,
 };
@@ -154,7 +154,6 @@ impl Unit for Prism {
             &[
                 ("min_steps", self.min_steps as f32),
                 ("max_steps", self.max_steps as f32),
-                ("exact", flag(self.exact)),
             ],
         );
         s.pass = Pass::Own {
@@ -165,6 +164,9 @@ impl Unit for Prism {
             shadow_fs: "fs_prism_shadow",
         };
         s.defs.clear();
+        if self.exact {
+            s.defs.push("PRISM_EXACT");
+        }
         s.geometry = Geometry::Own(Arc::new(PrismShell {
             outward: self.outward,
         }));

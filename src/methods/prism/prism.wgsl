@@ -207,11 +207,15 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
     out.ok = false;
     out.flags = 0u;
     let tiling = G.tiling;
-    let exact = params.exact > 0.5;
-    var hl = height_lod(lod);
-    if (exact) {
-        hl = 0.0;
-    }
+    // exact=True is the variant compiled with PRISM_EXACT: the other variant holds no max-mip
+    // code (lavapipe would run its straight-line part at every candidate prism)
+#ifdef PRISM_EXACT
+    let exact = true;
+    let hl = 0.0;
+#else
+    let exact = false;
+    let hl = height_lod(lod);
+#endif
     out.hl = hl;
     var steps = 0.0;
     var p = first;
@@ -276,7 +280,8 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
         let s_x = prism_uv(p, sp.st_out.xy) * tiling;
         let dh_seg = h_x - h_e;
         var hit = -1.0;
-        if (exact && abs(dh_seg) > 1e-4) {
+#ifdef PRISM_EXACT
+        if (abs(dh_seg) > 1e-4) {
             // exact=True: the max-mip traversal along the segment, parameterised by height
             let slope = (s_x - s_e) / abs(dh_seg) * G.map_size;
             let p0 = positive_start(s_e, slope);
@@ -286,6 +291,9 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
                 hit = tr.t / abs(dh_seg);
             }
         } else {
+#else
+        {
+#endif
             // the shared linear search from entry to exit, at POM's layer density: a segment
             // spanning dh of the shell's height gets n * dh layers (>= 1); the entry's sample
             // is the previous prism's last one
