@@ -170,9 +170,14 @@ fn bary(b: vec2<f32>) -> vec3<f32> {
     return vec3<f32>(1.0 - b.x - b.y, b.x, b.y);
 }
 
-fn prism_uv(p: u32, b: vec2<f32>) -> vec2<f32> {
-    let w = bary(b);
-    return prism_texel(p, 6u).xy * w.x + prism_texel(p, 7u).xy * w.y + prism_texel(p, 8u).xy * w.z;
+// The uv at two points of one prism (a segment's entry and exit), its corners read once.
+fn prism_uv2(p: u32, b0: vec2<f32>, b1: vec2<f32>) -> array<vec2<f32>, 2> {
+    let u0 = prism_texel(p, 6u).xy;
+    let u1 = prism_texel(p, 7u).xy;
+    let u2 = prism_texel(p, 8u).xy;
+    let w0 = bary(b0);
+    let w1 = bary(b1);
+    return array<vec2<f32>, 2>(u0 * w0.x + u1 * w0.y + u2 * w0.z, u0 * w1.x + u1 * w1.y + u2 * w1.z);
 }
 
 fn prism_normal(p: u32, b: vec2<f32>) -> vec3<f32> {
@@ -276,8 +281,9 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
         if (!cand) {
             break;
         }
-        let s_e = prism_uv(p, st_in.xy) * tiling;
-        let s_x = prism_uv(p, sp.st_out.xy) * tiling;
+        let uvs = prism_uv2(p, st_in.xy, sp.st_out.xy);
+        let s_e = uvs[0] * tiling;
+        let s_x = uvs[1] * tiling;
         let dh_seg = h_x - h_e;
         var hit = -1.0;
 #ifdef PRISM_EXACT
