@@ -240,9 +240,21 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
     var st_in = vec3<f32>(0.0);
     var h_e = 0.0;
     var h_x = 0.0;
+    // on to the prism across the exit before the next span (not before the first one)
+    var move_on = false;
     loop {
         var cand = false;
         loop {
+            if (move_on) {
+                let next = prism_across(sp.adj, sp.side);
+                if (next == NONE) {
+                    break;
+                }
+                p = next;
+                t0 = sp.t_out;
+                k = k + 1u;
+            }
+            move_on = true;
             if (k >= MAX_PRISMS) {
                 break;
             }
@@ -270,13 +282,6 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
             }
             // crossed without a march: no sample carries to the next prism
             have_d0 = false;
-            let next = prism_across(sp.adj, sp.side);
-            if (next == NONE) {
-                break;
-            }
-            p = next;
-            t0 = sp.t_out;
-            k = k + 1u;
         }
         if (!cand) {
             break;
@@ -325,15 +330,9 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
             out.h = mix(h_e, h_x, hit);
             break;
         }
-        // the exit's sample carries to the next prism (not after the max-mip traversal)
+        // the exit's sample carries to the next prism (not after the max-mip traversal); the
+        // inner loop moves on to it
         have_d0 = !exact;
-        let next = prism_across(sp.adj, sp.side);
-        if (next == NONE) {
-            break;
-        }
-        p = next;
-        t0 = sp.t_out;
-        k = k + 1u;
     }
     out.steps = steps;
     if (out.ok) {
