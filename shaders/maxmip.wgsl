@@ -116,8 +116,8 @@ struct Traversal {
 // - The atlas offset: level k lies after levels 1 .. k - 1, whose widths W / 2, W / 4, ...
 //   sum to W - 2 W / 2^k when 2^(k - 1) divides W, as it does up to the top level
 //   (heightmap.rs's max_atlas; its test the_traversal_s_atlas_offsets_are_the_table_s).
-fn node_max(node: vec2<i32>, size: f32, inv_cells: vec2<f32>) -> f32 {
-    let dims = G.map_size / size;
+fn node_max(node: vec2<i32>, size: f32, isize: f32, inv_cells: vec2<f32>) -> f32 {
+    let dims = G.map_size * isize;
     let nf = vec2<f32>(node);
     let p = nf - floor((nf + 0.5) * (size * inv_cells)) * dims;
     fetched(1u, 4u);
@@ -153,19 +153,23 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
     // per axis: 1 / slope (1e30 parallel to the axis), and which face the ray leaves a node by
     let ahead = vec2<bool>(dx > 0.0, dy > 0.0);
     let behind = vec2<bool>(dx < 0.0, dy < 0.0);
+    // (an axis the ray does not move along takes the far face: a positive distance times 1e30,
+    // never the nearer exit)
     let moves = vec2<bool>(dx != 0.0, dy != 0.0);
     let inv = select(vec2<f32>(1e30), vec2<f32>(1.0) / vec2<f32>(dx, dy), moves);
-    let exit_face = select(vec2<f32>(0.0), vec2<f32>(1.0), ahead);
+    let exit_face = select(vec2<f32>(0.0), vec2<f32>(1.0), vec2<bool>(dx >= 0.0, dy >= 0.0));
     let inv_cells = vec2<f32>(1.0) / G.map_size;
     var level = 0;
     var size = 1.0;
+    // 1 / size (both powers of two: exact)
+    var isize = 1.0;
     var node = st.base;
     var t = 0.0;
     var it = 1u;
     var found = false;
     var t_hit = 0.0;
     // the current node's exit: t across each face, and the t at which the ray leaves
-    var tf = select(vec2<f32>(1e30), (exit_face - st.frac) * inv, moves);
+    var tf = (exit_face - st.frac) * inv;
     var t_exit = clamp(min(tf.x, tf.y), 0.0, t_end);
     // The cell the ray starts in is a candidate if the ray dips below its max there (a plateau
     // at the top of the shell, a light ray's start on the surface, a prism segment's start):
@@ -182,6 +186,7 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
             if (level < top) {
                 level = level + 1;
                 size = size * 2.0;
+                isize = isize * 0.5;
                 node = node >> vec2<u32>(1u);
             }
             loop {
@@ -194,13 +199,13 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
                 }
                 it = it + 1u;
                 // the node's exit faces, from the start
-                tf = select(vec2<f32>(1e30), from_start(st, (vec2<f32>(node) + exit_face) * size) * inv, moves);
+                tf = from_start(st, (vec2<f32>(node) + exit_face) * size) * inv;
                 t_exit = clamp(min(tf.x, tf.y), t, t_end);
                 if (level == 0) {
                     cand = true;
                     break;
                 }
-                let m = node_max(node, size, inv_cells);
+                let m = node_max(node, size, isize, inv_cells);
                 // the ray's lowest point over [t, t_exit]
                 let below = min(h0 + dh * t, h0 + dh * t_exit) <= m;
                 // both moves, then one select. Descend: a descending ray first jumps to where
@@ -220,6 +225,7 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
                 node = select(next, child, below);
                 level = select(select(level, level + 1, asc), level - 1, below);
                 size = select(select(size, size * 2.0, asc), size * 0.5, below);
+                isize = select(select(isize, isize * 0.5, asc), isize * 2.0, below);
                 t = select(t_exit, td, below);
             }
             if (!cand) {
