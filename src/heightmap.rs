@@ -451,13 +451,24 @@ impl MipBuilder {
 }
 
 /// Write `w x h` float32 texels (as bytes, row-major) to level 0 of an R32Float texture.
-pub fn write_r32(ctx: &Context, tex: &wgpu::Texture, bytes: &[u8], (w, h): (u32, u32)) {
+pub fn write_r32(ctx: &Context, tex: &wgpu::Texture, bytes: &[u8], wh: (u32, u32)) {
+    write_texels(ctx, tex, bytes, wh, 4);
+}
+
+/// Write `w x h` texels of `texel_bytes` each (as bytes, row-major) to level 0 of a texture.
+pub fn write_texels(
+    ctx: &Context,
+    tex: &wgpu::Texture,
+    bytes: &[u8],
+    (w, h): (u32, u32),
+    texel_bytes: u32,
+) {
     ctx.queue.write_texture(
         tex.as_image_copy(),
         bytes,
         wgpu::TexelCopyBufferLayout {
             offset: 0,
-            bytes_per_row: Some(4 * w),
+            bytes_per_row: Some(texel_bytes * w),
             rows_per_image: Some(h),
         },
         wgpu::Extent3d {

@@ -371,26 +371,6 @@ def group_total(a: np.ndarray, block: tuple[int, int] = GROUP) -> float:
     return float(np.sum(np.where(n > 0, m, 0.0) * n))
 
 
-def primitives(scene: _scene.Scene, method) -> int:
-    """The triangles a frame submits to the rasteriser for `method`: the base meshes' for the
-    per-pixel methods, the displaced mesh's for Tessellated (its lattice at `texels_per_vertex`),
-    and for Prism the shell's boundary (a top and a bottom per base triangle; the unshared sides
-    of an open mesh's border are left out, a few per cent). What a user counts on their own
-    scene to estimate the cost with the model's coefficients."""
-    from . import _core
-    n = 0
-    for i, o in enumerate(scene.objects):
-        base = len(o.mesh.indices) // 3
-        if isinstance(method, _methods.Tessellated):
-            t = _core.tessellate(scene._describe(), float(method.texels_per_vertex), i)
-            n += int(t["faces"].shape[0])
-        elif isinstance(method, _methods.Prism):
-            n += 2 * base
-        else:
-            n += base
-    return n
-
-
 def _facing(positions: np.ndarray, faces: np.ndarray, transform: np.ndarray, eye: np.ndarray) -> np.ndarray:
     """Which triangles (counter-clockwise front faces, as the passes draw them) face `eye`."""
     p = positions @ transform[:3, :3].T + transform[:3, 3]
@@ -399,23 +379,45 @@ def _facing(positions: np.ndarray, faces: np.ndarray, transform: np.ndarray, eye
     return np.einsum("ij,ij->i", n, eye - a) > 0.0
 
 
+def triangle_counts(scene: _scene.Scene, method) -> tuple[int, int]:
+    """(`primitives`, `rasterised`) of a frame, from one pass over its objects (Tessellated's
+    displaced mesh built once)."""
+    from . import _core
+    eye = np.asarray(scene.camera.eye, dtype=np.float64)
+    submitted = facing = 0
+    for i, o in enumerate(scene.objects):
+        tr = np.asarray(o.transform, dtype=np.float64)
+        if isinstance(method, _methods.Tessellated):
+            t = _core.tessellate(scene._describe(), float(method.texels_per_vertex), i)
+            faces = np.asarray(t["faces"])
+            submitted += len(faces)
+            facing += int(_facing(np.asarray(t["positions"], np.float64), faces, tr, eye).sum())
+            continue
+        f = _facing(np.asarray(o.mesh.positions, np.float64), np.asarray(o.mesh.indices).reshape(-1, 3), tr, eye)
+        if isinstance(method, _methods.Prism):
+            submitted += 2 * len(f)
+            facing += len(f)
+        else:
+            submitted += len(f)
+            facing += int(f.sum())
+    return submitted, facing
+
+
+def primitives(scene: _scene.Scene, method) -> int:
+    """The triangles a frame submits to the rasteriser for `method`: the base meshes' for the
+    per-pixel methods, the displaced mesh's for Tessellated (its lattice at `texels_per_vertex`),
+    and for Prism the shell's boundary (a top and a bottom per base triangle; the unshared sides
+    of an open mesh's border are left out, a few per cent). What a user counts on their own
+    scene to estimate the cost with the model's coefficients."""
+    return triangle_counts(scene, method)[0]
+
+
 def rasterised(scene: _scene.Scene, method) -> int:
     """The triangles of `primitives` that reach the rasteriser: the passes cull back faces, so
     those that face the camera. A closed mesh sends about half of what it submits. Prism: its
     tops where the base triangle faces the camera, and its bottoms (the base triangles turned
     inward) where it faces away; counted on the base mesh (the shell's offset is left out)."""
-    from . import _core
-    eye = np.asarray(scene.camera.eye, dtype=np.float64)
-    n = 0
-    for i, o in enumerate(scene.objects):
-        tr = np.asarray(o.transform, dtype=np.float64)
-        if isinstance(method, _methods.Tessellated):
-            t = _core.tessellate(scene._describe(), float(method.texels_per_vertex), i)
-            n += int(_facing(np.asarray(t["positions"], np.float64), np.asarray(t["faces"]), tr, eye).sum())
-            continue
-        f = _facing(np.asarray(o.mesh.positions, np.float64), np.asarray(o.mesh.indices).reshape(-1, 3), tr, eye)
-        n += len(f) if isinstance(method, _methods.Prism) else int(f.sum())
-    return n
+    return triangle_counts(scene, method)[1]
 
 
 def cost_rows(r: _render.Renderer, scenes: dict, methods: list, min_repeats: int = 3,
@@ -428,12 +430,13 @@ def cost_rows(r: _render.Renderer, scenes: dict, methods: list, min_repeats: int
         ts = time_methods(r, sc, methods, min_repeats=min_repeats, max_repeats=max_repeats)
         for m, t in zip(methods, ts):
             f = r.render(sc, m, aovs=("mask", "fetches", "bytes", "fragments", "steps"))
+            submitted, facing = triangle_counts(sc, m)
             rows.append(dict(chart="cost_model", scene=sname, method=m.name, label=label(m), gpu_ms=t["ms"],
                              gpu_ms_p25=t["ms_p25"], gpu_ms_p75=t["ms_p75"], march_ms=t["march_ms"], timing=t["timing"],
                              fetches=float(f.fetches.sum(dtype=np.float64)),
                              fragments=float(f.fragments.sum(dtype=np.float64)),
-                             steps=float(f.steps.sum(dtype=np.float64)), primitives=float(primitives(sc, m)),
-                             rasterised=float(rasterised(sc, m)),
+                             steps=float(f.steps.sum(dtype=np.float64)), primitives=float(submitted),
+                             rasterised=float(facing),
                              bytes=float(f.bytes.sum(dtype=np.float64)),
                              fetches_group=group_total(f.fetches), steps_group=group_total(f.steps),
                              bytes_group=group_total(f.bytes),

@@ -41,7 +41,7 @@ impl MethodGeometry for PrismShell {
         let vbytes = std::mem::size_of_val(verts.as_slice()) as u64;
         let max_dim = ctx.limits.max_texture_dimension_2d;
         let texels = prisms::texels(&data, max_dim);
-        let (texels, _, size) = match texels {
+        let (texels, size) = match texels {
             Ok(t) if vbytes <= ctx.limits.max_buffer_size => t,
             r => {
                 let most = r.err().unwrap_or(data.len());
@@ -68,20 +68,7 @@ impl MethodGeometry for PrismShell {
                 wgpu::TextureFormat::Rgba32Float,
                 wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             );
-            ctx.queue.write_texture(
-                tex.as_image_copy(),
-                bytemuck::cast_slice(&texels),
-                wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(16 * size.0),
-                    rows_per_image: Some(size.1),
-                },
-                wgpu::Extent3d {
-                    width: size.0,
-                    height: size.1,
-                    depth_or_array_layers: 1,
-                },
-            );
+            crate::heightmap::write_texels(ctx, &tex, bytemuck::cast_slice(&texels), size, 16);
             Ok(GpuMesh {
                 vbuf,
                 ibuf: None,

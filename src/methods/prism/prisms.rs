@@ -52,15 +52,15 @@ pub const NONE: u32 = u32::MAX;
 /// prism's index across sides 0-2, -1 for `NONE`, and the diagonal bits in w).
 pub const TEXELS_PER_PRISM: u32 = 17;
 
-/// The per-prism data as a texture: `per_row` prisms a row (a power of two, so that the shader
-/// finds a prism's texels with a shift and a mask), each `TEXELS_PER_PRISM` texels wide, and
-/// the texture's size. On lavapipe a storage buffer read at an index that differs between the
-/// lanes of a SIMD vector is a scalar loop over the lanes, and Prism's walk reads eight of
-/// them per prism crossed; a texel fetch is one vector gather. Err: the rows exceed `max_dim`.
+/// The per-prism data as a texture, and its size: a power-of-two number of prisms a row (the
+/// shader finds a prism's texels with a shift and a mask), each `TEXELS_PER_PRISM` texels wide.
+/// On lavapipe a storage buffer read at an index that differs between the lanes of a SIMD
+/// vector is a scalar loop over the lanes, and Prism's walk reads eight of them per prism
+/// crossed; a texel fetch is one vector gather. Err: the rows exceed `max_dim`.
 pub fn texels(
     data: &[PrismData],
     max_dim: u32,
-) -> std::result::Result<(Vec<[f32; 4]>, u32, (u32, u32)), usize> {
+) -> std::result::Result<(Vec<[f32; 4]>, (u32, u32)), usize> {
     let n = data.len().max(1);
     let fit = (max_dim / TEXELS_PER_PRISM).max(1);
     // the largest power of two within the limit, no wider than the mesh needs
@@ -87,7 +87,7 @@ pub fn texels(
         }
         t[at + 16] = [adj(d.adj[0]), adj(d.adj[1]), adj(d.adj[2]), d.adj[3] as f32];
     }
-    Ok((t, per_row, (width, rows as u32)))
+    Ok((t, (width, rows as u32)))
 }
 
 /// The prisms of a mesh: the vertices of their boundary faces (the shell's surface: every top,
@@ -334,7 +334,8 @@ mod tests {
         let p = build(&mesh, 0.1, false, &hm, 1.0);
         let n = p.data.len();
         // a limit of 4 prisms a row: 18 prisms in 5 rows
-        let (t, per_row, (w, h)) = texels(&p.data, 4 * TEXELS_PER_PRISM + 3).unwrap();
+        let (t, (w, h)) = texels(&p.data, 4 * TEXELS_PER_PRISM + 3).unwrap();
+        let per_row = w / TEXELS_PER_PRISM;
         assert_eq!(
             (per_row, w, h as usize),
             (4, 4 * TEXELS_PER_PRISM, n.div_ceil(4))
@@ -354,7 +355,7 @@ mod tests {
         }
         assert!(p.data.iter().any(|d| d.adj[..3].contains(&NONE)));
         // the widest rows fit: one row of 32 for 18 prisms under a large limit
-        assert_eq!(texels(&p.data, 16384).unwrap().1, 32);
+        assert_eq!(texels(&p.data, 16384).unwrap().1 .0, 32 * TEXELS_PER_PRISM);
         // rows over the limit: an error with the prisms that fit (one a row, 17 rows, for 18)
         assert_eq!(n, 18);
         assert_eq!(texels(&p.data, TEXELS_PER_PRISM).err(), Some(17));
