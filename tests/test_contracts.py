@@ -16,6 +16,7 @@ from conftest import plane_scene
     (_methods.FilteringKind, _core.FILTERING_KINDS),
     (_methods.ConeKind, _core.CONE_KINDS),
     (_methods.RefineKind, _core.REFINE_KINDS),
+    (_methods.PatternKind, _core.PATTERN_KINDS),
     (_frame.AovName, _core.AOV_NAMES),
 ])
 def test_literals_equal_the_core(literal, core):

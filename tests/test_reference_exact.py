@@ -111,16 +111,23 @@ def test_the_gpu_methods_that_follow_the_definition_meet_it(tmp_path, monkeypatc
       photograph at 70° under the grazing light), since its light rays start 1e-6 shell depths
       above the hit, the walk keeping its start as a whole cell and an offset (with a start bias
       of 1e-4 it was 0.0072 there, 3e-5: 0.0040);
-    - Tessellated(0.5) <= 0.006 at 30° (issue 30's 0.005 is met but on cobblestones, 0.0059);
-      at 70° its half-texel lattice shows: up to 0.012, and 0.031 on gravel, held at 0.035;
-      Tessellated(0.25) halves it."""
+    - Tessellated(0.5) <= 0.005 (issue 30's bound) on every scene but the gravel photograph at
+      70°: the mesh's error is its chord error, the bilinear field's twist inside a lattice quad.
+      With the default pattern ("fan": four triangles about each quad's centre) it is at most
+      0.0029 elsewhere at 96²; on gravel at 70° it is 0.0048-0.0058, held at 0.007, and
+      Tessellated(0.25) meets 0.005 there (0.0023-0.0025). The regular grid (two triangles a
+      quad) left four times the chord error: 0.0274 on gravel at 70°, 0.0108 on cobblestones."""
     monkeypatch.setenv("POMKIT_CACHE", str(tmp_path))
     s = _suite_scene(name, theta, ambient)
     ref = R.render_exact(s, spp=16)
     ex = pk.metrics.compare(RENDERER.render(s, pk.Exact(**EXACT_OPTS), spp=16), ref, s)["flip_interior"]
     assert ex <= 0.003, ex
     tess = pk.metrics.compare(RENDERER.render(s, pk.Tessellated(0.5, shadows="exact"), spp=16), ref, s)["flip_interior"]
-    assert tess <= (0.006 if theta < 45 else 0.035), tess
+    gravel_grazing = name == "gravel" and theta > 45
+    assert tess <= (0.007 if gravel_grazing else 0.005), tess
+    if gravel_grazing:
+        finer = RENDERER.render(s, pk.Tessellated(0.25, shadows="exact"), spp=16)
+        assert pk.metrics.compare(finer, ref, s)["flip_interior"] <= 0.005
 
 
 @pytest.mark.parametrize("name,theta", [("bricks", 30.0), ("bricks", 70.0), ("gravel", 30.0), ("gravel", 70.0)])

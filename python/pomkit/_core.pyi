@@ -9,7 +9,7 @@ import numpy as np
 from ._methods import Method
 
 __all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "COST_AOV_NAMES", "CONE_KINDS", "DeviceLostError", "FILTERING_KINDS", "GpuError", "HeightData", "MAX_LIGHTS",
-           "MAX_STEPS_LIMIT", "MeshData", "NCS_MAP_SIZE", "NoAdapterError", "REFINE_KINDS", "Renderer", "SHADOW_KINDS",
+           "MAX_STEPS_LIMIT", "MeshData", "NCS_MAP_SIZE", "NoAdapterError", "PATTERN_KINDS", "REFINE_KINDS", "Renderer", "SHADOW_KINDS",
            "__version__", "adapters", "bounding_sphere", "exact_uv", "load_image", "mesh_from_arrays", "mesh_generate", "oracle_refusal", "reference_directions", "reference_normals", "render_exact", "set_cache_dir", "set_progress_hook", "tessellate"]
 __version__: str
 NCS_MAP_SIZE: int
@@ -20,6 +20,7 @@ SHADOW_KINDS: list[str]
 FILTERING_KINDS: list[str]
 CONE_KINDS: list[str]
 REFINE_KINDS: list[str]
+PATTERN_KINDS: list[str]
 MAX_STEPS_LIMIT: int
 AOV_DOCS: dict[str, str]
 
@@ -194,7 +195,8 @@ def oracle_refusal(scene: SceneDict) -> Optional[str]: ...
 def reference_normals(scene: SceneDict, object: int, uvs: np.ndarray, base_normals: np.ndarray, tangents: np.ndarray,
                       uv_scale: np.ndarray) -> np.ndarray: ...
 def reference_directions(axes: np.ndarray, tan_r: np.ndarray, q: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]: ...
-def tessellate(scene: SceneDict, texels_per_vertex: float, object: int = 0) -> TessellationDict: ...
+def tessellate(scene: SceneDict, texels_per_vertex: float, object: int = 0,
+               pattern: Literal["fan", "grid"] = "fan") -> TessellationDict: ...
 def mesh_from_arrays(positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray, indices: np.ndarray,
                      tangents: Optional[np.ndarray] = None) -> MeshFromArrays: ...
 def mesh_generate(kind: Literal["plane", "sphere", "torus", "cylinder", "cube"], a: float, b: float, n1: int,

@@ -37,6 +37,8 @@ __all__ = ["Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief
 #: equal
 ShadowKind = Literal["none", "hard", "soft", "horizon", "exact"]
 FilteringKind = Literal["hardware", "exact"]
+#: how Tessellated cuts each lattice quad (`_core.PATTERN_KINDS`)
+PatternKind = Literal["fan", "grid"]
 _SHADOWS: tuple[str, ...] = tuple(_core.SHADOW_KINDS)
 _FILTERING: tuple[str, ...] = tuple(_core.FILTERING_KINDS)
 
@@ -394,9 +396,16 @@ class DistanceMapping(_PerPixel):
 class Tessellated(Method):
     """The displaced mesh itself (Chen & Chang 2008's "ground truth model"), rasterised by the
     same pipeline and shaded the same way: vertices on a lattice through the texel centres,
-    `texels_per_vertex` texels apart (1: one vertex per texel; 0.5: two per texel, which matches
-    the exact bilinear field to about 0.001-0.03 texel). Displaced on the CPU once per
-    (mesh, height map, depth, tiling, spacing) and cached on the GPU.
+    `texels_per_vertex` texels apart (1: one vertex per texel; 0.5: two per texel). Displaced on
+    the CPU once per (mesh, height map, depth, tiling, spacing, pattern) and cached on the GPU.
+
+    pattern: how each quad of the lattice is cut. "fan" (default) adds a vertex at the quad's
+    centre, on the field, and cuts it into four triangles about it; "grid" cuts it along one
+    diagonal into two, as a regular tessellator would. Inside a texel cell the field is
+    bilinear, and its twist leaves a chord error of |d| L^2/4 in a quad of side L cut in two but
+    |d| L^2/16 cut in four: the fan at spacing L is as close to the field as the grid at L/2,
+    with half the triangles (docs/conventions.md, "The tessellated mesh"). Meshes from arrays
+    are subdivided barycentrically with either pattern.
 
     shadows: "hard" (default) tests the first directional light against a 2048^2 shadow map of
     the displaced mesh itself (3x3 PCF, boundaries good to ~1.5 shadow-map texels, no area-light
@@ -408,10 +417,12 @@ class Tessellated(Method):
 
     texels_per_vertex: float = 1.0
     shadows: Literal["none", "hard", "exact"] = "hard"
+    pattern: PatternKind = "fan"
     _kind = "Tessellated"
 
     def __post_init__(self):
         _choice(self, "shadows", ("none", "hard", "exact"))
+        _choice(self, "pattern", tuple(_core.PATTERN_KINDS))
         _real_field(self, "texels_per_vertex", 1 / 64, 1024)
 
 

@@ -388,7 +388,7 @@ def triangle_counts(scene: _scene.Scene, method) -> tuple[int, int]:
     for i, o in enumerate(scene.objects):
         tr = np.asarray(o.transform, dtype=np.float64)
         if isinstance(method, _methods.Tessellated):
-            t = _core.tessellate(scene._describe(), float(method.texels_per_vertex), i)
+            t = _core.tessellate(scene._describe(), float(method.texels_per_vertex), i, method.pattern)
             faces = np.asarray(t["faces"])
             submitted += len(faces)
             facing += int(_facing(np.asarray(t["positions"], np.float64), faces, tr, eye).sum())

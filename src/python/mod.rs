@@ -53,6 +53,10 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("FILTERING_KINDS", crate::methods::Filtering::NAMES.to_vec())?;
     m.add("CONE_KINDS", crate::methods::Cones::NAMES.to_vec())?;
     m.add("REFINE_KINDS", crate::methods::Refine::NAMES.to_vec())?;
+    m.add(
+        "PATTERN_KINDS",
+        crate::methods::tessellated::Pattern::NAMES.to_vec(),
+    )?;
     m.add("MAX_STEPS_LIMIT", crate::methods::MAX_STEPS_LIMIT)?;
     m.add_class::<renderer::PyRenderer>()?;
     m.add_class::<PyMeshData>()?;

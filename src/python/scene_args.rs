@@ -289,15 +289,18 @@ pub fn bounding_sphere(scene: &Bound<'_, PyDict>) -> PyResult<([f64; 3], f64)> {
 
 /// The displaced surface of object `object` of `scene` as arrays (positions, shading normals,
 /// uvs, faces, and the base frame each vertex was displaced from: base_normals, tangents,
-/// uv_scale) in object space, with `texels_per_vertex` lattice spacing.
+/// uv_scale) in object space, with `texels_per_vertex` lattice spacing, each lattice quad cut by
+/// `pattern` ("fan" or "grid").
 #[pyfunction]
-#[pyo3(signature = (scene, texels_per_vertex, object=0))]
+#[pyo3(signature = (scene, texels_per_vertex, object=0, pattern="fan"))]
 pub fn tessellate<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyDict>,
     texels_per_vertex: f64,
     object: usize,
+    pattern: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let pattern = crate::methods::tessellated::Pattern::parse(pattern)?;
     let scene = scene_from_py(scene)?;
     scene.validate()?;
     let obj = scene.object(object)?;
@@ -306,6 +309,7 @@ pub fn tessellate<'py>(
             &obj.mesh,
             &obj.material,
             texels_per_vertex,
+            pattern,
         )
     })?;
     let n = t.positions.len();

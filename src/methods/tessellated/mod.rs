@@ -10,12 +10,14 @@ use crate::gpu::Context;
 use crate::mesh::Vertex;
 use crate::scene::{hash_bytes, Object};
 use std::sync::Arc;
+pub use tessellate::Pattern;
 
 /// The displaced mesh on a lattice `texels_per_vertex` texels apart, with the base frame per
 /// vertex (Tessellated shades with the height field's normal).
 #[derive(Debug)]
 pub struct DisplacedMesh {
     pub texels_per_vertex: f64,
+    pub pattern: Pattern,
 }
 
 impl MethodGeometry for DisplacedMesh {
@@ -27,10 +29,16 @@ impl MethodGeometry for DisplacedMesh {
             &m.depth.to_le_bytes(),
             &m.tiling.to_le_bytes(),
             &self.texels_per_vertex.to_le_bytes(),
+            self.pattern.name().as_bytes(),
         ])
     }
     fn build(&self, ctx: &Context, object: &Object) -> Result<GpuMesh> {
-        let t = tessellate::tessellate(&object.mesh, &object.material, self.texels_per_vertex)?;
+        let t = tessellate::tessellate(
+            &object.mesh,
+            &object.material,
+            self.texels_per_vertex,
+            self.pattern,
+        )?;
         let v = Vertex::interleave(
             &t.positions,
             &t.base_normals,
@@ -48,7 +56,9 @@ impl MethodGeometry for DisplacedMesh {
 crate::params! {
     pub struct Tessellated {
         pub texels_per_vertex: f64,
-        /// None or Hard (the shadow map)
+        /// how each lattice quad is cut into triangles
+        pub pattern: Pattern,
+        /// None, Hard (the shadow map) or Exact
         pub shadows: Shadows,
     }
 }
@@ -58,14 +68,17 @@ impl Unit for Tessellated {
         vec![
             Tessellated {
                 texels_per_vertex: 1.0,
+                pattern: Pattern::Fan,
                 shadows: Shadows::None,
             },
             Tessellated {
                 texels_per_vertex: 1.0,
+                pattern: Pattern::Grid,
                 shadows: Shadows::Hard,
             },
             Tessellated {
                 texels_per_vertex: 1.0,
+                pattern: Pattern::Fan,
                 shadows: Shadows::Exact,
             },
         ]
@@ -86,6 +99,7 @@ impl Unit for Tessellated {
             },
             Geometry::Own(Arc::new(DisplacedMesh {
                 texels_per_vertex: self.texels_per_vertex,
+                pattern: self.pattern,
             })),
         );
         s.shadow_map_self = self.shadows == Shadows::Hard;
