@@ -14,6 +14,9 @@ default); checked against Mitsuba in test_silhouettes.py. And Exact's frames (-e
 and an offset within it, not one f32 several hundred cells out): they moved by at most 2.7e-4
 texel, and against the float64 oracle their uv p99 fell on every plane frame (bricks at 85°:
 1.44e-4 -> 7.9e-5 texel; the mean on all of them) with the max no worse than 3e-6 texel.
+And the Tessellated frames (-tess, -tess_none; issue 30: the displaced mesh cuts each lattice
+quad into four triangles about a centre vertex on the field, a quarter of the chord error);
+against render_exact they are checked in test_reference_exact.py.
 
 Every AOV must be bit-identical, except where a shared routine changed the arithmetic: those
 frames are listed in TOLERANT with the reason and the measured bound, and are checked against it

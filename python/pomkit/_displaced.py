@@ -11,6 +11,10 @@ from ._scene import Scene
 
 _EXTRA = "pip install pomkit[reference]"
 
+#: the displaced mesh the references render (Tessellated's default pattern): part of their cache
+#: keys, so that a render of an older mesh (the two-triangle grid) is not read back as this one's
+MESH = "fan"
+
 
 def require(module: str):
     try:
@@ -28,7 +32,7 @@ def displaced_arrays(scene: Scene, resolution: float = 2.0, object: int = 0) -> 
         raise TypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
     resolution = _v.number("resolution", resolution, 1 / 1024, 64)  # vertices per texel
     object = _v.integer("object", object, 0, len(scene.objects) - 1, strict=True)
-    t = _core.tessellate(scene._describe(), 1.0 / float(resolution), int(object))
+    t = _core.tessellate(scene._describe(), 1.0 / float(resolution), int(object), MESH)
     a: dict[str, np.ndarray] = {k: np.asarray(v) for k, v in t.items()}
     o = scene.objects[int(object)]
     if not o.is_identity:

@@ -16,7 +16,7 @@ from . import _core
 from . import _validate as _v
 from ._cache import cached, scene_hash
 from ._displaced import displaced_arrays, require as _require
-from . import _mitsuba
+from . import _displaced, _mitsuba
 from ._mitsuba import cast_render, direct_render, mitsuba_variant
 from ._frame import Frame
 from ._scene import DirectionalLight, Scene
@@ -136,7 +136,7 @@ def render_mitsuba(scene: Scene, spp: int | None = None, seed: int = 0, variant:
     resolution = _mitsuba.auto_resolution(scene, resolution)
     shadows = _v.boolean("shadows", shadows)
     key = scene_hash(scene, kind="mitsuba", spp=spp, seed=seed, variant=variant, resolution=resolution,
-                     integrator=integrator, shadows=shadows) if cache else ""
+                     integrator=integrator, shadows=shadows, mesh=_displaced.MESH) if cache else ""
 
     def compute():
         t0 = time.perf_counter()
@@ -171,7 +171,7 @@ def render_pyrender(scene: Scene, resolution: float = 2.0, cache: bool = True) -
     become point lights. Texture v-flip and numpy 2's missing `np.infty` are handled here.
     uv comes from the displaced mesh by barycentric lookup of pyrender's depth (not provided):
     this Frame carries colour, depth and mask."""
-    key = scene_hash(scene, kind="pyrender", resolution=resolution)
+    key = scene_hash(scene, kind="pyrender", resolution=resolution, mesh=_displaced.MESH)
 
     def compute():
         t0 = time.perf_counter()
