@@ -168,7 +168,8 @@ def auto_resolution(scene: Scene, resolution: float | None) -> float:
     # texels an object's mesh covers: the map times the tiling squared, per chart (a cube has 6)
     worst = max(o.material.height.shape[0] * o.material.height.shape[1] * float(o.material.tiling) ** 2
                 * max(1, len(o.mesh.charts)) for o in scene.objects)
-    return float(min(AUTO_RESOLUTION, max(1.0, math.sqrt(AUTO_VERTICES / worst))))
+    # the fan adds a vertex at each lattice quad's centre: two vertices per lattice point
+    return float(min(AUTO_RESOLUTION, max(1.0, math.sqrt(AUTO_VERTICES / (2.0 * worst)))))
 
 
 def direct_render(scene: Scene, spp: int, seed: int, variant: str | None, resolution: float) -> dict:
