@@ -475,7 +475,7 @@ def _shadows_off(cls, **kw):
 def cost_model_suite(size: int = 256, quick: bool = False) -> tuple[dict, list]:
     """The cost model's scenes and methods: planar maps at 45-70° (bricks, the gravel
     photograph tiled twice, the terrain DEM) and a torus and a sphere with two tiles of
-    cobblestones; every built-in method with shadows off, Tessellated at three lattices, Prism
+    cobblestones; every built-in method with shadows off, Tessellated at three lattices (and the grid at one), Prism
     both ways, POM at two step budgets."""
     def plane(h, theta, tiling=1.0):
         return plane_scene(h, theta, size, depth=0.08, tiling=tiling)
@@ -494,7 +494,7 @@ def cost_model_suite(size: int = 256, quick: bool = False) -> tuple[dict, list]:
                off(M.POM, min_steps=16, max_steps=64), off(M.Relief), off(M.ConeStep), off(M.Exact), off(M.DistanceMapping),
                off(M.NCS), off(M.CurvedRelief), off(M.Prism), off(M.Prism, exact=True),
                off(M.Tessellated, texels_per_vertex=1.0), off(M.Tessellated, texels_per_vertex=0.5),
-               off(M.Tessellated, texels_per_vertex=2.0)]
+               off(M.Tessellated, texels_per_vertex=2.0), off(M.Tessellated, texels_per_vertex=1.0, pattern="grid")]
     return scenes, methods
 
 
