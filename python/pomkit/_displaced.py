@@ -3,6 +3,8 @@ the references that render it as a mesh (Mitsuba, pyrender, trimesh)."""
 
 from __future__ import annotations
 
+from typing import Final
+
 import numpy as np
 
 from . import _core
@@ -13,7 +15,7 @@ _EXTRA = "pip install pomkit[reference]"
 
 #: the displaced mesh the references render (Tessellated's default pattern): part of their cache
 #: keys, so that a render of an older mesh (the two-triangle grid) is not read back as this one's
-MESH = "fan"
+MESH: Final = "fan"
 
 
 def require(module: str):

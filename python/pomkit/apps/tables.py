@@ -26,7 +26,10 @@ def references_table(size: int = 128) -> str:
     (texels) and FLIP; pyrender against Mitsuba; the time of each reference render."""
     from pomkit import reference as R
     r = pk.Renderer()
-    rows = ["| angle | method | uv p95 (texels) | FLIP | mask IoU |", "|---|---|---|---|---|"]
+    rows = ["The colour references against each other and against render_exact, scene by scene with their times "
+            "(issue 30's table), are in reference_agreement.md (`scripts/reference_agreement.py`). This table: bricks "
+            "128² against `render_mitsuba()`.", "",
+            "| angle | method | uv p95 (texels) | FLIP | mask IoU |", "|---|---|---|---|---|"]
     times = []
     for theta in (30.0, 60.0, 80.0):
         scene = _plane(pk.textures.bricks(128), theta, size, [pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0)])
