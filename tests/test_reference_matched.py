@@ -65,7 +65,9 @@ def test_matched_mitsuba_is_deterministic_and_refuses_a_seed(tmp_path, monkeypat
 def test_the_mesh_meets_the_exact_reference_on_curved_meshes(tmp_path, monkeypatch, mesh):
     """On a curved mesh render_exact is Mitsuba's ray casts shaded by the definition. The mesh
     the GPU rasterises (Tessellated(0.5), spp 16) against it without shadows: interior FLIP
-    <= 0.006 (issue 30's bound; measured 0.0043-0.0054 at 144², two tiles of cobblestones).
+    <= 0.006 (issue 30's bound), held at 0.003: measured 0.0007-0.0010 at 96² and 0.0009-0.0012
+    at 144², two tiles of cobblestones, both meshes cut as the fan (with the two-triangle grid
+    on both sides it was 0.0043-0.0054 at 144²).
     With shadows the GPU's own estimates on a curved mesh are far (its exact shadows trace a flat
     shell: 0.043-0.054; its shadow map 0.036-0.11): docs/tables/reference_agreement.md."""
     monkeypatch.setenv("POMKIT_CACHE", str(tmp_path))
@@ -77,7 +79,7 @@ def test_the_mesh_meets_the_exact_reference_on_curved_meshes(tmp_path, monkeypat
     assert "Mitsuba" in ref.method
     f = RENDERER.render(s, pk.Tessellated(0.5, shadows="none"), spp=16)
     c = pk.metrics.compare(f, ref, s)
-    assert c["flip_interior"] <= 0.006 and c["uv_p95_interior"] < 0.05, c
+    assert c["flip_interior"] <= 0.003 and c["uv_p95_interior"] < 0.02, c
 
 
 def test_matched_mitsuba_traces_a_sphere_lights_disk(tmp_path, monkeypatch):
