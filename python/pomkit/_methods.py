@@ -404,8 +404,10 @@ class Tessellated(Method):
     diagonal into two, as a regular tessellator would. Inside a texel cell the field is
     bilinear, and its twist leaves a chord error of |d| L^2/4 in a quad of side L cut in two but
     |d| L^2/16 cut in four: the fan at spacing L is as close to the field as the grid at L/2,
-    with half the triangles (docs/conventions.md, "The tessellated mesh"). Meshes from arrays
-    are subdivided barycentrically with either pattern.
+    with half the triangles (docs/conventions.md, "The tessellated mesh"). At the same spacing
+    the fan draws twice the grid's triangles and costs up to about twice its time; "grid" is
+    the cheaper mesh where its chords do not matter. Meshes from arrays are subdivided
+    barycentrically with either pattern.
 
     shadows: "hard" (default) tests the first directional light against a 2048^2 shadow map of
     the displaced mesh itself (3x3 PCF, boundaries good to ~1.5 shadow-map texels, no area-light
