@@ -63,7 +63,8 @@ CURVED = ["Prism()", "NCS()"]
 def tessellated(size: int) -> str:
     # the least texels per vertex under the core's 40M-vertex limit
     for tpv in (1, 1.5, 2, 3, 4, 6, 8):
-        if (size / tpv + 2) ** 2 < 40_000_000:
+        # the default fan: a lattice point and a quad centre each (tessellate.rs's vertex limit)
+        if 2 * (size / tpv + 2) ** 2 < 40_000_000:
             return f"Tessellated(texels_per_vertex={tpv})"
     return "Tessellated(texels_per_vertex=8)"
 
