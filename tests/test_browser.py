@@ -201,5 +201,11 @@ def test_a_drag_on_the_widget_renders_a_new_frame(browser, voila):
     # a CDN), which the page does without; pomkit's widget asks for nothing off-site
     offsite = [e for e in watch.errors if e.startswith(("off-site", "failed")) and url not in e]
     assert all("fontawesome" in e for e in offsite), offsite
-    # and every request to the server (the notebook, the kernel, the widget's module) succeeds
-    assert not [e for e in watch.errors if e.startswith(("failed", "HTTP")) and url in e], watch.errors
+    # and every request to the server (the notebook, the kernel, the widget's module) succeeds.
+    # A frame is shown from a blob: URL of the page's own origin, not a request to the server; a
+    # frame's load is aborted when the next one replaces it mid-drag (net::ERR_ABORTED, seen once
+    # in CI), and that is the widget keeping up, not a failure: the frames that stay are checked
+    # above (loaded, with a width).
+    server = [e for e in watch.errors if e.startswith(("failed", "HTTP")) and url in e
+              and not e.startswith("failed: blob:")]
+    assert not server, watch.errors
