@@ -7,15 +7,16 @@ from typing import Final
 
 import numpy as np
 
-from . import _core
+from . import _core, _methods
 from . import _validate as _v
 from ._scene import Scene
 
 _EXTRA = "pip install pomkit[reference]"
 
-#: the displaced mesh the references render (Tessellated's default pattern): part of their cache
-#: keys, so that a render of an older mesh (the two-triangle grid) is not read back as this one's
-MESH: Final = "fan"
+#: the displaced mesh the references render, Tessellated's default pattern (one source: the
+#: dataclass's default): part of their cache keys, so that a render of an older mesh (the
+#: two-triangle grid) is not read back as this one's
+MESH: Final = _methods.Tessellated.pattern
 
 
 def require(module: str):
