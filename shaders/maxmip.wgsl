@@ -136,7 +136,8 @@ fn node_max(node: vec2<i32>, size: f32, isize: f32, inv_cells: vec2<f32>) -> f32
 // Two loops. The inner one walks the levels k >= 1 with one read (a node's max) and compares:
 // it ascends past nodes the ray passes above and descends into nodes it dips below, down to a
 // cell, the candidate. The outer one meets the candidate's bilinear patch (its four corners in
-// one gather): a hit ends the walk, a miss moves on to the next cell and up a level. A cell's
+// one gather): a hit ends the walk, a miss moves on to the next cell (and up a level, unless
+// that cell shares the parent the ray is known to dip below: `in_parent`). A cell's
 // max is never read on its own: the patch test answers for it. On a SIMD machine (lavapipe runs
 // both sides of every branch a lane of the group takes) the patch arithmetic then runs once per
 // candidate, not once per step, and each step reads one texture, not two: Exact's march over
@@ -176,14 +177,23 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
     // the hit is then found without a walk. Otherwise the walk starts at the next cell, one
     // level up: most rays meet the surface within a few cells of where they enter, and a
     // top-down start paid a descent through every level for each of them.
+    // The current node was entered from its parent (by a descent, or from a sibling after
+    // one), and the ray is a view ray: it dips below the parent's max by the time it enters and
+    // only descends after, so the parent would pass it down again to the child the ray is in at
+    // that t. A move to a sibling then stays on its level instead of ascending to the parent and
+    // reading its max again: the same nodes, 8-15 % fewer steps (docs/cost.md).
+    var in_parent = false;
     var cand = min(h0, h0 + dh * t_exit) <= max_at(node, 0);
     loop {
         if (!cand) {
             // on from the current node (a cell whose patch missed, or the start cell): across
             // the face the ray leaves by, and up a level
             t = t_exit;
-            node = node + select(vec2<i32>(0), step, vec2<bool>(tf.x <= tf.y, tf.y <= tf.x));
-            if (level < top) {
+            let next = node + select(vec2<i32>(0), step, vec2<bool>(tf.x <= tf.y, tf.y <= tf.x));
+            let sibling = in_parent && all((next >> vec2<u32>(1u)) == (node >> vec2<u32>(1u)));
+            node = next;
+            in_parent = sibling;
+            if (!sibling && level < top) {
                 level = level + 1;
                 size = size * 2.0;
                 isize = isize * 0.5;
@@ -218,10 +228,13 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
                 let upper = select(select(mid <= vec2<f32>(0.0), vec2<bool>(td < tm.x, td < tm.y), behind),
                                    vec2<bool>(td >= tm.x, td >= tm.y), ahead);
                 let child = 2 * node + select(vec2<i32>(0), vec2<i32>(1), upper);
-                // skip: across the exit face, then up a level
-                let asc = level < top;
+                // skip: across the exit face, then up a level unless the next node is a sibling
+                // in a parent the ray is known to dip below (see `in_parent`)
                 var next = node + select(vec2<i32>(0), step, vec2<bool>(tf.x <= tf.y, tf.y <= tf.x));
+                let sibling = in_parent && all((next >> vec2<u32>(1u)) == (node >> vec2<u32>(1u)));
+                let asc = level < top && !sibling;
                 next = select(next, next >> vec2<u32>(1u), asc);
+                in_parent = select(sibling, dh < 0.0, below);
                 node = select(next, child, below);
                 level = select(select(level, level + 1, asc), level - 1, below);
                 size = select(select(size, size * 2.0, asc), size * 0.5, below);
