@@ -38,13 +38,14 @@ const MAX_PRISMS: u32 = 64u;
 // The method's own resource (group 2, binding 1): the per-prism data as texels (prisms.rs's
 // `texels`), PRISM_TEXELS a prism, a power-of-two number of prisms a row:
 //   0-2 top corners, 3-5 bottom corners (xyz), 6-8 the corners' uv (xy) and uv scale (zw),
-//   9-11 normals, 12-14 tangents, 15 info (x: the highest height under the prism),
-//   16 adjacency: x, y, z the prism across side k (-1: the shell's boundary), w the diagonal
-//   bits (bit k: side k's split).
+//   9-11 normals, 12-14 tangents. In the corners' w, what the walk needs at every prism it
+//   crosses: 0.w the highest height under the prism, 1.w the diagonal bits (bit k: side k's
+//   split), 3.w-5.w the prism across side k (-1: the shell's boundary). A span reads six
+//   texels (it read eight when these had texels of their own).
 // A texture, not a storage buffer: on lavapipe a storage read at an index that differs across
 // the lanes of a SIMD vector is a scalar loop over them, and the walk reads a prism's corners
 // at every prism it crosses.
-const PRISM_TEXELS: u32 = 17u;
+const PRISM_TEXELS: u32 = 15u;
 @group(2) @binding(1) var prism_tex: texture_2d<f32>;
 
 fn prism_texel(p: u32, k: u32) -> vec4<f32> {
@@ -53,9 +54,9 @@ fn prism_texel(p: u32, k: u32) -> vec4<f32> {
     return textureLoad(prism_tex, vec2<u32>((p & (per_row - 1u)) * PRISM_TEXELS + k, p >> shift), 0);
 }
 
-// The prism across `side` (0-2) from the adjacency texel `adj`, or NONE (the shell's boundary,
-// or side 3: the top or the bottom).
-fn prism_across(adj: vec4<f32>, side: u32) -> u32 {
+// The prism across `side` (0-2) from the adjacency `adj` (the bottom corners' w), or NONE (the
+// shell's boundary, or side 3: the top or the bottom).
+fn prism_across(adj: vec3<f32>, side: u32) -> u32 {
     let a = select(select(adj.z, adj.y, side == 1u), adj.x, side == 0u);
     return select(NONE, u32(max(a, 0.0)), side <= 2u && a >= 0.0);
 }
@@ -102,8 +103,10 @@ struct Span {
     st_out: vec3<f32>,
     side: u32,
     ok: bool,
-    // the prism's adjacency texel (prism_across)
-    adj: vec4<f32>,
+    // the prism across each side (prism_across)
+    adj: vec3<f32>,
+    // the highest height under the prism
+    max_h: f32,
 }
 
 // One boundary triangle (corners a, b, c at prism coordinates sa, sb, sc) into the span.
@@ -143,16 +146,22 @@ fn prism_span(p: u32, o: vec3<f32>, d: vec3<f32>) -> Span {
     sp.t_out = -3.4e38;
     sp.side = 3u;
     sp.ok = false;
-    // the prism's corners and adjacency (no texels: bytes only), and its max height
-    fetched(0u, 128u);
-    let t0 = prism_texel(p, 0u).xyz;
-    let t1 = prism_texel(p, 1u).xyz;
+    // the prism's corners, with its adjacency and max height in their w (no texels: bytes only)
+    fetched(0u, 96u);
+    let q0 = prism_texel(p, 0u);
+    let q1 = prism_texel(p, 1u);
+    let t0 = q0.xyz;
+    let t1 = q1.xyz;
     let t2 = prism_texel(p, 2u).xyz;
-    let b0 = prism_texel(p, 3u).xyz;
-    let b1 = prism_texel(p, 4u).xyz;
-    let b2 = prism_texel(p, 5u).xyz;
-    sp.adj = prism_texel(p, 16u);
-    let diag = u32(sp.adj.w);
+    let q3 = prism_texel(p, 3u);
+    let q4 = prism_texel(p, 4u);
+    let q5 = prism_texel(p, 5u);
+    let b0 = q3.xyz;
+    let b1 = q4.xyz;
+    let b2 = q5.xyz;
+    sp.adj = vec3<f32>(q3.w, q4.w, q5.w);
+    sp.max_h = q0.w;
+    let diag = u32(q1.w);
     // barycentrics (b1, b2) of the corners
     let s0 = vec2<f32>(0.0, 0.0);
     let s1 = vec2<f32>(1.0, 0.0);
@@ -276,7 +285,7 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
             h_e = clamp(st_in.z, 0.0, 1.0);
             h_x = clamp(sp.st_out.z, 0.0, 1.0);
             // a march only where the ray's lowest point in the prism is below its highest height
-            if (min(h_e, h_x) <= prism_texel(p, 15u).x) {
+            if (min(h_e, h_x) <= sp.max_h) {
                 cand = true;
                 break;
             }

@@ -48,9 +48,11 @@ pub struct PrismData {
 pub const NONE: u32 = u32::MAX;
 
 /// Texels (rgba32float) of one prism in the texture prism.wgsl reads (`PRISM_TEXELS` there):
-/// top[3], bottom[3], uv[3], normal[3], tangent[3], info, and the adjacency as floats (the
-/// prism's index across sides 0-2, -1 for `NONE`, and the diagonal bits in w).
-pub const TEXELS_PER_PRISM: u32 = 17;
+/// top[3], bottom[3], uv[3], normal[3], tangent[3]. What the walk needs at every prism it
+/// crosses rides in the corners' w, so that a span reads six texels, not eight: top[0].w the
+/// highest height (`info[0]`), top[1].w the diagonal bits, bottom[k].w the prism across side k
+/// as a float (-1 for `NONE`; exact below 2^24 prisms).
+pub const TEXELS_PER_PRISM: u32 = 15;
 
 /// The per-prism data as a texture, and its size: a power-of-two number of prisms a row (the
 /// shader finds a prism's texels with a shift and a mask), each `TEXELS_PER_PRISM` texels wide.
@@ -82,10 +84,14 @@ pub fn texels(
             .chain(&d.uv)
             .chain(&d.normal)
             .chain(&d.tangent);
-        for (k, v) in fields.chain(std::iter::once(&d.info)).enumerate() {
+        for (k, v) in fields.enumerate() {
             t[at + k] = *v;
         }
-        t[at + 16] = [adj(d.adj[0]), adj(d.adj[1]), adj(d.adj[2]), d.adj[3] as f32];
+        t[at][3] = d.info[0];
+        t[at + 1][3] = d.adj[3] as f32;
+        for k in 0..3 {
+            t[at + 3 + k][3] = adj(d.adj[k]);
+        }
     }
     Ok((t, (width, rows as u32)))
 }
@@ -321,7 +327,7 @@ mod tests {
             .sum()
     }
 
-    /// The texture prism.wgsl reads: each prism's 17 texels at (index mod per_row, index div
+    /// The texture prism.wgsl reads: each prism's 15 texels at (index mod per_row, index div
     /// per_row), per_row a power of two within the device's limit, the adjacency as floats (-1
     /// for NONE), and an error naming how many prisms fit when the rows exceed the limit. The
     /// shader's PRISM_TEXELS is this file's TEXELS_PER_PRISM.
@@ -343,22 +349,27 @@ mod tests {
         let adj = |a: u32| if a == NONE { -1.0 } else { a as f32 };
         for (i, d) in p.data.iter().enumerate() {
             let at = (i / 4) * w as usize + (i % 4) * TEXELS_PER_PRISM as usize;
-            assert_eq!(t[at], d.top[0]);
-            assert_eq!(t[at + 5], d.bottom[2]);
+            for k in 0..3 {
+                assert_eq!(t[at + k][..3], d.top[k][..3]);
+                assert_eq!(t[at + 3 + k], {
+                    let mut b = d.bottom[k];
+                    b[3] = adj(d.adj[k]);
+                    b
+                });
+            }
+            assert_eq!(
+                [t[at][3], t[at + 1][3]],
+                [d.info[0], d.adj[3] as f32]
+            );
             assert_eq!(t[at + 6], d.uv[0]);
             assert_eq!(t[at + 14], d.tangent[2]);
-            assert_eq!(t[at + 15], d.info);
-            assert_eq!(
-                t[at + 16],
-                [adj(d.adj[0]), adj(d.adj[1]), adj(d.adj[2]), d.adj[3] as f32]
-            );
         }
         assert!(p.data.iter().any(|d| d.adj[..3].contains(&NONE)));
         // the widest rows fit: one row of 32 for 18 prisms under a large limit
         assert_eq!(texels(&p.data, 16384).unwrap().1 .0, 32 * TEXELS_PER_PRISM);
-        // rows over the limit: an error with the prisms that fit (one a row, 17 rows, for 18)
+        // rows over the limit: an error with the prisms that fit (one a row, 15 rows, for 18)
         assert_eq!(n, 18);
-        assert_eq!(texels(&p.data, TEXELS_PER_PRISM).err(), Some(17));
+        assert_eq!(texels(&p.data, TEXELS_PER_PRISM).err(), Some(15));
     }
 
     /// Closed meshes make closed shells: every side is shared (across the uv seams and at the
