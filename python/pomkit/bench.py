@@ -350,8 +350,11 @@ def pareto_front(points):
 
 # ---------------------------------------------------------------- the cost model over every method
 
-#: the per-frame counts the cost model fits GPU ms with (shaders/cost.wgsl; docs/cost.md)
-COST_TERMS = ("fetches", "bytes", "fragments", "primitives", "rasterised")
+#: the per-frame counts the cost model fits GPU ms with (shaders/cost.wgsl; `quads`;
+#: docs/cost.md). `primitives` and `rasterised` are counted beside them but are not terms: once
+#: the quads a triangle touches are counted, the triangles themselves earned no cost of their own
+#: (a non-negative coefficient of 0)
+COST_TERMS = ("fetches", "bytes", "fragments", "quads")
 
 #: the pixel block that runs in lock step (a SIMD group: 8 x 4 = 32 lanes, a warp)
 GROUP = (4, 8)
@@ -379,28 +382,95 @@ def _facing(positions: np.ndarray, faces: np.ndarray, transform: np.ndarray, eye
     return np.einsum("ij,ij->i", n, eye - a) > 0.0
 
 
-def triangle_counts(scene: _scene.Scene, method) -> tuple[int, int]:
-    """(`primitives`, `rasterised`) of a frame, from one pass over its objects (Tessellated's
-    displaced mesh built once)."""
+def _to_pixels(camera: _scene.Camera, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """World points (N, 3) -> pixel coordinates (N, 2; x right, y down, the image's corners at
+    (0, 0) and (width, height)) and their depth along the view direction."""
+    f, r, u = camera.basis()
+    d = p - np.asarray(camera.eye, np.float64)
+    z = d @ f
+    t = math.tan(math.radians(camera.fov_y) / 2)
+    zs = np.where(z > 1e-9, z, 1e-9)
+    x = (d @ r) / zs / (t * camera.width / camera.height)
+    y = (d @ u) / zs / t
+    return np.stack([(x + 1) / 2 * camera.width, (1 - y) / 2 * camera.height], -1), z
+
+
+def _clipped(tri: np.ndarray, width: float, height: float) -> tuple[float, float]:
+    """Area and bounding-box extent w + h of one triangle (3, 2) clipped to the image
+    (Sutherland-Hodgman)."""
+    poly = [tuple(v) for v in tri]
+    for axis, bound, keep_below in ((0, 0.0, False), (0, width, True), (1, 0.0, False), (1, height, True)):
+        out = []
+        for k in range(len(poly)):
+            a, b = poly[k], poly[(k + 1) % len(poly)]
+            ina = a[axis] <= bound if keep_below else a[axis] >= bound
+            inb = b[axis] <= bound if keep_below else b[axis] >= bound
+            if ina:
+                out.append(a)
+            if ina != inb:
+                w = (bound - a[axis]) / (b[axis] - a[axis])
+                out.append((a[0] + w * (b[0] - a[0]), a[1] + w * (b[1] - a[1])))
+        poly = out
+        if not poly:
+            return 0.0, 0.0
+    xs, ys = np.array([v[0] for v in poly]), np.array([v[1] for v in poly])
+    area = 0.5 * abs(float(np.dot(xs, np.roll(ys, -1)) - np.dot(ys, np.roll(xs, -1))))
+    return area, float(np.ptp(xs) + np.ptp(ys))
+
+
+def quad_count(xy: np.ndarray, width: int, height: int) -> float:
+    """The 2 x 2 pixel quads that triangles `xy` (N, 3, 2, in pixels) touch on a `width` x
+    `height` image, summed: a GPU shades a triangle's fragments in whole quads, so a triangle of a
+    pixel or less costs a quad (four lanes) and a long sliver a quad per two pixels of its length.
+    Per triangle, the expected count over its placement within a pixel: the area of the triangle
+    grown by the quad (its Minkowski sum with a 2 x 2 square) over the quad's area,
+    (A + 2 (w + h) + 4) / 4, A its area and w x h its bounding box on the image (both clipped to
+    the image; triangles wholly off it count none)."""
+    if len(xy) == 0:
+        return 0.0
+    lo, hi = xy.min(1), xy.max(1)
+    size = np.array([width, height], np.float64)
+    on = ((np.clip(hi, 0, size) - np.clip(lo, 0, size)) > 0).all(1)
+    e1, e2 = xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 0]
+    area = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+    extent = (hi - lo).sum(1)
+    inside = (lo >= 0).all(1) & (hi <= size).all(1)
+    for k in np.flatnonzero(on & ~inside):
+        area[k], extent[k] = _clipped(xy[k], float(width), float(height))
+    keep = on & (area > 0)
+    return float(((area + 2.0 * extent + 4.0) / 4.0)[keep].sum())
+
+
+def triangle_counts(scene: _scene.Scene, method) -> tuple[int, int, float]:
+    """(`primitives`, `rasterised`, `quads`) of a frame, from one pass over its objects
+    (Tessellated's displaced mesh built once). `quads` (`quad_count`) over the rasterised
+    triangles that lie in front of the eye; for Prism over the base triangles, one shell face
+    each (the shell's offset is left out)."""
     from . import _core
     eye = np.asarray(scene.camera.eye, dtype=np.float64)
     submitted = facing = 0
+    quads = 0.0
     for i, o in enumerate(scene.objects):
         tr = np.asarray(o.transform, dtype=np.float64)
         if isinstance(method, _methods.Tessellated):
             t = _core.tessellate(scene._describe(), float(method.texels_per_vertex), i, method.pattern)
-            faces = np.asarray(t["faces"])
-            submitted += len(faces)
-            facing += int(_facing(np.asarray(t["positions"], np.float64), faces, tr, eye).sum())
-            continue
-        f = _facing(np.asarray(o.mesh.positions, np.float64), np.asarray(o.mesh.indices).reshape(-1, 3), tr, eye)
+            pos, faces = np.asarray(t["positions"], np.float64), np.asarray(t["faces"])
+        else:
+            pos, faces = np.asarray(o.mesh.positions, np.float64), np.asarray(o.mesh.indices).reshape(-1, 3)
+        f = _facing(pos, faces, tr, eye)
         if isinstance(method, _methods.Prism):
             submitted += 2 * len(f)
             facing += len(f)
+            drawn = np.ones_like(f)
         else:
             submitted += len(f)
             facing += int(f.sum())
-    return submitted, facing
+            drawn = f
+        xy, z = _to_pixels(scene.camera, pos @ tr[:3, :3].T + tr[:3, 3])
+        tris = faces[drawn]
+        front = (z[tris] > 1e-6).all(1)
+        quads += quad_count(xy[tris[front]], scene.camera.width, scene.camera.height)
+    return submitted, facing, quads
 
 
 def primitives(scene: _scene.Scene, method) -> int:
@@ -420,6 +490,13 @@ def rasterised(scene: _scene.Scene, method) -> int:
     return triangle_counts(scene, method)[1]
 
 
+def quads(scene: _scene.Scene, method) -> float:
+    """The 2 x 2 pixel quads the frame's rasterised triangles touch (`quad_count`): what the
+    cost model charges the rasteriser and the fragment shader's partial quads, a term that grows
+    with the triangles as they shrink below a few pixels (Tessellated's fine lattices)."""
+    return triangle_counts(scene, method)[2]
+
+
 def cost_rows(r: _render.Renderer, scenes: dict, methods: list, min_repeats: int = 3,
               max_repeats: int = 9) -> list[dict]:
     """Per scene and method: GPU ms (`time_methods`: warm-up, interleaved rounds, median) and
@@ -430,13 +507,13 @@ def cost_rows(r: _render.Renderer, scenes: dict, methods: list, min_repeats: int
         ts = time_methods(r, sc, methods, min_repeats=min_repeats, max_repeats=max_repeats)
         for m, t in zip(methods, ts):
             f = r.render(sc, m, aovs=("mask", "fetches", "bytes", "fragments", "steps"))
-            submitted, facing = triangle_counts(sc, m)
+            submitted, facing, nquads = triangle_counts(sc, m)
             rows.append(dict(chart="cost_model", scene=sname, method=m.name, label=label(m), gpu_ms=t["ms"],
                              gpu_ms_p25=t["ms_p25"], gpu_ms_p75=t["ms_p75"], march_ms=t["march_ms"], timing=t["timing"],
                              fetches=float(f.fetches.sum(dtype=np.float64)),
                              fragments=float(f.fragments.sum(dtype=np.float64)),
                              steps=float(f.steps.sum(dtype=np.float64)), primitives=float(submitted),
-                             rasterised=float(facing),
+                             rasterised=float(facing), quads=nquads,
                              bytes=float(f.bytes.sum(dtype=np.float64)),
                              fetches_group=group_total(f.fetches), steps_group=group_total(f.steps),
                              bytes_group=group_total(f.bytes),
@@ -445,24 +522,30 @@ def cost_rows(r: _render.Renderer, scenes: dict, methods: list, min_repeats: int
 
 
 def fit_model(rows: list[dict], terms: Iterable[str] = COST_TERMS, y: str = "gpu_ms") -> dict:
-    """Least squares `y = a + sum(c_t * t)` over `rows` (per-frame totals), with R² and the
-    worst relative error of a row. Returns a, the coefficients by term (ms per unit), r2,
-    max_rel_err, n."""
+    """`y = a + sum(c_t * t)` over `rows` (per-frame totals) with every coefficient and `a`
+    non-negative (a count can only add time), each row weighted by 1 / sqrt(y): between least
+    squares on the milliseconds, where the 100 ms mesh rows set every coefficient and gave a
+    fetch a negative cost, and on relative error, where the 1 ms rows do. Returns a, the
+    coefficients by term (ms per unit), r2 (of the milliseconds, unweighted), the median and
+    worst relative error of a row (med_rel_err, max_rel_err), n."""
+    from scipy.optimize import nnls
     terms = list(terms)
-    rows = [x for x in rows if np.isfinite(x.get(y, np.nan))]
+    rows = [x for x in rows if np.isfinite(x.get(y, np.nan)) and float(x[y]) > 0]
     X = np.array([[1.0] + [float(x[t]) for t in terms] for x in rows])
     Y = np.array([float(x[y]) for x in rows])
     if len(rows) <= len(terms) + 1:
-        return dict(a=float("nan"), coef={t: float("nan") for t in terms}, r2=float("nan"), max_rel_err=float("nan"),
-                    n=len(rows))
+        return dict(a=float("nan"), coef={t: float("nan") for t in terms}, r2=float("nan"), med_rel_err=float("nan"),
+                    max_rel_err=float("nan"), n=len(rows))
+    w = 1.0 / np.sqrt(Y)
     # scale the columns so that the solve is well conditioned, then undo it
     s = np.maximum(np.abs(X).max(0), 1e-30)
-    c, *_ = np.linalg.lstsq(X / s, Y, rcond=None)
+    c, _ = nnls((X / s) * w[:, None], Y * w)
     c = c / s
     pred = X @ c
     r2 = 1.0 - float(np.sum((Y - pred) ** 2)) / float(np.sum((Y - Y.mean()) ** 2))
+    rel = np.abs(pred - Y) / Y
     return dict(a=float(c[0]), coef={t: float(v) for t, v in zip(terms, c[1:])}, r2=r2,
-                max_rel_err=float(np.max(np.abs(pred - Y) / np.maximum(Y, 1e-9))), n=len(rows))
+                med_rel_err=float(np.median(rel)), max_rel_err=float(np.max(rel)), n=len(rows))
 
 
 def _shadows_off(cls, **kw):
@@ -501,7 +584,7 @@ def cost_model_suite(size: int = 256, quick: bool = False) -> tuple[dict, list]:
 #: the model's two forms: the counts themselves, and with the search's counts taken per SIMD
 #: group (a group waits for its longest lane)
 COST_MODELS = {"per pixel": COST_TERMS,
-               "per SIMD group": ("fetches_group", "bytes_group", "fragments", "primitives", "rasterised")}
+               "per SIMD group": ("fetches_group", "bytes_group", "fragments", "quads")}
 
 
 def cost_model(r: _render.Renderer, size: int = 256, quick: bool = False) -> dict:
