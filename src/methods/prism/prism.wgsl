@@ -74,24 +74,21 @@ fn vs_prism(v: VertexIn, @location(5) prism: u32) -> VertexOut {
 }
 
 // Ray (o + t d) against triangle (a, b, c): (t, barycentrics u, v, 1), or w = 0 for a miss.
+// Straight-line code (selects, no early return): a SIMD group on lavapipe runs every path any
+// of its lanes takes, and the span calls this eight times a prism crossed.
 fn ray_tri(o: vec3<f32>, d: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> vec4<f32> {
     let e1 = b - a;
     let e2 = c - a;
     let p = cross(d, e2);
     let det = dot(e1, p);
-    if (abs(det) < 1e-12) {
-        return vec4<f32>(0.0);
-    }
-    let inv = 1.0 / det;
+    let inv = 1.0 / select(1.0, det, abs(det) >= 1e-12);
     let s = o - a;
     let u = dot(s, p) * inv;
     let q = cross(s, e1);
     let v = dot(d, q) * inv;
     let eps = 1e-5;
-    if (u < -eps || v < -eps || u + v > 1.0 + eps) {
-        return vec4<f32>(0.0);
-    }
-    return vec4<f32>(dot(e2, q) * inv, u, v, 1.0);
+    let hit = abs(det) >= 1e-12 && u >= -eps && v >= -eps && u + v <= 1.0 + eps;
+    return select(vec4<f32>(0.0), vec4<f32>(dot(e2, q) * inv, u, v, 1.0), hit);
 }
 
 // The ray's way through one prism: entry and exit (t and (b1, b2, h)) and the side it leaves
@@ -113,19 +110,16 @@ struct Span {
 fn consider(sp: ptr<function, Span>, o: vec3<f32>, d: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>,
             sa: vec3<f32>, sb: vec3<f32>, sc: vec3<f32>, side: u32) {
     let r = ray_tri(o, d, a, b, c);
-    if (r.w > 0.0) {
-        let st = sa * (1.0 - r.y - r.z) + sb * r.y + sc * r.z;
-        (*sp).ok = true;
-        if (r.x < (*sp).t_in) {
-            (*sp).t_in = r.x;
-            (*sp).st_in = st;
-        }
-        if (r.x > (*sp).t_out) {
-            (*sp).t_out = r.x;
-            (*sp).st_out = st;
-            (*sp).side = side;
-        }
-    }
+    let hit = r.w > 0.0;
+    let st = sa * (1.0 - r.y - r.z) + sb * r.y + sc * r.z;
+    (*sp).ok = (*sp).ok || hit;
+    let nearer = hit && r.x < (*sp).t_in;
+    let farther = hit && r.x > (*sp).t_out;
+    (*sp).t_in = select((*sp).t_in, r.x, nearer);
+    (*sp).st_in = select((*sp).st_in, st, nearer);
+    (*sp).t_out = select((*sp).t_out, r.x, farther);
+    (*sp).st_out = select((*sp).st_out, st, farther);
+    (*sp).side = select((*sp).side, side, farther);
 }
 
 // Side k of a prism (corners k, j = k + 1): its two triangles, split along top(k)-bottom(j), or
