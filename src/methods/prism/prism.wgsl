@@ -238,46 +238,54 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
     // dips into, the candidate; the outer one marches the candidate's segment. On a SIMD machine
     // that runs every branch any lane of a group takes (lavapipe), the march's code then runs
     // once per candidate, not at every prism crossed.
-    var sp: Span;
+    // What the walk keeps from a span across the loops, not the span itself: its entry, its exit
+    // and the prism across the exit (loop-carried state is dear on lavapipe: carrying the six
+    // corners of the shared side, to read three texels a prism instead of six, made Prism slower,
+    // docs/cost.md).
     var t_in = 0.0;
     var st_in = vec3<f32>(0.0);
+    var t_out = 0.0;
+    var st_out = vec3<f32>(0.0);
+    var next = first;
+    var bound = false;
     var h_e = 0.0;
     var h_x = 0.0;
-    // on to the prism across the exit before the next span (not before the first one)
-    var move_on = false;
     loop {
         var cand = false;
         loop {
-            if (move_on) {
-                let next = prism_across(sp.adj, sp.side);
-                if (next == NONE) {
-                    break;
-                }
-                p = next;
-                t0 = sp.t_out;
-                k = k + 1u;
-            }
-            move_on = true;
-            if (k >= MAX_PRISMS) {
+            if (next == NONE) {
                 break;
             }
-            sp = prism_span(p, o, view);
+            if (k > 0u) {
+                t0 = t_out;
+            }
+            p = next;
+            if (k >= MAX_PRISMS) {
+                bound = true;
+                break;
+            }
+            k = k + 1u;
+            let sp = prism_span(p, o, view);
             steps = steps + 1.0;
             if (!sp.ok || sp.t_out <= t0) {
+                next = NONE;
                 break;
             }
+            next = prism_across(sp.adj, sp.side);
+            t_out = sp.t_out;
+            st_out = sp.st_out;
             // the walk's entry is the previous exit (the first prism's: the fragment itself)
             t_in = sp.t_in;
             st_in = sp.st_in;
             if (t_in < t0) {
                 // entered before t0 (the first prism, or rounding at a shared side): start at t0
                 // on the segment entry -> exit
-                let a = (t0 - t_in) / max(sp.t_out - t_in, 1e-30);
-                st_in = mix(st_in, sp.st_out, a);
+                let a = (t0 - t_in) / max(t_out - t_in, 1e-30);
+                st_in = mix(st_in, st_out, a);
                 t_in = t0;
             }
             h_e = clamp(st_in.z, 0.0, 1.0);
-            h_x = clamp(sp.st_out.z, 0.0, 1.0);
+            h_x = clamp(st_out.z, 0.0, 1.0);
             // a march only where the ray's lowest point in the prism is below its highest height
             if (min(h_e, h_x) <= sp.max_h) {
                 cand = true;
@@ -289,7 +297,7 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
         if (!cand) {
             break;
         }
-        let uvs = prism_uv2(p, st_in.xy, sp.st_out.xy);
+        let uvs = prism_uv2(p, st_in.xy, st_out.xy);
         let s_e = uvs[0] * tiling;
         let s_x = uvs[1] * tiling;
         let dh_seg = h_x - h_e;
@@ -326,9 +334,9 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
         }
         if (hit >= 0.0) {
             // the frame is interpolated after the loop, once (see below)
-            st_hit = mix(st_in, sp.st_out, hit).xy;
+            st_hit = mix(st_in, st_out, hit).xy;
             out.ok = true;
-            out.t = mix(t_in, sp.t_out, hit);
+            out.t = mix(t_in, t_out, hit);
             out.s = mix(s_e, s_x, hit);
             out.h = mix(h_e, h_x, hit);
             break;
@@ -342,7 +350,7 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
         // the hit's frame, outside the loop: inside it, a SIMD group would interpolate it at
         // every prism where one of its lanes hits
         out.f = prism_frame(p, st_hit);
-    } else if (k == MAX_PRISMS) {
+    } else if (bound) {
         out.flags = FLAG_BOUND;
     }
     return out;
