@@ -125,6 +125,17 @@ fn node_max(node: vec2<i32>, size: f32, isize: f32, inv_cells: vec2<f32>) -> f32
     return textureLoad(max_atlas, vec2<i32>(p + vec2<f32>(off, 0.0)), 0).r;
 }
 
+// The node across the face a ray leaves `node` by (both faces at a corner), from the t at which
+// it crosses each face.
+fn across_exit(node: vec2<i32>, step: vec2<i32>, tf: vec2<f32>) -> vec2<i32> {
+    return node + select(vec2<i32>(0), step, vec2<bool>(tf.x <= tf.y, tf.y <= tf.x));
+}
+
+// Whether two nodes of a level share their parent.
+fn same_parent(a: vec2<i32>, b: vec2<i32>) -> bool {
+    return all((a >> vec2<u32>(1u)) == (b >> vec2<u32>(1u)));
+}
+
 // Walk the ray from (X0, Y0, h0) with per-t slope (dX, dY) and dh = -1 (view ray, down to the
 // floor) or +1 (light ray, up to the top of the shell). The current node is integer state:
 // a skipped node hands over to its neighbour across the face the ray leaves by, and a descent
@@ -189,8 +200,8 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
             // on from the current node (a cell whose patch missed, or the start cell): across
             // the face the ray leaves by, and up a level
             t = t_exit;
-            let next = node + select(vec2<i32>(0), step, vec2<bool>(tf.x <= tf.y, tf.y <= tf.x));
-            let sibling = in_parent && all((next >> vec2<u32>(1u)) == (node >> vec2<u32>(1u)));
+            let next = across_exit(node, step, tf);
+            let sibling = in_parent && same_parent(next, node);
             node = next;
             in_parent = sibling;
             if (!sibling && level < top) {
@@ -230,8 +241,8 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
                 let child = 2 * node + select(vec2<i32>(0), vec2<i32>(1), upper);
                 // skip: across the exit face, then up a level unless the next node is a sibling
                 // in a parent the ray is known to dip below (see `in_parent`)
-                var next = node + select(vec2<i32>(0), step, vec2<bool>(tf.x <= tf.y, tf.y <= tf.x));
-                let sibling = in_parent && all((next >> vec2<u32>(1u)) == (node >> vec2<u32>(1u)));
+                var next = across_exit(node, step, tf);
+                let sibling = in_parent && same_parent(next, node);
                 let asc = level < top && !sibling;
                 next = select(next, next >> vec2<u32>(1u), asc);
                 in_parent = select(sibling, dh < 0.0, below);
