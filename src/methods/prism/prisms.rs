@@ -357,10 +357,7 @@ mod tests {
                     b
                 });
             }
-            assert_eq!(
-                [t[at][3], t[at + 1][3]],
-                [d.info[0], d.adj[3] as f32]
-            );
+            assert_eq!([t[at][3], t[at + 1][3]], [d.info[0], d.adj[3] as f32]);
             assert_eq!(t[at + 6], d.uv[0]);
             assert_eq!(t[at + 14], d.tangent[2]);
         }
