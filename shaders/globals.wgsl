@@ -96,3 +96,8 @@ struct ObjectUniforms {
 // limit from 8192² on.
 @group(1) @binding(5) var max0_tex: texture_2d<f32>;
 @group(1) @binding(6) var max_atlas: texture_2d<f32>;
+// The same levels 1 ..= top again, each node's texel holding its four children's maxes (x: child
+// (0, 1), y: (1, 1), z: (1, 0), w: (0, 0), as a gather), level 1 at (0, 0) and levels 2.. in a
+// column to its right (heightmap.rs's children_atlas): the max-mip walk reads a node's children
+// with one load, and descends only into a child the ray dips below (maxmip.wgsl).
+@group(1) @binding(7) var max_children: texture_2d<f32>;

@@ -15,7 +15,7 @@
 
 #define_import_path pomkit::maxmip
 
-#import pomkit::globals::{G, height_tex, height_samp, max_atlas}
+#import pomkit::globals::{G, height_tex, height_samp, max_children}
 #import pomkit::height::max_at
 #import pomkit::cost::fetched
 
@@ -105,24 +105,26 @@ struct Traversal {
     bound: bool,
 }
 
-// The max of node `node` of a level k >= 1 (nodes of `size` = 2^k cells; `inv_cells` =
-// 1 / (map size in cells)), from the atlas, for k <= the top level (whose size divides the map).
-// No integer division, no table: on lavapipe vector integer division is scalarised, and a
-// uniform array indexed per lane (G.max_offsets) cost 7 % of Exact's march.
+// The four children's maxes of node `node` of a level k >= 1 (nodes of `size` = 2^k cells;
+// `inv_cells` = 1 / (map size in cells)), from the children atlas, for k <= the top level
+// (whose size divides the map): x child (0, 1), y (1, 1), z (1, 0), w (0, 0). One load of 16
+// bytes (four texels' worth, counted so). No integer division, no table: on lavapipe vector
+// integer division is scalarised, and a uniform array indexed per lane (G.max_offsets) cost
+// 7 % of Exact's march.
 // - The wrap: floor((n + 0.5) / dims) by the reciprocal is exact for 0 <= n < 2^22 (the
 //   quotient lies >= 0.5 / (n + 0.5) of itself from a whole number; the product's rounding is
 //   below 2^-23 of it). Nodes are non-negative (positive_start) and below 2^22 for any ray that
 //   crosses fewer than 4 million cells.
-// - The atlas offset: level k lies after levels 1 .. k - 1, whose widths W / 2, W / 4, ...
-//   sum to W - 2 W / 2^k when 2^(k - 1) divides W, as it does up to the top level
-//   (heightmap.rs's max_atlas; its test the_traversal_s_atlas_offsets_and_wrap_are_the_table_s).
-fn node_max(node: vec2<i32>, size: f32, isize: f32, inv_cells: vec2<f32>) -> f32 {
+// - The offset: level 1 at (0, 0), level k >= 2 at (W / 2, H / 2 - 2 H / 2^k) (the heights of
+//   levels 2 .. k - 1 above it sum to that when 2^(k - 1) divides H, as it does up to the top
+//   level: heightmap.rs's children_atlas and its test).
+fn node_children(node: vec2<i32>, size: f32, isize: f32, inv_cells: vec2<f32>) -> vec4<f32> {
     let dims = G.map_size * isize;
     let nf = vec2<f32>(node);
     let p = nf - floor((nf + 0.5) * (size * inv_cells)) * dims;
-    fetched(1u, 4u);
-    let off = G.map_size.x - 2.0 * dims.x;
-    return textureLoad(max_atlas, vec2<i32>(p + vec2<f32>(off, 0.0)), 0).r;
+    fetched(1u, 16u);
+    let off = select(vec2<f32>(0.0), vec2<f32>(0.5 * G.map_size.x, 0.5 * G.map_size.y - 2.0 * dims.y), size > 2.0);
+    return textureLoad(max_children, vec2<i32>(p + off), 0);
 }
 
 // The node across the face a ray leaves `node` by (both faces at a corner), from the t at which
@@ -137,11 +139,6 @@ fn exit_faces(st: CellPoint, node: vec2<i32>, size: f32, exit_face: vec2<f32>, i
     return from_start(st, (vec2<f32>(node) + exit_face) * size) * inv;
 }
 
-// Whether two nodes of a level share their parent.
-fn same_parent(a: vec2<i32>, b: vec2<i32>) -> bool {
-    return all((a >> vec2<u32>(1u)) == (b >> vec2<u32>(1u)));
-}
-
 // Walk the ray from (X0, Y0, h0) with per-t slope (dX, dY) and dh = -1 (view ray, down to the
 // floor) or +1 (light ray, up to the top of the shell). The current node is integer state:
 // a skipped node hands over to its neighbour across the face the ray leaves by, and a descent
@@ -150,15 +147,19 @@ fn same_parent(a: vec2<i32>, b: vec2<i32>) -> bool {
 // `t_max` shortens the walk (a prism's segment); a view ray reports a floor hit only when it
 // is allowed to reach the floor.
 //
-// Two loops. The inner one walks the levels k >= 1 with one read (a node's max) and compares:
-// it ascends past nodes the ray passes above and descends into nodes it dips below, down to a
-// cell, the candidate. The outer one meets the candidate's bilinear patch (its four corners in
-// one gather): a hit ends the walk, a miss moves on to the next cell (and up a level, unless
-// that cell shares the parent the ray is known to dip below: `in_parent`). A cell's
-// max is never read on its own: the patch test answers for it. On a SIMD machine (lavapipe runs
-// both sides of every branch a lane of the group takes) the patch arithmetic then runs once per
-// candidate, not once per step, and each step reads one texture, not two: Exact's march over
-// POM's went from 1.89 to 1.17 at worst on the planar suite (docs/cost.md).
+// Two loops. The inner one walks the levels k >= 1, one read a trip: a node's four children's
+// maxes (`node_children`). The ray crosses at most three of the children, split at the t where
+// it crosses the node's middle faces; it descends straight into the first of them it dips below
+// (at the t it dips below that child's max), or, dipping below none, skips the node, across the
+// face it leaves by and up a level where it clears the node by enough (`clear_per_size`). A
+// descent to level 0 ends the trip with a candidate cell whose max the ray is known to dip
+// below. The outer loop meets the candidate's bilinear patch (its four corners in one gather): a
+// hit ends the walk, a miss moves on to the next cell's parent, at level 1. On a SIMD machine
+// (lavapipe runs both sides of every branch a lane of the group takes, and a group leaves the
+// inner loop only when every lane has its candidate) the patch arithmetic runs once per
+// candidate, not once per step, and the children's maxes spare the patch tests of cells the ray
+// passes above: 20-40 % fewer on rough content than reading one node's max a trip, which held
+// gravel at 70° to 1.37 x POM's march (docs/cost.md).
 fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32, max_iterations: f32) -> Traversal {
     var r: Traversal;
     r.hit = false;
@@ -181,8 +182,7 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
     // the height the ray falls (or rises) over two node widths along its faster axis: on rough
     // content a ray that only just clears a node dips below the parent's max too, and the
     // ascent and the descent back cost two trips for nothing. Either choice covers the ray with
-    // nodes and meets the same first hit; this one takes 9-16 % fewer trips on the real maps and
-    // noise, 3-6 % on sparse spikes and 1-4 % more on 0/1 plateaus (docs/cost.md).
+    // nodes and meets the same first hit (docs/cost.md).
     let clear_per_size = 2.0 * abs(dh) * min(abs(inv.x), abs(inv.y));
     var level = 0;
     var size = 1.0;
@@ -198,29 +198,20 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
     var t_exit = clamp(min(tf.x, tf.y), 0.0, t_end);
     // The cell the ray starts in is a candidate if the ray dips below its max there (a plateau
     // at the top of the shell, a light ray's start on the surface, a prism segment's start):
-    // the hit is then found without a walk. Otherwise the walk starts at the next cell, one
-    // level up: most rays meet the surface within a few cells of where they enter, and a
-    // top-down start paid a descent through every level for each of them.
-    // The current node was entered from its parent (by a descent, or from a sibling after
-    // one), and the ray is a view ray: it dips below the parent's max by the time it enters and
-    // only descends after, so the parent would pass it down again to the child the ray is in at
-    // that t. A move to a sibling then stays on its level instead of ascending to the parent and
-    // reading its max again: the same nodes, 8-15 % fewer steps (docs/cost.md).
-    var in_parent = false;
+    // the hit is then found without a walk. Otherwise the walk starts at the next cell's
+    // parent: most rays meet the surface within a few cells of where they enter, and a top-down
+    // start paid a descent through every level for each of them.
     var cand = min(h0, h0 + dh * t_exit) <= max_at(node, 0);
     loop {
         if (!cand) {
-            // on from the current node (a cell whose patch missed, or the start cell): across
-            // the face the ray leaves by, and up a level
+            // on from the current cell (its patch missed, or the start cell): across the face
+            // the ray leaves by, to that cell's parent (a map with no level above 0 walks cells)
             t = t_exit;
-            let next = across_exit(node, step, tf);
-            let sibling = in_parent && same_parent(next, node);
-            node = next;
-            in_parent = sibling;
-            if (!sibling && level < top) {
-                level = level + 1;
-                size = size * 2.0;
-                isize = isize * 0.5;
+            node = across_exit(node, step, tf);
+            if (top > 0) {
+                level = 1;
+                size = 2.0;
+                isize = 0.5;
                 node = node >> vec2<u32>(1u);
             }
             tf = exit_faces(st, node, size, exit_face, inv);
@@ -234,42 +225,60 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
                     break;
                 }
                 if (level == 0) {
-                    // a sibling cell after a patch miss (or any cell, on a map with no level above 0)
+                    // a map with no level above 0: every cell is a candidate
                     cand = true;
                     break;
                 }
                 it = it + 1u;
-                let m = node_max(node, size, isize, inv_cells);
-                // the ray's lowest point over [t, t_exit]
-                let lowest = min(h0 + dh * t, h0 + dh * t_exit);
-                let below = lowest <= m;
-                // both moves, then one select. Descend: a descending ray first jumps to where
-                // it dips below the max; the child that holds it there is decided by the t at
-                // which it crosses the middle faces, taken as the exit faces' t are (a position
-                // rounded on its own could name the child the ray just left).
-                let td = select(t, max(t, h0 - m), dh < 0.0);
+                let c4 = node_children(node, size, isize, inv_cells);
+                let m = max(max(c4.x, c4.y), max(c4.z, c4.w));
+                // The children the ray crosses over [t, t_exit], in order: the one it is in at t
+                // (which side of each middle face, decided by the t at which it crosses that face,
+                // taken as the exit faces' t are: a position rounded on its own could name the
+                // child the ray just left), then one more across each middle face it crosses.
                 let mid = from_start(st, (vec2<f32>(node) + 0.5) * size);
                 let tm = mid * inv;
-                let upper = select(select(mid <= vec2<f32>(0.0), vec2<bool>(td < tm.x, td < tm.y), behind),
-                                   vec2<bool>(td >= tm.x, td >= tm.y), ahead);
-                let child = 2 * node + select(vec2<i32>(0), vec2<i32>(1), upper);
-                // skip: across the exit face, then up a level unless the next node is a sibling
-                // in a parent the ray is known to dip below (see `in_parent`), or the ray passes
-                // this node's max by less than it falls over two of its widths (see `clear_per_size`)
-                var next = across_exit(node, step, tf);
-                let sibling = in_parent && same_parent(next, node);
-                let clears = lowest - m > clear_per_size * size;
-                let asc = level < top && !sibling && clears;
-                next = select(next, next >> vec2<u32>(1u), asc);
-                in_parent = select(sibling, dh < 0.0, below);
-                node = select(next, child, below);
+                let u0 = select(select(mid <= vec2<f32>(0.0), vec2<bool>(t < tm.x, t < tm.y), behind),
+                                vec2<bool>(t >= tm.x, t >= tm.y), ahead);
+                let crosses = moves & vec2<bool>((tm.x > t) && (tm.x < t_exit), (tm.y > t) && (tm.y < t_exit));
+                let ex = select(t_exit, tm.x, crosses.x);
+                let ey = select(t_exit, tm.y, crosses.y);
+                let e1 = min(ex, ey);
+                let e2 = max(ex, ey);
+                let x_first = ex <= ey;
+                let flip1 = vec2<bool>(crosses.x && x_first, crosses.y && !x_first);
+                let u1 = u0 != flip1;
+                let u2 = u1 != vec2<bool>(crosses.x && !flip1.x, crosses.y && !flip1.y);
+                let m0 = select(select(c4.w, c4.z, u0.x), select(c4.x, c4.y, u0.x), u0.y);
+                let m1 = select(select(c4.w, c4.z, u1.x), select(c4.x, c4.y, u1.x), u1.y);
+                let m2 = select(select(c4.w, c4.z, u2.x), select(c4.x, c4.y, u2.x), u2.y);
+                // the ray's height where it enters each child and where it leaves the node; it is
+                // linear, so its lowest point in a child is at one end
+                let h_t = h0 + dh * t;
+                let h_1 = h0 + dh * e1;
+                let h_2 = h0 + dh * e2;
+                let h_x = h0 + dh * t_exit;
+                let d0 = min(h_t, h_1) <= m0;
+                let d1 = e2 > e1 && min(h_1, h_2) <= m1;
+                let d2 = t_exit > e2 && min(h_2, h_x) <= m2;
+                let below = d0 || d1 || d2;
+                let uc = select(select(u2, u1, d1), u0, d0);
+                let mc = select(select(m2, m1, d1), m0, d0);
+                let tc = select(select(e2, e1, d1), t, d0);
+                let child = 2 * node + select(vec2<i32>(0), vec2<i32>(1), uc);
+                // both moves, then one select. Descend into that child, where a descending ray
+                // dips below its max; or skip: across the exit face, and up a level unless the
+                // ray passes the node's max by less than it falls over two of its widths
+                let td = select(tc, max(tc, h0 - mc), dh < 0.0);
+                let next = across_exit(node, step, tf);
+                let clears = min(h_t, h_x) - m > clear_per_size * size;
+                let asc = level < top && clears;
+                node = select(select(next, next >> vec2<u32>(1u), asc), child, below);
                 level = select(select(level, level + 1, asc), level - 1, below);
                 size = select(select(size, size * 2.0, asc), size * 0.5, below);
                 isize = select(select(isize, isize * 0.5, asc), isize * 2.0, below);
                 t = select(t_exit, td, below);
-                // the new node's exit faces, from the start; a cell is the next candidate at
-                // once (not on the next trip: on a SIMD machine the group's loop ends a trip
-                // sooner)
+                // the new node's exit faces, from the start; a cell is the candidate at once
                 tf = exit_faces(st, node, size, exit_face, inv);
                 t_exit = clamp(min(tf.x, tf.y), t, t_end);
                 if (level == 0 && t < t_end) {

@@ -72,3 +72,34 @@ fn max_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
                 max(textureLoad(msrc, vec2<u32>(x0, y1), 0).r, textureLoad(msrc, vec2<u32>(x1, y1), 0).r));
     textureStore(mdst, vec2<u32>(id.xy), vec4<f32>(v, 0.0, 0.0, 0.0));
 }
+
+// ---- the children atlas (heightmap.rs's children_atlas): at each node of a level k in
+// 1 ..= top, its four children's maxes (level k - 1: level 0, or the finished atlas) in one
+// texel, in textureGather's order: x (0, 1), y (1, 1), z (1, 0), w (0, 0). The max-mip walk
+// reads a node's children with one load (maxmip.wgsl). Up to the top level the children of
+// every node lie inside their level: no clamping.
+
+struct ChildLevel {
+    // the source level's origin in its texture, the destination level's in the children atlas
+    src_off: vec2<u32>,
+    dst_off: vec2<u32>,
+    dst_w: u32,
+    dst_h: u32,
+    pad0: u32,
+    pad1: u32,
+}
+
+@group(2) @binding(0) var csrc: texture_2d<f32>;
+@group(2) @binding(1) var cdst: texture_storage_2d<rgba32float, write>;
+@group(2) @binding(2) var<uniform> CL: ChildLevel;
+
+@compute @workgroup_size(8, 8)
+fn max_children(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= CL.dst_w || id.y >= CL.dst_h) {
+        return;
+    }
+    let a = CL.src_off + 2u * id.xy;
+    let c = vec4<f32>(textureLoad(csrc, a + vec2<u32>(0u, 1u), 0).r, textureLoad(csrc, a + vec2<u32>(1u, 1u), 0).r,
+                      textureLoad(csrc, a + vec2<u32>(1u, 0u), 0).r, textureLoad(csrc, a, 0).r);
+    textureStore(cdst, CL.dst_off + id.xy, c);
+}

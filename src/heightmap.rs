@@ -89,6 +89,10 @@ pub struct GpuHeight {
     /// its levels 1.. side by side (`max_atlas`)
     pub max_atlas: wgpu::Texture,
     pub max_atlas_view: wgpu::TextureView,
+    /// the max pyramid's levels 1 ..= top again, each node's texel holding its four children's
+    /// maxes (`children_atlas`): what the max-mip walk reads
+    pub max_children: wgpu::Texture,
+    pub max_children_view: wgpu::TextureView,
     /// level k >= 1 of the max pyramid is reduced into this (level 1's size) and copied into the
     /// atlas, so that no dispatch reads and writes one texture
     max_scratch: wgpu::Texture,
@@ -114,6 +118,29 @@ pub fn max_atlas(w: u32, h: u32) -> (Vec<u32>, (u32, u32)) {
     (off, (x.max(1), level_size(w, h, 1).1))
 }
 
+/// Where the children atlas (`GpuHeight::max_children`) holds each level k in 1 ..= top
+/// (`top_maxmip_level`), and its size: at every node of level k, its four children's maxes
+/// (level k - 1) in one rgba32float texel, so that the max-mip walk reads a node's children
+/// with one load. Level 1 at (0, 0), levels 2 .. top in a column to its right, one below the
+/// other: level k at (W / 2, H / 2 - 2 H / 2^k), which maxmip.wgsl's `node_children` computes
+/// (`offsets[0]` is unused). About 3/8 of the map's texels, 16 bytes each; a map with no level
+/// above 0 gets a 1 x 1 texture, never read.
+pub fn children_atlas(w: u32, h: u32) -> (Vec<(u32, u32)>, (u32, u32)) {
+    let top = top_maxmip_level(w, h);
+    let mut off = vec![(0, 0)];
+    if top == 0 {
+        return (off, (1, 1));
+    }
+    off.push((0, 0));
+    let mut y = 0;
+    for k in 2..=top {
+        off.push((w >> 1, y));
+        y += h >> k;
+    }
+    let width = (w >> 1) + if top >= 2 { w >> 2 } else { 0 };
+    (off, (width, (h >> 1).max(y)))
+}
+
 /// The atlas offsets as the uniform table the shaders index (`array<vec4<u32>, 4>`, 16 levels).
 pub fn max_offset_table(w: u32, h: u32) -> [[u32; 4]; 4] {
     let mut t = [[0u32; 4]; 4];
@@ -124,7 +151,8 @@ pub fn max_offset_table(w: u32, h: u32) -> [[u32; 4]; 4] {
 }
 
 /// GPU bytes the height map takes, as a multiple of its float32 level 0: the mean pyramid
-/// (4/3), the max pyramid's level 0 (1), its atlas (about 1/2) and the scratch level (1/4).
+/// (4/3), the max pyramid's level 0 (1), its atlas (about 1/2), the scratch level (1/4) and the
+/// children atlas (3/2).
 pub fn gpu_bytes(w: u32, h: u32) -> u64 {
     let l0 = w as u64 * h as u64 * 4;
     let mean: u64 = (0..mip_count(w, h))
@@ -135,7 +163,8 @@ pub fn gpu_bytes(w: u32, h: u32) -> u64 {
         .sum();
     let (_, (aw, ah)) = max_atlas(w, h);
     let (sw, sh) = level_size(w, h, 1);
-    mean + l0 + aw as u64 * ah as u64 * 4 + sw as u64 * sh as u64 * 4
+    let (_, (cw, ch)) = children_atlas(w, h);
+    mean + l0 + aw as u64 * ah as u64 * 4 + sw as u64 * sh as u64 * 4 + cw as u64 * ch as u64 * 16
 }
 
 /// The highest max-mip level whose nodes tile the map exactly (its size divides both sides).
@@ -154,6 +183,8 @@ pub struct MipBuilder {
     mean: wgpu::ComputePipeline,
     max_cells: wgpu::ComputePipeline,
     max_reduce: wgpu::ComputePipeline,
+    children_layout: wgpu::BindGroupLayout,
+    max_children: wgpu::ComputePipeline,
 }
 
 pub const MIPS_SHADER: &str = include_str!("../shaders/mips.wgsl");
@@ -200,12 +231,35 @@ impl MipBuilder {
                     cache: None,
                 })
             };
+            let children_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("max children"),
+                entries: &[
+                    layout::texture(0, cs, unfilterable),
+                    layout::storage_texture(1, cs, wgpu::TextureFormat::Rgba32Float),
+                    layout::buffer(2, cs, wgpu::BufferBindingType::Uniform),
+                ],
+            });
+            let cpl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("max children"),
+                bind_group_layouts: &[None, None, Some(&children_layout)],
+                immediate_size: 0,
+            });
+            let max_children = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("max_children"),
+                layout: Some(&cpl),
+                module: &module,
+                entry_point: Some("max_children"),
+                compilation_options: Default::default(),
+                cache: None,
+            });
             Ok(Self {
                 mean,
                 max_cells: make("max_cells"),
                 max_reduce: make("max_reduce"),
                 layout,
                 max_layout,
+                children_layout,
+                max_children,
             })
         })
     }
@@ -249,6 +303,12 @@ impl MipBuilder {
                 r32,
                 U::TEXTURE_BINDING | U::COPY_DST | U::COPY_SRC,
             );
+            let max_children = ctx.texture_2d(
+                "height max children",
+                children_atlas(map.width, map.height).1,
+                wgpu::TextureFormat::Rgba32Float,
+                U::TEXTURE_BINDING | U::STORAGE_BINDING | U::COPY_SRC,
+            );
             let max_scratch = ctx.texture_2d(
                 "height max scratch",
                 level_size(map.width, map.height, 1),
@@ -281,6 +341,8 @@ impl MipBuilder {
                 max0,
                 max_atlas_view: max_atlas.create_view(&Default::default()),
                 max_atlas,
+                max_children_view: max_children.create_view(&Default::default()),
+                max_children,
                 max_scratch,
                 scratch,
             })
@@ -313,6 +375,26 @@ impl MipBuilder {
             .map(|k| read_r32(ctx, &g.tex, k, level_size(g.width, g.height, k)))
             .collect()
     }
+    /// Read the children atlas back (tests): for each level k in 1 ..= top (index k - 1), each
+    /// node's texel, row-major (x: child (0, 1), y: (1, 1), z: (1, 0), w: (0, 0)).
+    pub fn read_children(&self, ctx: &Context, g: &GpuHeight) -> Result<Vec<Vec<[f32; 4]>>> {
+        let (offs, (aw, ah)) = children_atlas(g.width, g.height);
+        let all = read_f32_texels(ctx, &g.max_children, 0, (aw, ah), 4)?;
+        Ok((1..offs.len())
+            .map(|k| {
+                let (w, h) = level_size(g.width, g.height, k as u32);
+                let (ox, oy) = offs[k];
+                (0..h)
+                    .flat_map(|y| (0..w).map(move |x| (x, y)))
+                    .map(|(x, y)| {
+                        let i = 4 * ((oy + y) * aw + ox + x) as usize;
+                        [all[i], all[i + 1], all[i + 2], all[i + 3]]
+                    })
+                    .collect()
+            })
+            .collect())
+    }
+
     /// Replace the map's texels (same size) and rebuild both pyramids on the GPU.
     pub fn update(&self, ctx: &Context, g: &GpuHeight, map: &HeightMap) -> Result<()> {
         if map.width != g.width || map.height != g.height {
@@ -444,6 +526,42 @@ impl MipBuilder {
                     );
                 }
             }
+            // the children atlas, from level 0 and the finished atlas
+            let (coffs, _) = children_atlas(map.width, map.height);
+            for k in 1..=top_maxmip_level(map.width, map.height) {
+                let (dw, dh) = level_size(map.width, map.height, k);
+                let src_off = if k >= 2 { offs[k as usize - 1] } else { 0 };
+                let (ox, oy) = coffs[k as usize];
+                let params: [u32; 8] = [src_off, 0, ox, oy, dw, dh, 0, 0];
+                let ubuf = ctx.upload(
+                    "max children level",
+                    bytemuck::cast_slice(&params),
+                    wgpu::BufferUsages::UNIFORM,
+                );
+                use wgpu::BindingResource as R;
+                let src = if k == 1 {
+                    &g.max0_view
+                } else {
+                    &g.max_atlas_view
+                };
+                let bg = ctx.bind_group(
+                    "max children level",
+                    &self.children_layout,
+                    vec![
+                        R::TextureView(src),
+                        R::TextureView(&g.max_children_view),
+                        ubuf.as_entire_binding(),
+                    ],
+                );
+                Context::dispatch_8x8(
+                    &mut enc,
+                    "max children",
+                    &self.max_children,
+                    2,
+                    &bg,
+                    (dw, dh),
+                );
+            }
             ctx.queue.submit([enc.finish()]);
             Ok(())
         })
@@ -484,9 +602,22 @@ pub fn read_r32(
     ctx: &Context,
     tex: &wgpu::Texture,
     mip_level: u32,
-    (w, h): (u32, u32),
+    wh: (u32, u32),
 ) -> Result<Vec<f32>> {
-    let row = (w as u64 * 4).div_ceil(256) * 256;
+    read_f32_texels(ctx, tex, mip_level, wh, 1)
+}
+
+/// Read a `w x h` region at the origin of one mip level of a texture of `channels` float32s a
+/// texel (R32Float: 1, Rgba32Float: 4), row-major, the channels of a texel together.
+pub fn read_f32_texels(
+    ctx: &Context,
+    tex: &wgpu::Texture,
+    mip_level: u32,
+    (w, h): (u32, u32),
+    channels: u32,
+) -> Result<Vec<f32>> {
+    let texel = 4 * channels as u64;
+    let row = (w as u64 * texel).div_ceil(256) * 256;
     let buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("r32 readback"),
         size: row * h as u64,
@@ -517,9 +648,9 @@ pub fn read_r32(
     );
     ctx.queue.submit([enc.finish()]);
     ctx.map_read(&buf, |raw| {
-        let mut out = Vec::with_capacity((w * h) as usize);
+        let mut out = Vec::with_capacity((w * h * channels) as usize);
         for y in 0..h as usize {
-            let r = &raw[y * row as usize..y * row as usize + 4 * w as usize];
+            let r = &raw[y * row as usize..y * row as usize + (texel * w as u64) as usize];
             out.extend_from_slice(bytemuck::cast_slice::<u8, f32>(r));
         }
         out
@@ -578,6 +709,45 @@ mod tests {
                     n += d.max(1) * 97 + 1;
                 }
             }
+        }
+    }
+
+    /// maxmip.wgsl's `node_children` reads level k of 1 ..= top at (0, 0) for k = 1, else at
+    /// (W / 2, H / 2 - 2 H / 2^k) in f32: this table's, inside the atlas, the levels apart.
+    #[test]
+    fn the_walk_s_children_offsets_are_the_table_s() {
+        for (w, h) in [
+            (1, 1),
+            (2, 2),
+            (4, 2),
+            (512, 512),
+            (96, 40),
+            (100, 36),
+            (8192, 8192),
+            (16384, 4096),
+            (24, 7),
+        ] {
+            let (offs, (aw, ah)) = children_atlas(w, h);
+            let top = top_maxmip_level(w, h);
+            assert_eq!(offs.len() as u32, top + 1, "{w}x{h}");
+            assert!(aw <= w.max(1) && ah <= h.max(1), "{w}x{h}: {aw}x{ah}");
+            let mut seen = 0u64;
+            for k in 1..=top {
+                let size = (1u32 << k) as f32;
+                let dims_y = h as f32 / size;
+                let want = if k >= 2 {
+                    (0.5 * w as f32, 0.5 * h as f32 - 2.0 * dims_y)
+                } else {
+                    (0.0, 0.0)
+                };
+                let (ox, oy) = offs[k as usize];
+                assert_eq!((ox as f32, oy as f32), want, "{w}x{h} level {k}");
+                let (lw, lh) = level_size(w, h, k);
+                assert!(ox + lw <= aw && oy + lh <= ah, "{w}x{h} level {k}");
+                seen += lw as u64 * lh as u64;
+            }
+            // no two levels overlap: their areas sum to at most the atlas's
+            assert!(seen <= aw as u64 * ah as u64);
         }
     }
 

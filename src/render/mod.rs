@@ -465,6 +465,7 @@ impl Renderer {
                         R::Sampler(&f.albedo_sampler),
                         R::TextureView(&height.max0_view),
                         R::TextureView(&height.max_atlas_view),
+                        R::TextureView(&height.max_children_view),
                     ],
                 );
                 let mut m = vec![params.as_entire_binding()];

@@ -38,7 +38,7 @@ pub struct Pipelines {
     /// group 0: the view block, the shadow map and its comparison sampler
     pub view_bgl: wgpu::BindGroupLayout,
     /// group 1: the object block, the height map and its sampler, the albedo and its sampler,
-    /// the max pyramid
+    /// the max pyramid (level 0, the atlas, the children atlas)
     pub object_bgl: wgpu::BindGroupLayout,
     /// group 2 per declaration of a method's resources, with the pipeline layout over all three
     method_layouts: Mutex<HashMap<Vec<ResourceKind>, Arc<MethodLayout>>>,
@@ -138,6 +138,7 @@ impl Pipelines {
                     samp(4, true),
                     tex(5, false),
                     tex(6, false),
+                    tex(7, false),
                 ],
             });
             Ok(Self {

@@ -40,6 +40,16 @@ pub fn read_pyramids(
     ))
 }
 
+/// The GPU's children atlas for a map (tests): `MipBuilder::read_children`.
+pub fn read_children(r: &Renderer, map: &Keyed<HeightMap>) -> Result<Vec<Vec<[f32; 4]>>> {
+    let g = r
+        .resources
+        .lock()
+        .map_err(poisoned)?
+        .height(&r.ctx, &r.mips, map)?;
+    r.mips.read_children(&r.ctx, &g)
+}
+
 /// A method's own resources for object 0 of `scene` (tests and inspection: e.g. to read a
 /// built table back), built as a render would build them.
 pub fn method_resources(r: &Renderer, scene: &Scene, method: &Method) -> Result<Vec<Resident>> {

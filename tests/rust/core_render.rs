@@ -123,6 +123,45 @@ fn gpu_pyramids_equal_the_cpu_ones() {
 }
 
 #[test]
+fn the_children_atlas_holds_each_node_s_children_maxes() {
+    // every node of levels 1 ..= top: its four children's maxes of the CPU max pyramid, in
+    // gather order; on power-of-two, non-power-of-two and odd maps (top 0: nothing to hold)
+    use pomkit::heightmap::{cell_max_pyramid, level_size, top_maxmip_level};
+    let r = renderer();
+    for (w, h) in [(64u32, 64u32), (48, 20), (96, 40), (7, 5)] {
+        let map = HeightMap::from_fn(w, h, |u, v| {
+            (0.5 + 0.5 * (11.0 * u).sin() * (5.0 * v).cos()).fract()
+        });
+        let ch =
+            pomkit::render::test_hooks::read_children(&r, &shared(map.clone()).unwrap()).unwrap();
+        let cx = cell_max_pyramid(&map);
+        assert_eq!(ch.len() as u32, top_maxmip_level(w, h), "{w}x{h}");
+        for (i, lvl) in ch.iter().enumerate() {
+            let k = i as u32 + 1;
+            let (lw, lh) = level_size(w, h, k);
+            let (cw, _) = level_size(w, h, k - 1);
+            let below = &cx[k as usize - 1];
+            assert_eq!(lvl.len() as u32, lw * lh);
+            for y in 0..lh {
+                for x in 0..lw {
+                    let at = |dx: u32, dy: u32| below[((2 * y + dy) * cw + 2 * x + dx) as usize];
+                    let want = [at(0, 1), at(1, 1), at(1, 0), at(0, 0)];
+                    assert_eq!(
+                        lvl[(y * lw + x) as usize],
+                        want,
+                        "{w}x{h} level {k} node ({x}, {y})"
+                    );
+                    assert_eq!(
+                        want.iter().cloned().fold(0.0f32, f32::max),
+                        cx[k as usize][(y * lw + x) as usize]
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
 fn a_supersampled_frame_in_tiles_equals_one_pass() {
     // 4 x 4 samples per pixel over a 37 x 37 frame: one pass, and tiles of 10 pixels (windows
     // of the full camera, the last ones partial); colour and coverage agree up to rasterisation
