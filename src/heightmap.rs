@@ -221,16 +221,17 @@ impl MipBuilder {
                 bind_group_layouts: &[None, Some(&max_layout)],
                 immediate_size: 0,
             });
-            let make = |entry: &str| {
+            let make_in = |pl: &wgpu::PipelineLayout, entry: &str| {
                 dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                     label: Some(entry),
-                    layout: Some(&mpl),
+                    layout: Some(pl),
                     module: &module,
                     entry_point: Some(entry),
                     compilation_options: Default::default(),
                     cache: None,
                 })
             };
+            let make = |entry: &str| make_in(&mpl, entry);
             let children_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("max children"),
                 entries: &[
@@ -244,14 +245,7 @@ impl MipBuilder {
                 bind_group_layouts: &[None, None, Some(&children_layout)],
                 immediate_size: 0,
             });
-            let max_children = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("max_children"),
-                layout: Some(&cpl),
-                module: &module,
-                entry_point: Some("max_children"),
-                compilation_options: Default::default(),
-                cache: None,
-            });
+            let max_children = make_in(&cpl, "max_children");
             Ok(Self {
                 mean,
                 max_cells: make("max_cells"),
