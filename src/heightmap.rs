@@ -208,14 +208,18 @@ impl MipBuilder {
                 ],
             });
             let mean = ctx.compute_pipeline("mips mean", &module, "reduce", &layout);
-            let max_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("max pyramid"),
-                entries: &[
-                    layout::texture(0, cs, unfilterable),
-                    layout::storage_texture(1, cs, wgpu::TextureFormat::R32Float),
-                    layout::buffer(2, cs, wgpu::BufferBindingType::Uniform),
-                ],
-            });
+            // a level pass's group: its source, its destination (`format`) and its uniform
+            let level_layout = |label: &str, format: wgpu::TextureFormat| {
+                dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some(label),
+                    entries: &[
+                        layout::texture(0, cs, unfilterable),
+                        layout::storage_texture(1, cs, format),
+                        layout::buffer(2, cs, wgpu::BufferBindingType::Uniform),
+                    ],
+                })
+            };
+            let max_layout = level_layout("max pyramid", wgpu::TextureFormat::R32Float);
             let mpl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("max pyramid"),
                 bind_group_layouts: &[None, Some(&max_layout)],
@@ -232,14 +236,7 @@ impl MipBuilder {
                 })
             };
             let make = |entry: &str| make_in(&mpl, entry);
-            let children_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("max children"),
-                entries: &[
-                    layout::texture(0, cs, unfilterable),
-                    layout::storage_texture(1, cs, wgpu::TextureFormat::Rgba32Float),
-                    layout::buffer(2, cs, wgpu::BufferBindingType::Uniform),
-                ],
-            });
+            let children_layout = level_layout("max children", wgpu::TextureFormat::Rgba32Float);
             let cpl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("max children"),
                 bind_group_layouts: &[None, None, Some(&children_layout)],
