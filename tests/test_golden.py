@@ -14,6 +14,11 @@ default); checked against Mitsuba in test_silhouettes.py. And Exact's frames (-e
 and an offset within it, not one f32 several hundred cells out): they moved by at most 2.7e-4
 texel, and against the float64 oracle their uv p99 fell on every plane frame (bricks at 85°:
 1.44e-4 -> 7.9e-5 texel; the mean on all of them) with the max no worse than 3e-6 texel.
+And the NCS frames again (issue 33: the frame map holds float32 (n, k) and t / S_tangent, the
+form a step needs, instead of n and t octahedral in snorm16): only the old map's rounding
+moved them, uv by at most 0.003 texel, colour by at most 0.0013 without shadows; with hard
+shadows 15 (torus) and 6 (sphere) pixels of 48^2 changed side of a shadow edge; no pixel's
+coverage or flag changed (steps by at most 7, in the hard-shadow frames only).
 And the Tessellated frames (-tess, -tess_none; issue 30: the displaced mesh cuts each lattice
 quad into four triangles about a centre vertex on the field, a quarter of the chord error);
 against render_exact they are checked in test_reference_exact.py.

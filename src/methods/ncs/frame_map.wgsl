@@ -1,43 +1,42 @@
-// frame_map.wgsl: NCS's texture-space frame map, one Rgba32Uint texel per frame-map texel:
-// x = the normal and y = the tangent, octahedral in two snorm16; z = S_tangent (float bits);
-// w = sign(bitangent) * S_binormal (float bits). One bilinear frame is four fetches.
+// frame_map.wgsl: NCS's texture-space frame map. Each frame-map texel (x, y) is two Rgba32Uint
+// texels, (2x, y) and (2x + 1, y), of float32 bits in the form the march steps with:
+//     (n.x, n.y, n.z, k) and (a.x, a.y, a.z, 0)
+// n the unit normal, a = t / S_tangent (uv per world length along the unit tangent t) and
+// k = sign(bitangent) * S_tangent / S_binormal, so that b / S_binormal = k * cross(n, a). A step
+// along a world direction v is then (dot(v, a), dot(v, k * cross(n, a)), dot(v, n)): three dot
+// products and a cross product, with no decode, square root or division.
+//
+// (Until issue 33 the map was one texel of n and t octahedral in snorm16 pairs and the scales
+// as floats: its decode, two normalisations and the step's three divisions took 60 % of NCS's
+// march on lavapipe, where a branch's body runs for every lane.)
 #define_import_path pomkit::frame_map
 
-fn oct_encode(v: vec3<f32>) -> vec2<f32> {
-    let a = v / max(abs(v.x) + abs(v.y) + abs(v.z), 1e-30);
-    if (a.z >= 0.0) {
-        return a.xy;
-    }
-    let s = select(vec2<f32>(-1.0), vec2<f32>(1.0), a.xy >= vec2<f32>(0.0));
-    return (1.0 - abs(a.yx)) * s;
+// One frame-map texel as two Rgba32Uint texels.
+struct PackedFrame {
+    first: vec4<u32>,
+    second: vec4<u32>,
 }
 
-fn oct_decode(e: vec2<f32>) -> vec3<f32> {
-    var v = vec3<f32>(e, 1.0 - abs(e.x) - abs(e.y));
-    if (v.z < 0.0) {
-        let s = select(vec2<f32>(-1.0), vec2<f32>(1.0), v.xy >= vec2<f32>(0.0));
-        v = vec3<f32>((1.0 - abs(v.yx)) * s, v.z);
-    }
-    return normalize(v);
+// n unit, t unit and orthogonal to n, s_t > 0 and s_b_signed = sign(bitangent) * S_binormal.
+fn pack_frame(n: vec3<f32>, t: vec3<f32>, s_t: f32, s_b_signed: f32) -> PackedFrame {
+    let s_b = max(abs(s_b_signed), 1e-12);
+    let k = select(1.0, -1.0, s_b_signed < 0.0) * s_t / s_b;
+    return PackedFrame(bitcast<vec4<u32>>(vec4<f32>(n, k)), bitcast<vec4<u32>>(vec4<f32>(t / s_t, 0.0)));
 }
 
-fn pack_frame(n: vec3<f32>, t: vec3<f32>, s_t: f32, s_b: f32) -> vec4<u32> {
-    return vec4<u32>(pack2x16snorm(oct_encode(n)), pack2x16snorm(oct_encode(t)), bitcast<u32>(s_t), bitcast<u32>(s_b));
-}
-
-// One texel: normal, tangent, S_tangent, signed S_binormal.
+// One texel: the normal, a = t / S_tangent and k (above).
 struct FrameTexel {
     n: vec3<f32>,
-    t: vec3<f32>,
-    s_t: f32,
-    s_b: f32,
+    a: vec3<f32>,
+    k: f32,
 }
 
-fn unpack_frame(x: vec4<u32>) -> FrameTexel {
-    var f: FrameTexel;
-    f.n = oct_decode(unpack2x16snorm(x.x));
-    f.t = oct_decode(unpack2x16snorm(x.y));
-    f.s_t = bitcast<f32>(x.z);
-    f.s_b = bitcast<f32>(x.w);
-    return f;
+fn unpack_frame(first: vec4<u32>, second: vec4<u32>) -> FrameTexel {
+    let x = bitcast<vec4<f32>>(first);
+    return FrameTexel(x.xyz, bitcast<vec4<f32>>(second).xyz, x.w);
+}
+
+// b / S_binormal of a texel (uv per world length along the bitangent).
+fn frame_b(f: FrameTexel) -> vec3<f32> {
+    return f.k * cross(f.n, f.a);
 }

@@ -91,7 +91,7 @@ impl TexSpace {
         })
     }
 
-    /// Bake, dilate and pack the frame map of a mesh (16 bytes per texel, frame_map.wgsl).
+    /// Bake, dilate and pack the frame map of a mesh (32 bytes per texel, frame_map.wgsl).
     pub fn maps(
         &self,
         ctx: &Context,
@@ -101,11 +101,11 @@ impl TexSpace {
     ) -> Result<wgpu::TextureView> {
         let dev = &ctx.device;
         ctx.scoped(|| {
-            let make = |label| {
+            let make = |label, width| {
                 dev.create_texture(&wgpu::TextureDescriptor {
                     label: Some(label),
                     size: wgpu::Extent3d {
-                        width: MAP_SIZE,
+                        width,
                         height: MAP_SIZE,
                         depth_or_array_layers: 1,
                     },
@@ -119,8 +119,8 @@ impl TexSpace {
                     view_formats: &[],
                 })
             };
-            let a = [make("ncs N a"), make("ncs T a")];
-            let b = [make("ncs N b"), make("ncs T b")];
+            let a = [make("ncs N a", MAP_SIZE), make("ncs T a", MAP_SIZE)];
+            let b = [make("ncs N b", MAP_SIZE), make("ncs T b", MAP_SIZE)];
             let va: Vec<wgpu::TextureView> = a
                 .iter()
                 .map(|t| t.create_view(&Default::default()))
@@ -172,8 +172,9 @@ impl TexSpace {
                     (MAP_SIZE, MAP_SIZE),
                 );
             }
-            // DILATE_PASSES is even: the result is back in `a`; pack it into one map
-            let packed = make("ncs frame map");
+            // DILATE_PASSES is even: the result is back in `a`; pack it into one map, two texels
+            // per frame-map texel (frame_map.wgsl)
+            let packed = make("ncs frame map", 2 * MAP_SIZE);
             let pv = packed.create_view(&Default::default());
             use wgpu::BindingResource::TextureView as V;
             let bg = ctx.bind_group(

@@ -18,43 +18,45 @@
 #import pomkit::frame::{TangentFrame, make_frame}
 #import pomkit::height::{height_at, bilinear_taps, bilerp}
 #import pomkit::march::{Ray, Hit, pom_sample_count}
-#import pomkit::frame_map::{FrameTexel, unpack_frame}
+#import pomkit::frame_map::{FrameTexel, unpack_frame, frame_b}
 
-// the method's own resource (src/methods/ncs: group 2, binding 1)
+// the method's own resource (src/methods/ncs: group 2, binding 1): two texels per frame-map
+// texel (frame_map.wgsl)
 @group(2) @binding(1) var frame_map: texture_2d<u32>;
 
 fn frame_texel(x: i32, y: i32) -> FrameTexel {
-    fetched(1u, 16u);
-    return unpack_frame(textureLoad(frame_map, vec2<i32>(x, y), 0));
+    fetched(2u, 32u);
+    return unpack_frame(textureLoad(frame_map, vec2<i32>(2 * x, y), 0), textureLoad(frame_map, vec2<i32>(2 * x + 1, y), 0));
 }
 
-// The base frame at mesh uv, bilinear between texel centres of the map (four fetches).
+// The frame map's size in frame-map texels.
+fn frame_dims() -> vec2<i32> {
+    let d = vec2<i32>(textureDimensions(frame_map));
+    return vec2<i32>(d.x / 2, d.y);
+}
+
+// A texel's frame as the old map stored it: (t, S_tangent) and (n, sign * S_binormal).
+fn texel_frame(f: FrameTexel) -> array<vec4<f32>, 2> {
+    let s_t = 1.0 / max(length(f.a), 1e-30);
+    return array<vec4<f32>, 2>(vec4<f32>(f.a * s_t, s_t), vec4<f32>(f.n, s_t / f.k));
+}
+
+// The base frame at mesh uv, bilinear between texel centres of the map (four texels).
 fn frame_at(uv: vec2<f32>) -> TangentFrame {
-    let k = bilinear_taps(uv, vec2<i32>(textureDimensions(frame_map)));
-    let a = frame_texel(k.xa, k.ya);
-    let b = frame_texel(k.xb, k.ya);
-    let c = frame_texel(k.xa, k.yb);
-    let d = frame_texel(k.xb, k.yb);
-    let n = bilerp(k, vec4<f32>(a.n, a.s_t), vec4<f32>(b.n, b.s_t), vec4<f32>(c.n, c.s_t), vec4<f32>(d.n, d.s_t));
-    let t = bilerp(k, vec4<f32>(a.t, a.s_b), vec4<f32>(b.t, b.s_b), vec4<f32>(c.t, c.s_b), vec4<f32>(d.t, d.s_b));
-    return make_frame(n.xyz, vec4<f32>(t.xyz, select(1.0, -1.0, t.w < 0.0)), vec2<f32>(n.w, abs(t.w)));
+    let q = bilinear_taps(uv, frame_dims());
+    let a = texel_frame(frame_texel(q.xa, q.ya));
+    let b = texel_frame(frame_texel(q.xb, q.ya));
+    let c = texel_frame(frame_texel(q.xa, q.yb));
+    let d = texel_frame(frame_texel(q.xb, q.yb));
+    let t = bilerp(q, a[0], b[0], c[0], d[0]);
+    let n = bilerp(q, a[1], b[1], c[1], d[1]);
+    return make_frame(n.xyz, vec4<f32>(t.xyz, n.w), vec2<f32>(t.w, abs(n.w)));
 }
 
 // The map texel a uv falls in (wrapped): the frame the march steps with, fetched again only when
-// the ray enters another texel (one fetch; the hit's frame is the bilinear one).
+// the ray enters another texel (the hit's frame is the bilinear one).
 fn frame_texel_at(uv: vec2<f32>, dims: vec2<i32>) -> vec2<i32> {
     return min(vec2<i32>(fract(uv) * vec2<f32>(dims)), dims - 1);
-}
-
-// A texel's frame as stored (orthonormal; see texspace.wgsl's pack).
-fn frame_near(x: vec2<i32>) -> TangentFrame {
-    let a = frame_texel(x.x, x.y);
-    var f: TangentFrame;
-    f.n = a.n;
-    f.t = a.t;
-    f.b = select(1.0, -1.0, a.s_b < 0.0) * cross(a.n, a.t);
-    f.scale = max(vec2<f32>(a.s_t, abs(a.s_b)), vec2<f32>(1e-12));
-    return f;
 }
 
 fn ncs_hit(r: Ray, uv: vec2<f32>, h: f32, len: f32, steps: f32, flags: u32, f: TangentFrame) -> Hit {
@@ -73,6 +75,26 @@ fn ncs_hit(r: Ray, uv: vec2<f32>, h: f32, len: f32, steps: f32, flags: u32, f: T
 // adaptive steps: the fewest layers per shell height (head-on), as POM's default min_steps
 const MIN_LAYERS: f32 = 8.0;
 
+// The world length of a step whose view ray meets the base surface at N.V = ndv: the paper's
+// c * delta, or (adaptive) at least POM's layer density: each step descends one of the shell's
+// pom_sample_count(N.V, 8, N) layers (N.V local), and at most one shell depth along the ray, so
+// that the step still follows the surface's curvature.
+fn ncs_step_length(ndv_in: f32, n: f32, dl0: f32) -> f32 {
+    if (params.adaptive > 0.5) {
+        let ndv = max(ndv_in, 1e-3);
+        let layers = pom_sample_count(ndv, MIN_LAYERS, n, true);
+        return clamp(G.depth / (ndv * layers), dl0, max(G.depth, dl0));
+    }
+    return dl0;
+}
+
+// One step of length dl along the view in a map texel's frame, in (u, v, h): S * TBN * V * dl.
+fn texel_step(f: FrameTexel, view: vec3<f32>, n: f32, dl0: f32, inv_depth: f32) -> vec4<f32> {
+    let vn = dot(view, f.n);
+    let dl = ncs_step_length(-vn, n, dl0);
+    return vec4<f32>(vec3<f32>(dot(view, f.a), dot(view, frame_b(f)), vn * inv_depth) * dl, dl);
+}
+
 fn march(r: Ray) -> Hit {
     let n = max(params.max_steps, 1.0);
     // the paper's step: c * delta, delta = depth / N (world length)
@@ -88,32 +110,25 @@ fn march(r: Ray) -> Hit {
         return ncs_hit(r, uv, h, 0.0, steps, 0u, frame_at(uv));
     }
     // the first step goes along the rasterised frame
-    var f = r.f;
-    let dims = vec2<i32>(textureDimensions(frame_map));
+    let f = r.f;
+    let dims = frame_dims();
     var cell = frame_texel_at(uv, dims);
     // the last two points when the ray falls below the height field (the crossing between them
     // is taken after the loop)
     var uv1 = uv;
     var h1 = h;
     var d1 = d;
-    var dl = dl0;
     let ni = i32(n);
+    // the step, a function of the frame alone: taken again only when the frame changes
+    let inv_depth = 1.0 / max(G.depth, 1e-12);
+    var dl = ncs_step_length(-dot(view, f.n), n, dl0);
+    var step = vec3<f32>(dot(view, f.t) / f.scale.x, dot(view, f.b) / f.scale.y, dot(view, f.n) * inv_depth) * dl;
     // the loop only marches; the crossing and the hit's bilinear frame (four fetches) are taken
     // once after it, in control flow all lanes share again (inside the loop a SIMD group would
     // run them at every step: lavapipe runs every branch any lane takes)
     var flags = FLAG_EARLY;
     var exited = false;
     for (var i = 0; i < ni; i = i + 1) {
-        dl = dl0;
-        if (params.adaptive > 0.5) {
-            // at least POM's layer density: each step descends one of the shell's
-            // pom_sample_count(N.V, 8, N) layers (N.V local), and at most one shell depth along
-            // the ray, so that the step still follows the surface's curvature
-            let ndv = max(-dot(view, f.n), 1e-3);
-            let layers = pom_sample_count(ndv, MIN_LAYERS, n, true);
-            dl = clamp(G.depth / (ndv * layers), dl0, max(G.depth, dl0));
-        }
-        let step = vec3<f32>(dot(view, f.t) / f.scale.x, dot(view, f.b) / f.scale.y, dot(view, f.n) / max(G.depth, 1e-12)) * dl;
         uv1 = uv + step.xy;
         h1 = h + step.z;
         steps = steps + 1.0;
@@ -134,8 +149,10 @@ fn march(r: Ray) -> Hit {
         // the ray enters another cell of the map
         let c = frame_texel_at(uv, dims);
         if (any(c != cell)) {
-            f = frame_near(c);
             cell = c;
+            let st = texel_step(frame_texel(c.x, c.y), view, n, dl0, inv_depth);
+            step = st.xyz;
+            dl = st.w;
         }
     }
     if (exited) {

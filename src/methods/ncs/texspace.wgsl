@@ -80,8 +80,9 @@ fn dilate(@builtin(global_invocation_id) id: vec3<u32>) {
     textureStore(dst_t, p, bitcast<vec4<u32>>(t));
 }
 
-// The packed map: n and t octahedral (snorm16 pairs), S_tangent and the signed S_binormal as f32.
-// It reads the dilated maps through dilate's bindings and writes through dst_n (bindings 0-2).
+// The packed map (frame_map.wgsl): two texels per frame-map texel, (n, k) and (t / S_tangent, 0).
+// It reads the dilated maps through dilate's bindings and writes through dst_n (bindings 0-2),
+// which is twice as wide.
 
 @compute @workgroup_size(8, 8)
 fn pack(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -99,5 +100,7 @@ fn pack(@builtin(global_invocation_id) id: vec3<u32>) {
         let a = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 0.0, 1.0), abs(nn.x) > 0.9);
         tt = cross(nn, a);
     }
-    textureStore(dst_n, p, pack_frame(nn, normalize(tt), n.w, t.w));
+    let f = pack_frame(nn, normalize(tt), max(n.w, 1e-12), t.w);
+    textureStore(dst_n, vec2<i32>(2 * p.x, p.y), f.first);
+    textureStore(dst_n, vec2<i32>(2 * p.x + 1, p.y), f.second);
 }
