@@ -5,8 +5,9 @@
 use super::{poisoned, Renderer};
 use crate::contract::Resident;
 use crate::error::{Error, Result};
+use crate::mesh::Mesh;
 use crate::methods::Method;
-use crate::scene::{HeightMap, Keyed, Scene};
+use crate::scene::{shared, Camera, HeightMap, Keyed, Material, Scene};
 
 /// Issue an invalid wgpu call (a buffer both MAP_READ and MAP_WRITE) inside the error
 /// scopes: used by tests to check that validation errors surface as `Error::Gpu` and leave
@@ -61,4 +62,30 @@ pub fn method_resources(r: &Renderer, scene: &Scene, method: &Method) -> Result<
     let mut res = r.resources.lock().map_err(poisoned)?;
     let (_, _, own) = r.object_resources(&mut res, obj, &spec)?;
     Ok(own.map(|o| o.to_vec()).unwrap_or_default())
+}
+
+/// A scene of one object (`mesh` with the height map `height`, depth 0.1, one tile), an 8 x 8
+/// camera and no light: enough to build a method's own resources with `method_resources`.
+pub fn resource_scene(mesh: Mesh, height: HeightMap) -> Result<Scene> {
+    Ok(Scene::single(
+        shared(mesh)?,
+        Material {
+            height: shared(height)?,
+            depth: 0.1,
+            tiling: 1.0,
+            albedo: None,
+        },
+        Camera {
+            eye: [0.0, 2.0, 1.0],
+            target: [0.0; 3],
+            up: [0.0, 1.0, 0.0],
+            fov_y: 30.0,
+            width: 8,
+            height: 8,
+            window: None,
+            samples: 1,
+        },
+        vec![],
+        [0.0; 3],
+    ))
 }

@@ -6,32 +6,13 @@ use pomkit::gpu;
 use pomkit::mesh::Mesh;
 use pomkit::methods::cone_step::read_cone_map;
 use pomkit::methods::{ConeStep, Cones, Method, PerPixel, Refine};
+use pomkit::render::test_hooks::resource_scene;
 use pomkit::render::Renderer;
-use pomkit::scene::{shared, Camera, HeightMap, Material, Scene};
+use pomkit::scene::HeightMap;
 
 /// ConeStep's own resource for a map: its cone map, built as a render builds it, read back.
 fn cone_map(r: &Renderer, map: HeightMap, cones: Cones) -> Vec<[f32; 2]> {
-    let scene = Scene::single(
-        shared(Mesh::plane(2.0, 1).unwrap()).unwrap(),
-        Material {
-            height: shared(map).unwrap(),
-            depth: 0.1,
-            tiling: 1.0,
-            albedo: None,
-        },
-        Camera {
-            eye: [0.0, 2.0, 1.0],
-            target: [0.0; 3],
-            up: [0.0, 1.0, 0.0],
-            fov_y: 30.0,
-            width: 8,
-            height: 8,
-            window: None,
-            samples: 1,
-        },
-        vec![],
-        [0.0; 3],
-    );
+    let scene = resource_scene(Mesh::plane(2.0, 1).unwrap(), map).unwrap();
     let m = Method::ConeStep(
         ConeStep {
             cones,

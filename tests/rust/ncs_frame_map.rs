@@ -8,8 +8,9 @@ use pomkit::gpu;
 use pomkit::heightmap::read_f32_texels;
 use pomkit::mesh::Mesh;
 use pomkit::methods::{Method, Ncs, PerPixel};
+use pomkit::render::test_hooks::resource_scene;
 use pomkit::render::Renderer;
-use pomkit::scene::{shared, Camera, HeightMap, Material, Scene};
+use pomkit::scene::HeightMap;
 use std::f64::consts::PI;
 
 type V3 = [f64; 3];
@@ -40,27 +41,8 @@ struct Texel {
 
 /// NCS's own resource for `mesh`, built as a render builds it, read back: (size, texels).
 fn frame_map(r: &Renderer, mesh: Mesh) -> ((u32, u32), Vec<Texel>) {
-    let scene = Scene::single(
-        shared(mesh).unwrap(),
-        Material {
-            height: shared(HeightMap::new(4, 4, vec![0.5; 16]).unwrap()).unwrap(),
-            depth: 0.05,
-            tiling: 1.0,
-            albedo: None,
-        },
-        Camera {
-            eye: [0.0, 2.0, 3.0],
-            target: [0.0; 3],
-            up: [0.0, 1.0, 0.0],
-            fov_y: 30.0,
-            width: 8,
-            height: 8,
-            window: None,
-            samples: 1,
-        },
-        vec![],
-        [0.0; 3],
-    );
+    let map = HeightMap::new(4, 4, vec![0.5; 16]).unwrap();
+    let scene = resource_scene(mesh, map).unwrap();
     let m = Method::Ncs(
         Ncs {
             step_scale: 2.5,
