@@ -32,6 +32,7 @@ pub use distance_mapping::DistanceMapping;
 pub use exact::Exact;
 pub use flat::Flat;
 pub use ncs::Ncs;
+pub use ncs::MAP_BYTES as NCS_MAP_BYTES;
 pub use ncs::MAP_SIZE as NCS_MAP_SIZE;
 pub use parallax::Parallax;
 pub use pom::Pom;

@@ -58,6 +58,11 @@ fn frame_map(r: &Renderer, mesh: Mesh) -> ((u32, u32), Vec<Texel>) {
     let tex = view.texture().clone();
     let (w, h) = (tex.width(), tex.height());
     assert_eq!(w, 2 * h, "two texels per map texel");
+    assert_eq!(
+        w as u64 * h as u64 * 16,
+        pomkit::methods::NCS_MAP_BYTES,
+        "the bytes the docs report"
+    );
     // Rgba32Uint holding float bits: read as float32s
     let raw = read_f32_texels(&r.ctx, &tex, 0, (w, h), 4).unwrap();
     let texels = (0..(w / 2 * h) as usize)

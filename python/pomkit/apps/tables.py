@@ -243,7 +243,7 @@ def silhouettes_table(size: int = 256) -> str:
                 sweep_rows.append(f"| {c:g} | {((f.flags & 2) > 0)[f.mask].mean():.3f} | {e['p95']:.3f} | {e['mask_iou']:.4f} |")
     rows += ["", "NCS step_scale c on the torus (64 steps, the paper's fixed step: adaptive=False):", "", "| c | early-termination rate | uv p95 | mask IoU |", "|---|---|---|---|"] + sweep_rows
     from pomkit import _core
-    MAP_BYTES = {"size": _core.NCS_MAP_SIZE, "bytes": _core.NCS_MAP_SIZE ** 2 * 16}  # one packed Rgba32Uint map
+    MAP_BYTES = {"size": _core.NCS_MAP_SIZE, "bytes": _core.NCS_MAP_BYTES}  # one packed Rgba32Uint map, two texels a map texel
     tris = len(pk.Mesh.torus(segments=48, tube_segments=24).indices) // 3
     # a closed shell draws its tops only: 3 vertices of 60 bytes, and 272 bytes of prism data
     prism_bytes = tris * (3 * 60 + 272)

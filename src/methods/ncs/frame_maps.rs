@@ -10,6 +10,8 @@ pub const TEXSPACE_SHADER: &str = include_str!("texspace.wgsl");
 
 /// Size of the maps (texels per side).
 pub const MAP_SIZE: u32 = 512;
+/// GPU bytes of one mesh's packed frame map: two Rgba32Uint texels (32 bytes) per map texel.
+pub const MAP_BYTES: u64 = MAP_SIZE as u64 * MAP_SIZE as u64 * 32;
 /// Dilation passes: each extends the charts by one texel.
 pub const DILATE_PASSES: u32 = 8;
 

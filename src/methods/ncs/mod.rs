@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 use crate::scene::{hash_bytes, Object};
 use std::sync::Arc;
 
-pub use frame_maps::{MAP_SIZE, TEXSPACE_SHADER};
+pub use frame_maps::{MAP_BYTES, MAP_SIZE, TEXSPACE_SHADER};
 
 /// The packed frame map library module (`pomkit::frame_map`), imported by the march and the bake.
 pub fn frame_map_unit() -> ShaderUnit {
