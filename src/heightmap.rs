@@ -664,9 +664,9 @@ mod tests {
         assert_eq!(max_pyramid(&m)[1][0], 1.0);
     }
 
-    /// maxmip.wgsl's `node_max` reads levels 1 ..= top at x = W - 2 W / 2^k, and wraps a node
-    /// n by floor((n + 0.5) * (2^k * (1 / W))) in f32: both are this table's, and exact, for
-    /// every level the traversal reads, n < 2^22.
+    /// The max atlas holds levels 1 ..= top at x = W - 2 W / 2^k, and maxmip.wgsl's
+    /// `node_children` wraps a node n of level k by floor((n + 0.5) * (2^k * (1 / W))) in f32:
+    /// both are this table's, and exact, for every level the walk reads, n < 2^22.
     #[test]
     fn the_traversal_s_atlas_offsets_and_wrap_are_the_table_s() {
         for (w, h) in [

@@ -123,7 +123,7 @@ fn march(r: Ray) -> Hit {
     let inv_depth = 1.0 / max(G.depth, 1e-12);
     var dl = ncs_step_length(-dot(view, f.n), n, dl0);
     var step = vec3<f32>(dot(view, f.t) / f.scale.x, dot(view, f.b) / f.scale.y, dot(view, f.n) * inv_depth) * dl;
-    // the loop only marches; the crossing and the hit's bilinear frame (four fetches) are taken
+    // the loop only marches; the crossing and the hit's bilinear frame (four map texels) are taken
     // once after it, in control flow all lanes share again (inside the loop a SIMD group would
     // run them at every step: lavapipe runs every branch any lane takes)
     var flags = FLAG_EARLY;

@@ -3,7 +3,7 @@
 // tangent and the world-per-uv scale factors S_tangent, S_binormal. Targets are Rgba32Uint
 // holding float bits (renderable everywhere): map N = (n.xyz, S_tangent), map T = (t.xyz,
 // sign(w) * S_binormal). Texels outside the charts stay zero and are then filled by `dilate`;
-// `pack` then writes the one map NCS reads (frame_map.wgsl): four fetches per bilinear frame.
+// `pack` then writes the one map NCS reads (frame_map.wgsl): two texels per map texel.
 
 #import pomkit::vertex::VertexIn
 #import pomkit::frame_map::pack_frame
