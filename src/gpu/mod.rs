@@ -278,6 +278,20 @@ impl Context {
             })
             .collect();
         self.wait_for(submission)?;
+        // Another thread's poll may have collected this mapping's callback and not yet run it
+        // when our wait returns (the shared device: tests, Python threads): poll until every
+        // callback has run, with a deadline.
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(30);
+        while slots
+            .iter()
+            .any(|s| s.lock().map(|g| g.is_none()).unwrap_or(false))
+            && std::time::Instant::now() < deadline
+        {
+            self.device
+                .poll(wgpu::PollType::Poll)
+                .map_err(|e| Error::Gpu(format!("waiting for the GPU failed: {e}")))?;
+            std::thread::sleep(std::time::Duration::from_micros(200));
+        }
         for s in &slots {
             match s.lock().unwrap().take() {
                 Some(Ok(())) => {}

@@ -208,3 +208,28 @@ fn a_supersampled_frame_in_tiles_equals_one_pass() {
     }
     assert!(one.f32s("coverage").iter().sum::<f32>() > 100.0);
 }
+
+#[test]
+fn readbacks_from_many_threads_all_complete() {
+    // the device is shared: one thread's poll can collect another's mapping callback and run
+    // it after that thread's own wait has returned; every readback must still complete
+    let r = std::sync::Arc::new(renderer());
+    let threads: Vec<_> = (0..6)
+        .map(|t| {
+            let r = r.clone();
+            std::thread::spawn(move || {
+                for i in 0..15 {
+                    let v = ((t * 15 + i) as f32 + 0.5) / 100.0;
+                    let map = HeightMap::new(16, 8, vec![v; 128]).unwrap();
+                    let (mean, _) =
+                        pomkit::render::test_hooks::read_pyramids(&r, &shared(map).unwrap())
+                            .unwrap();
+                    assert!(mean[0].iter().all(|&x| x == v), "thread {t}, read {i}");
+                }
+            })
+        })
+        .collect();
+    for t in threads {
+        t.join().unwrap();
+    }
+}
