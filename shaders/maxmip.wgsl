@@ -43,10 +43,15 @@ fn from_start(st: CellPoint, x: vec2<f32>) -> vec2<f32> {
 // First t in [t0, t1] where the ray (x(t), y(t), h(t)) = (X0 + dX t, Y0 + dY t, h0 + dh t),
 // (X0, Y0) = `st`, meets the bilinear patch of cell c, or -1.
 fn cell_intersect(c: vec2<i32>, st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t0: f32, t1: f32) -> f32 {
+    return cell_intersect_f(vec2<f32>(c), st, h0, dx, dy, dh, t0, t1);
+}
+
+// `cell_intersect` for a cell index held in f32 (a whole number below 2^24: exact).
+fn cell_intersect_f(c: vec2<f32>, st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t0: f32, t1: f32) -> f32 {
     // the cell's four corners in one gather (level 0, wrapped by the repeating sampler): at the
     // point between the four texel centres c .. c + 1 the gather's footprint is exactly them
     // (w: (c.x, c.y), z: (c.x + 1, c.y), x: (c.x, c.y + 1), y: (c.x + 1, c.y + 1))
-    let q = textureGather(0, height_tex, height_samp, (vec2<f32>(c) + 1.0) / G.map_size);
+    let q = textureGather(0, height_tex, height_samp, (c + 1.0) / G.map_size);
     fetched(4u, 16u);
     let a = q.w;
     let b = q.z;
@@ -55,7 +60,7 @@ fn cell_intersect(c: vec2<i32>, st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f3
     let a1 = b - a;
     let a2 = cc - a;
     let a3 = a - b - cc + d;
-    let o = from_start(st, vec2<f32>(c));
+    let o = from_start(st, c);
     let xa = dx * t0 - o.x;
     let ya = dy * t0 - o.y;
     let hra = h0 + dh * t0;
@@ -107,8 +112,9 @@ struct Traversal {
 
 // The four children's maxes of node `node` of a level k >= 1 (nodes of `size` = 2^k cells;
 // `inv_cells` = 1 / (map size in cells)), from the children atlas, for k <= the top level
-// (whose size divides the map): x child (0, 1), y (1, 1), z (1, 0), w (0, 0). One load of 16
-// bytes (four texels' worth, counted so). No integer division, no table: on lavapipe vector
+// (whose size divides the map): x child (0, 1), y (1, 1), z (1, 0), w (0, 0), each rounded up
+// to a unorm8 code (mips.wgsl's max_children: never below the true max). One load of one
+// 32-bit texel (counted so). No integer division, no table: on lavapipe vector
 // integer division is scalarised, and a uniform array indexed per lane (G.max_offsets) cost
 // 7 % of Exact's march.
 // - The wrap: floor((n + 0.5) / dims) by the reciprocal is exact for 0 <= n < 2^22 (the
@@ -118,30 +124,30 @@ struct Traversal {
 // - The offset: level 1 at (0, 0), level k >= 2 at (W / 2, H / 2 - 2 H / 2^k) (the heights of
 //   levels 2 .. k - 1 above it sum to that when 2^(k - 1) divides H, as it does up to the top
 //   level: heightmap.rs's children_atlas and its test).
-fn node_children(node: vec2<i32>, size: f32, isize: f32, inv_cells: vec2<f32>) -> vec4<f32> {
+fn node_children(nf: vec2<f32>, size: f32, isize: f32, inv_cells: vec2<f32>) -> vec4<f32> {
     let dims = G.map_size * isize;
-    let nf = vec2<f32>(node);
     let p = nf - floor((nf + 0.5) * (size * inv_cells)) * dims;
-    fetched(1u, 16u);
+    fetched(1u, 4u);
     let off = select(vec2<f32>(0.0), vec2<f32>(0.5 * G.map_size.x, 0.5 * G.map_size.y - 2.0 * dims.y), size > 2.0);
     return textureLoad(max_children, vec2<i32>(p + off), 0);
 }
 
 // The node across the face a ray leaves `node` by (both faces at a corner), from the t at which
 // it crosses each face.
-fn across_exit(node: vec2<i32>, step: vec2<i32>, tf: vec2<f32>) -> vec2<i32> {
-    return node + select(vec2<i32>(0), step, vec2<bool>(tf.x <= tf.y, tf.y <= tf.x));
+fn across_exit(node: vec2<f32>, step: vec2<f32>, tf: vec2<f32>) -> vec2<f32> {
+    return node + select(vec2<f32>(0.0), step, vec2<bool>(tf.x <= tf.y, tf.y <= tf.x));
 }
 
 // The t at which the ray crosses each exit face of node `node` (nodes of `size` cells), from the
 // start; `exit_face` is 1 on an axis the ray moves up along, else 0.
-fn exit_faces(st: CellPoint, node: vec2<i32>, size: f32, exit_face: vec2<f32>, inv: vec2<f32>) -> vec2<f32> {
-    return from_start(st, (vec2<f32>(node) + exit_face) * size) * inv;
+fn exit_faces(st: CellPoint, node: vec2<f32>, size: f32, exit_face: vec2<f32>, inv: vec2<f32>) -> vec2<f32> {
+    return from_start(st, (node + exit_face) * size) * inv;
 }
 
 // Walk the ray from (X0, Y0, h0) with per-t slope (dX, dY) and dh = -1 (view ray, down to the
-// floor) or +1 (light ray, up to the top of the shell). The current node is integer state:
-// a skipped node hands over to its neighbour across the face the ray leaves by, and a descent
+// floor) or +1 (light ray, up to the top of the shell). The current node is a whole number
+// (held in f32: exact below 2^22, and no conversion a trip): a skipped node hands over to its
+// neighbour across the face the ray leaves by (+-1), its parent is floor(node / 2), and a descent
 // picks the child that holds the ray, so that no boundary case depends on floating-point
 // rounding of the ray's position.
 // `t_max` shortens the walk (a prism's segment); a view ray reports a floor hit only when it
@@ -168,7 +174,9 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
     let t_end = min(t_full, t_max);
     let top = i32(G.top_max_level);
     let max_it = u32(max_iterations);
-    let step = vec2<i32>(select(-1, 1, dx >= 0.0), select(-1, 1, dy >= 0.0));
+    let step = vec2<f32>(select(-1.0, 1.0, dx >= 0.0), select(-1.0, 1.0, dy >= 0.0));
+    // the top level's node size (a power of two: exact)
+    let top_size = exp2(f32(top));
     // per axis: 1 / slope (1e30 parallel to the axis), and which face the ray leaves a node by
     let ahead = vec2<bool>(dx > 0.0, dy > 0.0);
     let behind = vec2<bool>(dx < 0.0, dy < 0.0);
@@ -184,11 +192,10 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
     // ascent and the descent back cost two trips for nothing. Either choice covers the ray with
     // nodes and meets the same first hit (docs/cost.md).
     let clear_per_size = 2.0 * abs(dh) * min(abs(inv.x), abs(inv.y));
-    var level = 0;
     var size = 1.0;
     // 1 / size (both powers of two: exact)
     var isize = 1.0;
-    var node = st.base;
+    var node = vec2<f32>(st.base);
     var t = 0.0;
     var it = 1u;
     var found = false;
@@ -201,7 +208,7 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
     // the hit is then found without a walk. Otherwise the walk starts at the next cell's
     // parent: most rays meet the surface within a few cells of where they enter, and a top-down
     // start paid a descent through every level for each of them.
-    var cand = min(h0, h0 + dh * t_exit) <= max_at(node, 0);
+    var cand = min(h0, h0 + dh * t_exit) <= max_at(st.base, 0);
     loop {
         if (!cand) {
             // on from the current cell (its patch missed, or the start cell): across the face
@@ -209,10 +216,9 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
             t = t_exit;
             node = across_exit(node, step, tf);
             if (top > 0) {
-                level = 1;
                 size = 2.0;
                 isize = 0.5;
-                node = node >> vec2<u32>(1u);
+                node = floor(node * 0.5);
             }
             tf = exit_faces(st, node, size, exit_face, inv);
             t_exit = clamp(min(tf.x, tf.y), t, t_end);
@@ -224,7 +230,7 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
                     r.bound = true;
                     break;
                 }
-                if (level == 0) {
+                if (size == 1.0) {
                     // a map with no level above 0: every cell is a candidate
                     cand = true;
                     break;
@@ -236,7 +242,7 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
                 // (which side of each middle face, decided by the t at which it crosses that face,
                 // taken as the exit faces' t are: a position rounded on its own could name the
                 // child the ray just left), then one more across each middle face it crosses.
-                let mid = from_start(st, (vec2<f32>(node) + 0.5) * size);
+                let mid = from_start(st, (node + 0.5) * size);
                 let tm = mid * inv;
                 let u0 = select(select(mid <= vec2<f32>(0.0), vec2<bool>(t < tm.x, t < tm.y), behind),
                                 vec2<bool>(t >= tm.x, t >= tm.y), ahead);
@@ -265,23 +271,22 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
                 let uc = select(select(u2, u1, d1), u0, d0);
                 let mc = select(select(m2, m1, d1), m0, d0);
                 let tc = select(select(e2, e1, d1), t, d0);
-                let child = 2 * node + select(vec2<i32>(0), vec2<i32>(1), uc);
+                let child = 2.0 * node + select(vec2<f32>(0.0), vec2<f32>(1.0), uc);
                 // both moves, then one select. Descend into that child, where a descending ray
                 // dips below its max; or skip: across the exit face, and up a level unless the
                 // ray passes the node's max by less than it falls over two of its widths
                 let td = select(tc, max(tc, h0 - mc), dh < 0.0);
                 let next = across_exit(node, step, tf);
                 let clears = min(h_t, h_x) - m > clear_per_size * size;
-                let asc = level < top && clears;
-                node = select(select(next, next >> vec2<u32>(1u), asc), child, below);
-                level = select(select(level, level + 1, asc), level - 1, below);
+                let asc = size < top_size && clears;
+                node = select(select(next, floor(next * 0.5), asc), child, below);
                 size = select(select(size, size * 2.0, asc), size * 0.5, below);
                 isize = select(select(isize, isize * 0.5, asc), isize * 2.0, below);
                 t = select(t_exit, td, below);
                 // the new node's exit faces, from the start; a cell is the candidate at once
                 tf = exit_faces(st, node, size, exit_face, inv);
                 t_exit = clamp(min(tf.x, tf.y), t, t_end);
-                if (level == 0 && t < t_end) {
+                if (size == 1.0 && t < t_end) {
                     cand = true;
                     break;
                 }
@@ -291,7 +296,7 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
             }
         }
         cand = false;
-        let th = cell_intersect(node, st, h0, dx, dy, dh, t, t_exit);
+        let th = cell_intersect_f(node, st, h0, dx, dy, dh, t, t_exit);
         if (th >= 0.0) {
             found = true;
             t_hit = th;

@@ -75,9 +75,15 @@ fn max_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
 
 // ---- the children atlas (heightmap.rs's children_atlas): at each node of a level k in
 // 1 ..= top, its four children's maxes (level k - 1: level 0, or the finished atlas) in one
-// texel, in textureGather's order: x (0, 1), y (1, 1), z (1, 0), w (0, 0). The max-mip walk
-// reads a node's children with one load (maxmip.wgsl). Up to the top level the children of
+// rgba8unorm texel, in textureGather's order: x (0, 1), y (1, 1), z (1, 0), w (0, 0). The max-mip
+// walk reads a node's children with one load (maxmip.wgsl). Up to the top level the children of
 // every node lie inside their level: no clamping.
+// Each max is rounded up to a code (heightmap.rs's CHILD_MAX_CODES): the smallest c with
+// c / 255 >= m + 0.01 / 255, 0 kept at 0. A max is never understated (the walk only descends
+// where it must, and may descend where it need not: a patch test answers exactly), and is
+// overstated by at most 1.01 / 255 of the shell. One 32-bit texel, not four float32: lavapipe
+// fetches a texel one lane and one 32-bit channel at a time, and the four float32 channels were
+// about 40 % of a trip's instructions (docs/cost.md).
 
 struct ChildLevel {
     // the source level's origin in its texture, the destination level's in the children atlas
@@ -90,7 +96,7 @@ struct ChildLevel {
 }
 
 @group(2) @binding(0) var csrc: texture_2d<f32>;
-@group(2) @binding(1) var cdst: texture_storage_2d<rgba32float, write>;
+@group(2) @binding(1) var cdst: texture_storage_2d<rgba8unorm, write>;
 @group(2) @binding(2) var<uniform> CL: ChildLevel;
 
 @compute @workgroup_size(8, 8)
@@ -101,5 +107,7 @@ fn max_children(@builtin(global_invocation_id) id: vec3<u32>) {
     let a = CL.src_off + 2u * id.xy;
     let c = vec4<f32>(textureLoad(csrc, a + vec2<u32>(0u, 1u), 0).r, textureLoad(csrc, a + vec2<u32>(1u, 1u), 0).r,
                       textureLoad(csrc, a + vec2<u32>(1u, 0u), 0).r, textureLoad(csrc, a, 0).r);
-    textureStore(cdst, CL.dst_off + id.xy, c);
+    let code = select(min(ceil(c * 255.0 + 0.01), vec4<f32>(255.0)), vec4<f32>(0.0), c <= vec4<f32>(0.0));
+    // code / 255 converts back to exactly `code` (round to nearest)
+    textureStore(cdst, CL.dst_off + id.xy, code / 255.0);
 }

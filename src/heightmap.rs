@@ -90,7 +90,7 @@ pub struct GpuHeight {
     pub max_atlas: wgpu::Texture,
     pub max_atlas_view: wgpu::TextureView,
     /// the max pyramid's levels 1 ..= top again, each node's texel holding its four children's
-    /// maxes (`children_atlas`): what the max-mip walk reads
+    /// maxes rounded up to a unorm8 code (`children_atlas`): what the max-mip walk reads
     pub max_children: wgpu::Texture,
     pub max_children_view: wgpu::TextureView,
     /// level k >= 1 of the max pyramid is reduced into this (level 1's size) and copied into the
@@ -120,10 +120,11 @@ pub fn max_atlas(w: u32, h: u32) -> (Vec<u32>, (u32, u32)) {
 
 /// Where the children atlas (`GpuHeight::max_children`) holds each level k in 1 ..= top
 /// (`top_maxmip_level`), and its size: at every node of level k, its four children's maxes
-/// (level k - 1) in one rgba32float texel, so that the max-mip walk reads a node's children
-/// with one load. Level 1 at (0, 0), levels 2 .. top in a column to its right, one below the
+/// (level k - 1) in one rgba8unorm texel, each rounded up to the next code (`CHILD_MAX_CODES`:
+/// a max is never understated, so the walk stays exact), so that the max-mip walk reads a node's
+/// children with one load of one 32-bit texel. Level 1 at (0, 0), levels 2 .. top in a column to its right, one below the
 /// other: level k at (W / 2, H / 2 - 2 H / 2^k), which maxmip.wgsl's `node_children` computes
-/// (`offsets[0]` is unused). About 3/8 of the map's texels, 16 bytes each; a map with no level
+/// (`offsets[0]` is unused). About 3/8 of the map's texels, 4 bytes each; a map with no level
 /// above 0 gets a 1 x 1 texture, never read.
 pub fn children_atlas(w: u32, h: u32) -> (Vec<(u32, u32)>, (u32, u32)) {
     let top = top_maxmip_level(w, h);
@@ -152,7 +153,7 @@ pub fn max_offset_table(w: u32, h: u32) -> [[u32; 4]; 4] {
 
 /// GPU bytes the height map takes, as a multiple of its float32 level 0: the mean pyramid
 /// (4/3), the max pyramid's level 0 (1), its atlas (about 1/2), the scratch level (1/4) and the
-/// children atlas (3/2).
+/// children atlas (3/8).
 pub fn gpu_bytes(w: u32, h: u32) -> u64 {
     let l0 = w as u64 * h as u64 * 4;
     let mean: u64 = (0..mip_count(w, h))
@@ -164,8 +165,14 @@ pub fn gpu_bytes(w: u32, h: u32) -> u64 {
     let (_, (aw, ah)) = max_atlas(w, h);
     let (sw, sh) = level_size(w, h, 1);
     let (_, (cw, ch)) = children_atlas(w, h);
-    mean + l0 + aw as u64 * ah as u64 * 4 + sw as u64 * sh as u64 * 4 + cw as u64 * ch as u64 * 16
+    mean + l0 + aw as u64 * ah as u64 * 4 + sw as u64 * sh as u64 * 4 + cw as u64 * ch as u64 * 4
 }
+
+/// The codes of the children atlas's unorm8 channels above 0: a child's max m is held as the
+/// smallest code c with c / 255 >= m + 0.01 / 255 (0 stays 0; mips.wgsl's `max_children`), so
+/// that the decoded max is never below the true one, whatever the decode's rounding, and at most
+/// 1.01 / 255 of the shell above it.
+pub const CHILD_MAX_CODES: u32 = 255;
 
 /// The highest max-mip level whose nodes tile the map exactly (its size divides both sides).
 pub fn top_maxmip_level(w: u32, h: u32) -> u32 {
@@ -236,7 +243,7 @@ impl MipBuilder {
                 })
             };
             let make = |entry: &str| make_in(&mpl, entry);
-            let children_layout = level_layout("max children", wgpu::TextureFormat::Rgba32Float);
+            let children_layout = level_layout("max children", wgpu::TextureFormat::Rgba8Unorm);
             let cpl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("max children"),
                 bind_group_layouts: &[None, None, Some(&children_layout)],
@@ -297,7 +304,7 @@ impl MipBuilder {
             let max_children = ctx.texture_2d(
                 "height max children",
                 children_atlas(map.width, map.height).1,
-                wgpu::TextureFormat::Rgba32Float,
+                wgpu::TextureFormat::Rgba8Unorm,
                 U::TEXTURE_BINDING | U::STORAGE_BINDING | U::COPY_SRC,
             );
             let max_scratch = ctx.texture_2d(
@@ -367,10 +374,11 @@ impl MipBuilder {
             .collect()
     }
     /// Read the children atlas back (tests): for each level k in 1 ..= top (index k - 1), each
-    /// node's texel, row-major (x: child (0, 1), y: (1, 1), z: (1, 0), w: (0, 0)).
-    pub fn read_children(&self, ctx: &Context, g: &GpuHeight) -> Result<Vec<Vec<[f32; 4]>>> {
+    /// node's texel as its four unorm8 codes (`CHILD_MAX_CODES`), row-major (x: child (0, 1),
+    /// y: (1, 1), z: (1, 0), w: (0, 0)).
+    pub fn read_children(&self, ctx: &Context, g: &GpuHeight) -> Result<Vec<Vec<[u8; 4]>>> {
         let (offs, (aw, ah)) = children_atlas(g.width, g.height);
-        let all = read_f32_texels(ctx, &g.max_children, 0, (aw, ah), 4)?;
+        let all = read_texel_bytes(ctx, &g.max_children, 0, (aw, ah), 4)?;
         Ok((1..offs.len())
             .map(|k| {
                 let (w, h) = level_size(g.width, g.height, k as u32);
@@ -604,13 +612,29 @@ pub fn read_f32_texels(
     ctx: &Context,
     tex: &wgpu::Texture,
     mip_level: u32,
-    (w, h): (u32, u32),
+    wh: (u32, u32),
     channels: u32,
 ) -> Result<Vec<f32>> {
-    let texel = 4 * channels as u64;
+    let raw = read_texel_bytes(ctx, tex, mip_level, wh, 4 * channels)?;
+    Ok(raw
+        .chunks_exact(4)
+        .map(|b| f32::from_ne_bytes([b[0], b[1], b[2], b[3]]))
+        .collect())
+}
+
+/// Read a `w x h` region at the origin of one mip level of a texture of `texel` bytes a texel,
+/// row-major, as its bytes.
+pub fn read_texel_bytes(
+    ctx: &Context,
+    tex: &wgpu::Texture,
+    mip_level: u32,
+    (w, h): (u32, u32),
+    texel: u32,
+) -> Result<Vec<u8>> {
+    let texel = texel as u64;
     let row = (w as u64 * texel).div_ceil(256) * 256;
     let buf = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("r32 readback"),
+        label: Some("texel readback"),
         size: row * h as u64,
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
@@ -639,10 +663,9 @@ pub fn read_f32_texels(
     );
     ctx.queue.submit([enc.finish()]);
     ctx.map_read(&buf, |raw| {
-        let mut out = Vec::with_capacity((w * h * channels) as usize);
+        let mut out = Vec::with_capacity((w as u64 * h as u64 * texel) as usize);
         for y in 0..h as usize {
-            let r = &raw[y * row as usize..y * row as usize + (texel * w as u64) as usize];
-            out.extend_from_slice(bytemuck::cast_slice::<u8, f32>(r));
+            out.extend_from_slice(&raw[y * row as usize..y * row as usize + (texel * w as u64) as usize]);
         }
         out
     })

@@ -42,7 +42,7 @@ pub fn read_pyramids(
 }
 
 /// The GPU's children atlas for a map (tests): `MipBuilder::read_children`.
-pub fn read_children(r: &Renderer, map: &Keyed<HeightMap>) -> Result<Vec<Vec<[f32; 4]>>> {
+pub fn read_children(r: &Renderer, map: &Keyed<HeightMap>) -> Result<Vec<Vec<[u8; 4]>>> {
     let g = r
         .resources
         .lock()

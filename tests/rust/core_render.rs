@@ -125,12 +125,26 @@ fn gpu_pyramids_equal_the_cpu_ones() {
 #[test]
 fn the_children_atlas_holds_each_node_s_children_maxes() {
     // every node of levels 1 ..= top: its four children's maxes of the CPU max pyramid, in
-    // gather order; on power-of-two, non-power-of-two and odd maps (top 0: nothing to hold)
-    use pomkit::heightmap::{cell_max_pyramid, level_size, top_maxmip_level};
+    // gather order, each rounded up to a unorm8 code (CHILD_MAX_CODES): never below the max
+    // (with a margin for the decode's rounding), at most 1.01 codes above it, and 0 exactly for
+    // a max of 0; on power-of-two, non-power-of-two and odd maps (top 0: nothing to hold), with
+    // heights of exactly 0, 1 and on the codes themselves
+    use pomkit::heightmap::{cell_max_pyramid, level_size, top_maxmip_level, CHILD_MAX_CODES};
     let r = renderer();
+    let n = CHILD_MAX_CODES as f64;
     for (w, h) in [(64u32, 64u32), (48, 20), (96, 40), (7, 5)] {
         let map = HeightMap::from_fn(w, h, |u, v| {
-            (0.5 + 0.5 * (11.0 * u).sin() * (5.0 * v).cos()).fract()
+            let x = (0.5 + 0.5 * (11.0 * u).sin() * (5.0 * v).cos()).fract();
+            // a band of 0, one of 1, one on the codes (k / 255), the rest smooth
+            if v < 0.2 {
+                0.0
+            } else if v < 0.35 {
+                1.0
+            } else if v < 0.5 {
+                (x * 255.0).round() / 255.0
+            } else {
+                x
+            }
         });
         let ch =
             pomkit::render::test_hooks::read_children(&r, &shared(map.clone()).unwrap()).unwrap();
@@ -146,11 +160,20 @@ fn the_children_atlas_holds_each_node_s_children_maxes() {
                 for x in 0..lw {
                     let at = |dx: u32, dy: u32| below[((2 * y + dy) * cw + 2 * x + dx) as usize];
                     let want = [at(0, 1), at(1, 1), at(1, 0), at(0, 0)];
-                    assert_eq!(
-                        lvl[(y * lw + x) as usize],
-                        want,
-                        "{w}x{h} level {k} node ({x}, {y})"
-                    );
+                    let got = lvl[(y * lw + x) as usize];
+                    for (c, m) in got.iter().zip(want) {
+                        let (c, m) = (*c as f64, m as f64);
+                        let at_node = format!("{w}x{h} level {k} node ({x}, {y}): code {c} for max {m}");
+                        if m <= 0.0 {
+                            assert_eq!(c, 0.0, "{at_node}");
+                        } else if c == n {
+                            // the top code decodes to exactly 1: never below a height
+                            assert!(m <= 1.0 && m + 1.011 / n >= 1.0, "{at_node}");
+                        } else {
+                            assert!(c / n >= m + 0.005 / n, "{at_node}: below the max");
+                            assert!(c / n <= (m + 1.011 / n).min(1.0), "{at_node}: too far above");
+                        }
+                    }
                     assert_eq!(
                         want.iter().cloned().fold(0.0f32, f32::max),
                         cx[k as usize][(y * lw + x) as usize]
