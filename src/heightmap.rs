@@ -665,7 +665,9 @@ pub fn read_texel_bytes(
     ctx.map_read(&buf, |raw| {
         let mut out = Vec::with_capacity((w as u64 * h as u64 * texel) as usize);
         for y in 0..h as usize {
-            out.extend_from_slice(&raw[y * row as usize..y * row as usize + (texel * w as u64) as usize]);
+            out.extend_from_slice(
+                &raw[y * row as usize..y * row as usize + (texel * w as u64) as usize],
+            );
         }
         out
     })

@@ -163,7 +163,8 @@ fn the_children_atlas_holds_each_node_s_children_maxes() {
                     let got = lvl[(y * lw + x) as usize];
                     for (c, m) in got.iter().zip(want) {
                         let (c, m) = (*c as f64, m as f64);
-                        let at_node = format!("{w}x{h} level {k} node ({x}, {y}): code {c} for max {m}");
+                        let at_node =
+                            format!("{w}x{h} level {k} node ({x}, {y}): code {c} for max {m}");
                         if m <= 0.0 {
                             assert_eq!(c, 0.0, "{at_node}");
                         } else if c == n {
@@ -171,7 +172,10 @@ fn the_children_atlas_holds_each_node_s_children_maxes() {
                             assert!(m <= 1.0 && m + 1.011 / n >= 1.0, "{at_node}");
                         } else {
                             assert!(c / n >= m + 0.005 / n, "{at_node}: below the max");
-                            assert!(c / n <= (m + 1.011 / n).min(1.0), "{at_node}: too far above");
+                            assert!(
+                                c / n <= (m + 1.011 / n).min(1.0),
+                                "{at_node}: too far above"
+                            );
                         }
                     }
                     assert_eq!(
