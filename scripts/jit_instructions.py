@@ -9,7 +9,9 @@ Each method runs in its own process under `valgrind --tool=callgrind --smc-check
 LP_NUM_THREADS=0 (lavapipe rasterises on the calling thread); the instructions of the code that
 has no file (the shaders LLVM compiled at run time) are summed and divided by the frames
 rendered. The count is deterministic for a build, a scene and a CPU's vector width, and it is
-instructions, not cycles: a gather or a spill counts one. Needs valgrind (Debian's `valgrind`)
+instructions, not cycles: a gather or a spill counts one. It also holds the compute passes that
+build the map's pyramids (once a process, spread over the frames), so compare methods by their
+count above Flat's in the same build. Needs valgrind (Debian's `valgrind`)
 and the installed package; the map is one of `pk.textures.real`'s, or "cobblestones".
 """
 
