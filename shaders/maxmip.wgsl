@@ -41,12 +41,14 @@ fn from_start(st: CellPoint, x: vec2<f32>) -> vec2<f32> {
 }
 
 // First t in [t0, t1] where the ray (x(t), y(t), h(t)) = (X0 + dX t, Y0 + dY t, h0 + dh t),
-// (X0, Y0) = `st`, meets the bilinear patch of cell c, or -1.
+// (X0, Y0) = `st`, meets the bilinear patch of cell c, or -1. (Custom methods import it with an
+// i32 cell: docs/custom_methods.md.)
 fn cell_intersect(c: vec2<i32>, st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t0: f32, t1: f32) -> f32 {
     return cell_intersect_f(vec2<f32>(c), st, h0, dx, dy, dh, t0, t1);
 }
 
-// `cell_intersect` for a cell index held in f32 (a whole number below 2^24: exact).
+// `cell_intersect` for a cell held as a whole number in f32 (exact below 2^24), as the walk
+// holds its node.
 fn cell_intersect_f(c: vec2<f32>, st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t0: f32, t1: f32) -> f32 {
     // the cell's four corners in one gather (level 0, wrapped by the repeating sampler): at the
     // point between the four texel centres c .. c + 1 the gather's footprint is exactly them
@@ -175,8 +177,9 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
     let top = i32(G.top_max_level);
     let max_it = u32(max_iterations);
     let step = vec2<f32>(select(-1.0, 1.0, dx >= 0.0), select(-1.0, 1.0, dy >= 0.0));
-    // the top level's node size (a power of two: exact)
-    let top_size = exp2(f32(top));
+    // the top level's node size, exactly (exp2 may be approximate on a GPU, and a size above
+    // it would read past the top level)
+    let top_size = f32(1u << u32(top));
     // per axis: 1 / slope (1e30 parallel to the axis), and which face the ray leaves a node by
     let ahead = vec2<bool>(dx > 0.0, dy > 0.0);
     let behind = vec2<bool>(dx < 0.0, dy < 0.0);

@@ -120,10 +120,10 @@ pub fn max_atlas(w: u32, h: u32) -> (Vec<u32>, (u32, u32)) {
 
 /// Where the children atlas (`GpuHeight::max_children`) holds each level k in 1 ..= top
 /// (`top_maxmip_level`), and its size: at every node of level k, its four children's maxes
-/// (level k - 1) in one rgba8unorm texel, each rounded up to the next code (`CHILD_MAX_CODES`:
-/// a max is never understated, so the walk stays exact), so that the max-mip walk reads a node's
-/// children with one load of one 32-bit texel. Level 1 at (0, 0), levels 2 .. top in a column to its right, one below the
-/// other: level k at (W / 2, H / 2 - 2 H / 2^k), which maxmip.wgsl's `node_children` computes
+/// (level k - 1) in one `CHILD_MAX_FORMAT` texel, each rounded up to the next code
+/// (`CHILD_MAX_CODES`: a max is never understated, so the walk stays exact), so that the max-mip
+/// walk reads a node's children with one load of one 32-bit texel. Level 1 at (0, 0), levels
+/// 2 .. top in a column to its right, one below the other: level k at (W / 2, H / 2 - 2 H / 2^k), which maxmip.wgsl's `node_children` computes
 /// (`offsets[0]` is unused). About 3/8 of the map's texels, 4 bytes each; a map with no level
 /// above 0 gets a 1 x 1 texture, never read.
 pub fn children_atlas(w: u32, h: u32) -> (Vec<(u32, u32)>, (u32, u32)) {
@@ -173,6 +173,9 @@ pub fn gpu_bytes(w: u32, h: u32) -> u64 {
 /// that the decoded max is never below the true one, whatever the decode's rounding, and at most
 /// 1.01 / 255 of the shell above it.
 pub const CHILD_MAX_CODES: u32 = 255;
+
+/// The children atlas's format: four unorm8 codes (`CHILD_MAX_CODES`) a texel.
+pub const CHILD_MAX_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
 /// The highest max-mip level whose nodes tile the map exactly (its size divides both sides).
 pub fn top_maxmip_level(w: u32, h: u32) -> u32 {
@@ -243,7 +246,7 @@ impl MipBuilder {
                 })
             };
             let make = |entry: &str| make_in(&mpl, entry);
-            let children_layout = level_layout("max children", wgpu::TextureFormat::Rgba8Unorm);
+            let children_layout = level_layout("max children", CHILD_MAX_FORMAT);
             let cpl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("max children"),
                 bind_group_layouts: &[None, None, Some(&children_layout)],
@@ -304,7 +307,7 @@ impl MipBuilder {
             let max_children = ctx.texture_2d(
                 "height max children",
                 children_atlas(map.width, map.height).1,
-                wgpu::TextureFormat::Rgba8Unorm,
+                CHILD_MAX_FORMAT,
                 U::TEXTURE_BINDING | U::STORAGE_BINDING | U::COPY_SRC,
             );
             let max_scratch = ctx.texture_2d(
