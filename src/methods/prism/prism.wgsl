@@ -40,7 +40,7 @@ const MAX_PRISMS: u32 = 64u;
 //   0-2 top corners, 3-5 bottom corners (xyz), 6-8 the corners' uv (xy) and uv scale (zw),
 //   9-11 normals, 12-14 tangents. In the corners' w, what the walk needs at every prism it
 //   crosses: 0.w the highest height under the prism, 1.w the diagonal bits (bit k: side k's
-//   split), 3.w-5.w the prism across side k (-1: the shell's boundary). A span reads six
+//   split), 2.w the lowest height, 3.w-5.w the prism across side k (-1: the shell's boundary). A span reads six
 //   texels (it read eight when these had texels of their own).
 // A texture, not a storage buffer: on lavapipe a storage read at an index that differs across
 // the lanes of a SIMD vector is a scalar loop over them, and the walk reads a prism's corners
@@ -102,8 +102,9 @@ struct Span {
     ok: bool,
     // the prism across each side (prism_across)
     adj: vec3<f32>,
-    // the highest height under the prism
+    // the highest and the lowest height under the prism
     max_h: f32,
+    min_h: f32,
 }
 
 // One boundary triangle (corners a, b, c at prism coordinates sa, sb, sc) into the span.
@@ -146,7 +147,8 @@ fn prism_span(p: u32, o: vec3<f32>, d: vec3<f32>) -> Span {
     let q1 = prism_texel(p, 1u);
     let t0 = q0.xyz;
     let t1 = q1.xyz;
-    let t2 = prism_texel(p, 2u).xyz;
+    let q2 = prism_texel(p, 2u);
+    let t2 = q2.xyz;
     let q3 = prism_texel(p, 3u);
     let q4 = prism_texel(p, 4u);
     let q5 = prism_texel(p, 5u);
@@ -155,6 +157,7 @@ fn prism_span(p: u32, o: vec3<f32>, d: vec3<f32>) -> Span {
     let b2 = q5.xyz;
     sp.adj = vec3<f32>(q3.w, q4.w, q5.w);
     sp.max_h = q0.w;
+    sp.min_h = q2.w;
     let diag = u32(q1.w);
     // barycentrics (b1, b2) of the corners
     let s0 = vec2<f32>(0.0, 0.0);
@@ -250,6 +253,9 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
     var bound = false;
     var h_e = 0.0;
     var h_x = 0.0;
+    // the candidate's plateau: its height where the field under it is flat (lowest = highest
+    // height), or -1
+    var plateau = -1.0;
     loop {
         var cand = false;
         loop {
@@ -289,6 +295,7 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
             // a march only where the ray's lowest point in the prism is below its highest height
             if (min(h_e, h_x) <= sp.max_h) {
                 cand = true;
+                plateau = select(-1.0, sp.max_h, sp.min_h >= sp.max_h);
                 break;
             }
             // crossed without a march: no sample carries to the next prism
@@ -302,6 +309,12 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
         let s_x = uvs[1] * tiling;
         let dh_seg = h_x - h_e;
         var hit = -1.0;
+        if (plateau >= 0.0 && hl == 0.0) {
+            // a plateau (every texel a sample under the prism reads has one height): the ray meets
+            // it where its height reaches the plateau's, or at once if it entered below it (the
+            // field the march samples, without the samples)
+            hit = select(0.0, (h_e - plateau) / (h_e - h_x), h_e > plateau);
+        } else {
 #ifdef PRISM_EXACT
         if (abs(dh_seg) > 1e-4) {
             // exact=True: the max-mip traversal along the segment, parameterised by height
@@ -331,6 +344,7 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
             if (b.d_cur <= 0.0) {
                 hit = refine_linear(b);
             }
+        }
         }
         if (hit >= 0.0) {
             // the frame is interpolated after the loop, once (see below)

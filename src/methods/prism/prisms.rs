@@ -29,7 +29,8 @@ impl PrismVertex {
 
 /// Per prism, for the fragment shader's walk: the six corners (top 0..3, bottom 0..3), the base
 /// triangle's uvs (zw: uv_scale), normals and tangents (the frame at a hit is interpolated from
-/// them), x of `info` = the highest height under the triangle's uv box, and `adj`: the prism
+/// them), `info`: the highest (x) and lowest (y) height under the triangle's uv box
+/// (`height_range_under`), and `adj`: the prism
 /// across side k (corners k, k+1) or `NONE` where the side is the shell's boundary; `adj[3]`
 /// has bit k set when side k is split along top(k+1)-bottom(k) rather than top(k)-bottom(k+1).
 #[repr(C)]
@@ -50,7 +51,7 @@ pub const NONE: u32 = u32::MAX;
 /// Texels (rgba32float) of one prism in the texture prism.wgsl reads (`PRISM_TEXELS` there):
 /// top[3], bottom[3], uv[3], normal[3], tangent[3]. What the walk needs at every prism it
 /// crosses rides in the corners' w, so that a span reads six texels, not eight: top[0].w the
-/// highest height (`info[0]`), top[1].w the diagonal bits, bottom[k].w the prism across side k
+/// highest height (`info[0]`), top[1].w the diagonal bits, top[2].w the lowest height (`info[1]`), bottom[k].w the prism across side k
 /// as a float (-1 for `NONE`; exact below 2^24 prisms).
 pub const TEXELS_PER_PRISM: u32 = 15;
 
@@ -89,6 +90,7 @@ pub fn texels(
         }
         t[at][3] = d.info[0];
         t[at + 1][3] = d.adj[3] as f32;
+        t[at + 2][3] = d.info[1];
         for k in 0..3 {
             t[at + 3 + k][3] = adj(d.adj[k]);
         }
@@ -264,20 +266,20 @@ pub fn build(mesh: &Mesh, depth: f32, outward: bool, height: &HeightMap, tiling:
                 [nn[0], nn[1], nn[2], 0.0]
             }),
             tangent: [0, 1, 2].map(|k| mesh.tangents[tri[k] as usize]),
-            info: [
-                max_height_under(mesh, tri, height, tiling) as f32,
-                0.0,
-                0.0,
-                0.0,
-            ],
+            info: {
+                let (mn, mx) = height_range_under(mesh, tri, height, tiling);
+                [mx as f32, mn as f32, 0.0, 0.0]
+            },
             adj: adj[t],
         });
     }
     Prisms { vertices, data }
 }
 
-/// The highest height in a triangle's uv box (early rejection of prisms the ray passes above).
-fn max_height_under(mesh: &Mesh, tri: &[u32], height: &HeightMap, tiling: f32) -> f64 {
+/// The lowest and the highest height of the texels a bilinear sample in a triangle's uv box
+/// reads: the highest rejects prisms the ray passes above; where both are equal the field under
+/// the prism is that plateau, and the walk meets it without a march.
+pub fn height_range_under(mesh: &Mesh, tri: &[u32], height: &HeightMap, tiling: f32) -> (f64, f64) {
     let uvs: Vec<DVec2> = tri
         .iter()
         .map(|&i| DVec2::from_array(mesh.uvs[i as usize].map(|x| x as f64)) * tiling as f64)
@@ -298,15 +300,17 @@ fn max_height_under(mesh: &Mesh, tri: &[u32], height: &HeightMap, tiling: f32) -
         (hi.y * h + 0.5).ceil() as i64,
     );
     if (x1 - x0) * (y1 - y0) > (height.width as i64 * height.height as i64) {
-        return 1.0;
+        return (0.0, 1.0);
     }
-    let mut mx = 0.0f64;
+    let (mut mn, mut mx) = (f64::INFINITY, 0.0f64);
     for y in y0..=y1 {
         for x in x0..=x1 {
-            mx = mx.max(height.texel(x, y));
+            let v = height.texel(x, y);
+            mn = mn.min(v);
+            mx = mx.max(v);
         }
     }
-    mx
+    (mn.min(mx), mx)
 }
 
 #[cfg(test)]
@@ -357,7 +361,10 @@ mod tests {
                     b
                 });
             }
-            assert_eq!([t[at][3], t[at + 1][3]], [d.info[0], d.adj[3] as f32]);
+            assert_eq!(
+                [t[at][3], t[at + 1][3], t[at + 2][3]],
+                [d.info[0], d.adj[3] as f32, d.info[1]]
+            );
             assert_eq!(t[at + 6], d.uv[0]);
             assert_eq!(t[at + 14], d.tangent[2]);
         }
