@@ -60,7 +60,10 @@ _PLATEAU = ("issue 33, later: a prism whose field is one plateau (the lowest and
             "it reads are equal) meets the ray where its height reaches the plateau's, without a march: the same "
             "flat field, found in closed form instead of by the segment search's refinement, so uv moves by "
             "rounding (at most 1.6e-5 texel, 2 f32 ulps of uv on a 256-texel map, colour within 1e-6; no coverage "
-            "or flag changed) and the view walk takes fewer samples")
+            "or flag changed) and the view walk takes fewer samples. And (the same stop) the span's eight "
+            "ray-triangle tests share their edges: each of a prism's 15 edge functions is computed once, "
+            "t and (b1, b2, h) are kept as fractions and divided once: the same triangles, other rounding "
+            "(uv within 1.5e-4 texel, p99.9 5.3e-5; colour within 4e-5; no coverage or flag changed)")
 
 #: frame-key suffix -> (why its arithmetic moved, max uv change in texels, max colour change, max
 #: pixels whose coverage changed)
@@ -73,9 +76,9 @@ TOLERANT: dict[str, tuple[str, float, float, int]] = {
     "-pom_exactf": (_SEGMENT, 1e-5, 1e-5, 0),
     "-exact": (_MAXMIP, 3e-5, 5e-6, 0),
     "-exact_shadow": (_MAXMIP, 3e-5, 5e-6, 0),
-    "-prism_exact": (_CODES + "; and " + _PLATEAU, 2e-5, 8e-6, 0),
-    "-prism": (_PLATEAU, 2e-5, 1e-6, 0),
-    "-prism_out": (_PLATEAU, 2e-5, 1e-6, 0),
+    "-prism_exact": (_CODES + "; and " + _PLATEAU, 2e-4, 5e-5, 0),
+    "-prism": (_PLATEAU, 2e-4, 5e-5, 0),
+    "-prism_out": (_PLATEAU, 2e-4, 5e-5, 0),
 }
 
 _SHADOW_START = ("issue 22: the hard, soft and exact light rays start on the height field at the hit's s (max of the "
@@ -171,7 +174,8 @@ def _check_shadow_start(key, scene, method, f):
     tol = _tolerance(key)  # a frame whose hit's arithmetic also moved (TOLERANT) keeps that bound
     uv_tol = max(1e-5, tol[1]) if tol else 1e-5
     assert d.max(initial=0) <= uv_tol, f"{key}: uv moved by {d.max():.2e} texel ({_SHADOW_START})"
-    changed = int((np.abs(f.color - DATA[f"{key}/color"]).max(-1)[m] > 1e-6).sum())
+    # a frame whose arithmetic also moved (TOLERANT) counts the pixels that moved beyond its bound
+    changed = int((np.abs(f.color - DATA[f"{key}/color"]).max(-1)[m] > max(1e-6, tol[2] if tol else 0.0)).sum())
     assert changed <= SHADOW_START[key], f"{key}: colour changed at {changed} pixels > {SHADOW_START[key]} ({_SHADOW_START})"
     if key.endswith(STEPS_CHANGED):
         _check_fewer_steps(key, f, m)

@@ -73,24 +73,6 @@ fn vs_prism(v: VertexIn, @location(5) prism: u32) -> VertexOut {
     return prism_vertex(v, prism, V.view_proj);
 }
 
-// Ray (o + t d) against triangle (a, b, c): (t, barycentrics u, v, 1), or w = 0 for a miss.
-// Straight-line code (selects, no early return): a SIMD group on lavapipe runs every path any
-// of its lanes takes, and the span calls this eight times a prism crossed.
-fn ray_tri(o: vec3<f32>, d: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> vec4<f32> {
-    let e1 = b - a;
-    let e2 = c - a;
-    let p = cross(d, e2);
-    let det = dot(e1, p);
-    let inv = 1.0 / select(1.0, det, abs(det) >= 1e-12);
-    let s = o - a;
-    let u = dot(s, p) * inv;
-    let q = cross(s, e1);
-    let v = dot(d, q) * inv;
-    let eps = 1e-5;
-    let hit = abs(det) >= 1e-12 && u >= -eps && v >= -eps && u + v <= 1.0 + eps;
-    return select(vec4<f32>(0.0), vec4<f32>(dot(e2, q) * inv, u, v, 1.0), hit);
-}
-
 // The ray's way through one prism: entry and exit (t and (b1, b2, h)) and the side it leaves
 // through (3: the top or the bottom).
 struct Span {
@@ -107,67 +89,144 @@ struct Span {
     min_h: f32,
 }
 
-// One boundary triangle (corners a, b, c at prism coordinates sa, sb, sc) into the span.
-fn consider(sp: ptr<function, Span>, o: vec3<f32>, d: vec3<f32>, a: vec3<f32>, b: vec3<f32>, c: vec3<f32>,
-            sa: vec3<f32>, sb: vec3<f32>, sc: vec3<f32>, side: u32) {
-    let r = ray_tri(o, d, a, b, c);
-    let hit = r.w > 0.0;
-    let st = sa * (1.0 - r.y - r.z) + sb * r.y + sc * r.z;
-    (*sp).ok = (*sp).ok || hit;
-    let nearer = hit && r.x < (*sp).t_in;
-    let farther = hit && r.x > (*sp).t_out;
-    (*sp).t_in = select((*sp).t_in, r.x, nearer);
-    (*sp).st_in = select((*sp).st_in, st, nearer);
-    (*sp).t_out = select((*sp).t_out, r.x, farther);
-    (*sp).st_out = select((*sp).st_out, st, farther);
-    (*sp).side = select((*sp).side, side, farther);
+// The span's running entry and exit while it tests the prism's eight boundary triangles: each
+// as a fraction (numerator, denominator > 0) of t and of (b1, b2, h), divided once at the end.
+struct SpanAcc {
+    in_num: f32,
+    in_den: f32,
+    st_in: vec3<f32>,
+    out_num: f32,
+    out_den: f32,
+    st_out: vec3<f32>,
+    side: u32,
+    ok: bool,
 }
 
-// Side k of a prism (corners k, j = k + 1): its two triangles, split along top(k)-bottom(j), or
-// along top(j)-bottom(k) when `flip` (the same split as the neighbour's).
-fn consider_side(sp: ptr<function, Span>, o: vec3<f32>, d: vec3<f32>, tk: vec3<f32>, tj: vec3<f32>, bk: vec3<f32>, bj: vec3<f32>,
-                 sk: vec2<f32>, sj: vec2<f32>, flip: bool, side: u32) {
+// A corner of the prism as the ray sees it: r = corner - o, m = r x d (the edge function of
+// edge (a, b) is dot(r_b, m_a): d . (r_b x r_a)), and dt = dot(r, d) (t at the corner's foot).
+struct RayCorner {
+    r: vec3<f32>,
+    m: vec3<f32>,
+    dt: f32,
+}
+
+fn ray_corner(c: vec3<f32>, o: vec3<f32>, d: vec3<f32>) -> RayCorner {
+    let r = c - o;
+    return RayCorner(r, cross(r, d), dot(r, d));
+}
+
+// The edge function of edge (a, b), antisymmetric in its corners: each edge of the prism is
+// computed once and shared, negated, by the two triangles on it, so that the eight triangles
+// close up: a ray that leaves one enters its neighbour, with no gap between them.
+fn edge(a: RayCorner, b: RayCorner) -> f32 {
+    return dot(b.r, a.m);
+}
+
+// One boundary triangle (a, b, c) into the span, from its three edge functions e_ab, e_bc,
+// e_ca: the ray meets it where they share a sign (within 1e-5 of their sum, as the barycentric
+// test it replaces); the barycentrics are (e_bc, e_ca, e_ab) / their sum, and so is t, of the
+// corners' dt. Straight-line code (selects, no early return): a SIMD group on lavapipe runs every
+// path any of its lanes takes, and the span calls this eight times a prism crossed.
+fn consider(acc: ptr<function, SpanAcc>, dt_a: f32, dt_b: f32, dt_c: f32, e_ab: f32, e_bc: f32, e_ca: f32,
+            sa: vec3<f32>, sb: vec3<f32>, sc: vec3<f32>, side: u32) {
+    let sum = e_ab + e_bc + e_ca;
+    let neg = sum < 0.0;
+    let den = abs(sum);
+    let wa = select(e_bc, -e_bc, neg);
+    let wb = select(e_ca, -e_ca, neg);
+    let wc = select(e_ab, -e_ab, neg);
+    let tol = -1e-5 * den;
+    let hit = den >= 1e-12 && wa >= tol && wb >= tol && wc >= tol;
+    let num = wa * dt_a + wb * dt_b + wc * dt_c;
+    let st = sa * wa + sb * wb + sc * wc;
+    (*acc).ok = (*acc).ok || hit;
+    // num / den against the running entry's and exit's fractions (denominators > 0)
+    let nearer = hit && num * (*acc).in_den < (*acc).in_num * den;
+    let farther = hit && num * (*acc).out_den > (*acc).out_num * den;
+    (*acc).in_num = select((*acc).in_num, num, nearer);
+    (*acc).in_den = select((*acc).in_den, den, nearer);
+    (*acc).st_in = select((*acc).st_in, st, nearer);
+    (*acc).out_num = select((*acc).out_num, num, farther);
+    (*acc).out_den = select((*acc).out_den, den, farther);
+    (*acc).st_out = select((*acc).st_out, st, farther);
+    (*acc).side = select((*acc).side, side, farther);
+}
+
+// Side k of a prism (corners k, j = k + 1; top edge e_t = edge(T_k, T_j), bottom edge e_b =
+// edge(B_k, B_j), verticals v_k = edge(T_k, B_k), v_j): its two triangles, split along
+// top(k)-bottom(j), or along top(j)-bottom(k) when `flip` (the same split as the neighbour's).
+fn consider_side(acc: ptr<function, SpanAcc>, tk: RayCorner, tj: RayCorner, bk: RayCorner, bj: RayCorner,
+                 e_t: f32, e_b: f32, v_k: f32, v_j: f32, sk: vec2<f32>, sj: vec2<f32>, flip: bool, side: u32) {
     let stk = vec3<f32>(sk, 1.0);
     let stj = vec3<f32>(sj, 1.0);
     let sbk = vec3<f32>(sk, 0.0);
     let sbj = vec3<f32>(sj, 0.0);
-    consider(sp, o, d, tk, tj, select(bj, bk, flip), stk, stj, select(sbj, sbk, flip), side);
-    consider(sp, o, d, select(tk, tj, flip), bj, bk, select(stk, stj, flip), sbj, sbk, side);
+    // flip: (T_k, T_j, B_k) and (T_j, B_j, B_k), diagonal g = T_j-B_k; else (T_k, T_j, B_j) and
+    // (T_k, B_j, B_k), diagonal g = T_k-B_j (selects, not a branch: neighbouring lanes differ)
+    let g = select(edge(tk, bj), edge(tj, bk), flip);
+    consider(acc, tk.dt, tj.dt, select(bj.dt, bk.dt, flip), e_t, select(v_j, g, flip), select(-g, -v_k, flip),
+             stk, stj, select(sbj, sbk, flip), side);
+    consider(acc, select(tk.dt, tj.dt, flip), bj.dt, bk.dt, select(g, v_j, flip), -e_b, select(-v_k, -g, flip),
+             select(stk, stj, flip), sbj, sbk, side);
 }
 
 fn prism_span(p: u32, o: vec3<f32>, d: vec3<f32>) -> Span {
-    var sp: Span;
-    sp.t_in = 3.4e38;
-    sp.t_out = -3.4e38;
-    sp.side = 3u;
-    sp.ok = false;
     // the prism's corners, with its adjacency and max height in their w (no texels: bytes only)
     fetched(0u, 96u);
     let q0 = prism_texel(p, 0u);
     let q1 = prism_texel(p, 1u);
-    let t0 = q0.xyz;
-    let t1 = q1.xyz;
     let q2 = prism_texel(p, 2u);
-    let t2 = q2.xyz;
     let q3 = prism_texel(p, 3u);
     let q4 = prism_texel(p, 4u);
     let q5 = prism_texel(p, 5u);
-    let b0 = q3.xyz;
-    let b1 = q4.xyz;
-    let b2 = q5.xyz;
+    var sp: Span;
     sp.adj = vec3<f32>(q3.w, q4.w, q5.w);
     sp.max_h = q0.w;
     sp.min_h = q2.w;
     let diag = u32(q1.w);
+    let t0 = ray_corner(q0.xyz, o, d);
+    let t1 = ray_corner(q1.xyz, o, d);
+    let t2 = ray_corner(q2.xyz, o, d);
+    let b0 = ray_corner(q3.xyz, o, d);
+    let b1 = ray_corner(q4.xyz, o, d);
+    let b2 = ray_corner(q5.xyz, o, d);
+    // the nine edges of top, bottom and verticals, each once
+    let et01 = edge(t0, t1);
+    let et12 = edge(t1, t2);
+    let et20 = edge(t2, t0);
+    let eb01 = edge(b0, b1);
+    let eb12 = edge(b1, b2);
+    let eb20 = edge(b2, b0);
+    let v0 = edge(t0, b0);
+    let v1 = edge(t1, b1);
+    let v2 = edge(t2, b2);
+    var acc: SpanAcc;
+    // no entry yet (+inf: 1 / 0) and no exit (-inf: -1 / 0)
+    acc.in_num = 1.0;
+    acc.in_den = 0.0;
+    acc.out_num = -1.0;
+    acc.out_den = 0.0;
+    acc.st_in = vec3<f32>(0.0);
+    acc.st_out = vec3<f32>(0.0);
+    acc.side = 3u;
+    acc.ok = false;
     // barycentrics (b1, b2) of the corners
     let s0 = vec2<f32>(0.0, 0.0);
     let s1 = vec2<f32>(1.0, 0.0);
     let s2 = vec2<f32>(0.0, 1.0);
-    consider(&sp, o, d, t0, t1, t2, vec3<f32>(s0, 1.0), vec3<f32>(s1, 1.0), vec3<f32>(s2, 1.0), 3u);
-    consider(&sp, o, d, b0, b1, b2, vec3<f32>(s0, 0.0), vec3<f32>(s1, 0.0), vec3<f32>(s2, 0.0), 3u);
-    consider_side(&sp, o, d, t0, t1, b0, b1, s0, s1, (diag & 1u) != 0u, 0u);
-    consider_side(&sp, o, d, t1, t2, b1, b2, s1, s2, (diag & 2u) != 0u, 1u);
-    consider_side(&sp, o, d, t2, t0, b2, b0, s2, s0, (diag & 4u) != 0u, 2u);
+    consider(&acc, t0.dt, t1.dt, t2.dt, et01, et12, et20, vec3<f32>(s0, 1.0), vec3<f32>(s1, 1.0), vec3<f32>(s2, 1.0), 3u);
+    consider(&acc, b0.dt, b1.dt, b2.dt, eb01, eb12, eb20, vec3<f32>(s0, 0.0), vec3<f32>(s1, 0.0), vec3<f32>(s2, 0.0), 3u);
+    consider_side(&acc, t0, t1, b0, b1, et01, eb01, v0, v1, s0, s1, (diag & 1u) != 0u, 0u);
+    consider_side(&acc, t1, t2, b1, b2, et12, eb12, v1, v2, s1, s2, (diag & 2u) != 0u, 1u);
+    consider_side(&acc, t2, t0, b2, b0, et20, eb20, v2, v0, s2, s0, (diag & 4u) != 0u, 2u);
+    sp.ok = acc.ok;
+    sp.side = acc.side;
+    let inv_in = 1.0 / max(acc.in_den, 1e-30);
+    let inv_out = 1.0 / max(acc.out_den, 1e-30);
+    sp.t_in = select(3.4e38, acc.in_num * inv_in, acc.ok);
+    sp.st_in = acc.st_in * inv_in;
+    sp.t_out = select(-3.4e38, acc.out_num * inv_out, acc.ok);
+    sp.st_out = acc.st_out * inv_out;
     return sp;
 }
 
