@@ -63,7 +63,9 @@ _PLATEAU = ("issue 33, later: a prism whose field is one plateau (the lowest and
             "or flag changed) and the view walk takes fewer samples. And (the same stop) the span's eight "
             "ray-triangle tests share their edges: each of a prism's 15 edge functions is computed once, "
             "t and (b1, b2, h) are kept as fractions and divided once: the same triangles, other rounding "
-            "(uv within 1.5e-4 texel, p99.9 5.3e-5; colour within 4e-5; no coverage or flag changed)")
+            "(uv within 1.5e-4 texel, p99.9 5.3e-5; colour within 4e-5; no coverage or flag changed). And the hit's "
+            "frame is read from three texels, its normals and tangents octahedral snorm16 (9 rgba32float texels "
+            "before): colour within 4.3e-4 (sphere, exact), uv and coverage as above")
 
 #: frame-key suffix -> (why its arithmetic moved, max uv change in texels, max colour change, max
 #: pixels whose coverage changed)
@@ -76,9 +78,9 @@ TOLERANT: dict[str, tuple[str, float, float, int]] = {
     "-pom_exactf": (_SEGMENT, 1e-5, 1e-5, 0),
     "-exact": (_MAXMIP, 3e-5, 5e-6, 0),
     "-exact_shadow": (_MAXMIP, 3e-5, 5e-6, 0),
-    "-prism_exact": (_CODES + "; and " + _PLATEAU, 2e-4, 5e-5, 0),
-    "-prism": (_PLATEAU, 2e-4, 5e-5, 0),
-    "-prism_out": (_PLATEAU, 2e-4, 5e-5, 0),
+    "-prism_exact": (_CODES + "; and " + _PLATEAU, 2e-4, 5e-4, 0),
+    "-prism": (_PLATEAU, 2e-4, 5e-4, 0),
+    "-prism_out": (_PLATEAU, 2e-4, 5e-4, 0),
 }
 
 _SHADOW_START = ("issue 22: the hard, soft and exact light rays start on the height field at the hit's s (max of the "

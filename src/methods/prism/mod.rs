@@ -65,7 +65,7 @@ impl MethodGeometry for PrismShell {
             let tex = ctx.texture_2d(
                 "prisms",
                 size,
-                wgpu::TextureFormat::Rgba32Float,
+                wgpu::TextureFormat::Rgba32Uint,
                 wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             );
             crate::heightmap::write_texels(ctx, &tex, bytemuck::cast_slice(&texels), size, 16);
@@ -94,7 +94,7 @@ pub struct PrismData {
 
 impl MethodResources for PrismData {
     fn layout(&self) -> Vec<ResourceKind> {
-        vec![ResourceKind::TextureFloat]
+        vec![ResourceKind::TextureUint]
     }
     fn key(&self, object: &Object) -> u64 {
         // the geometry's upload holds the buffer: no second copy, keyed as the geometry is

@@ -35,23 +35,40 @@ const NONE: u32 = 0xffffffffu;
 // the most prisms one ray walks through (a grazing ray crosses a handful)
 const MAX_PRISMS: u32 = 64u;
 
-// The method's own resource (group 2, binding 1): the per-prism data as texels (prisms.rs's
-// `texels`), PRISM_TEXELS a prism, a power-of-two number of prisms a row:
-//   0-2 top corners, 3-5 bottom corners (xyz), 6-8 the corners' uv (xy) and uv scale (zw),
-//   9-11 normals, 12-14 tangents. In the corners' w, what the walk needs at every prism it
-//   crosses: 0.w the highest height under the prism, 1.w the diagonal bits (bit k: side k's
-//   split), 2.w the lowest height, 3.w-5.w the prism across side k (-1: the shell's boundary). A span reads six
-//   texels (it read eight when these had texels of their own).
+// The method's own resource (group 2, binding 1): the per-prism data as rgba32uint texels
+// (prisms.rs's `texels`), PRISM_TEXELS a prism, a power-of-two number of prisms a row:
+//   0-2 top corners, 3-5 bottom corners (xyz, f32 bits). In their w (f32), what the walk needs
+//   at every prism it crosses: 0.w the highest height under the prism, 1.w the diagonal bits
+//   (bit k: side k's split), 2.w the lowest height, 3.w-5.w the prism across side k (-1: the
+//   shell's boundary). A span reads these six texels.
+//   6: uv0, uv1; 7: uv2 (f32 bits): a candidate's segment reads these two.
+//   8-10: corner k's frame: normal and tangent (octahedral snorm16), uv scale (f32 bits; corner
+//   0's x carries the tangent's handedness in its sign bit): the hit's three texels (nine when
+//   they were rgba32float; a fetch costs lavapipe about the same whatever the format).
 // A texture, not a storage buffer: on lavapipe a storage read at an index that differs across
 // the lanes of a SIMD vector is a scalar loop over them, and the walk reads a prism's corners
 // at every prism it crosses.
-const PRISM_TEXELS: u32 = 15u;
-@group(2) @binding(1) var prism_tex: texture_2d<f32>;
+const PRISM_TEXELS: u32 = 11u;
+@group(2) @binding(1) var prism_tex: texture_2d<u32>;
 
-fn prism_texel(p: u32, k: u32) -> vec4<f32> {
+fn prism_word(p: u32, k: u32) -> vec4<u32> {
     let per_row = textureDimensions(prism_tex).x / PRISM_TEXELS;
     let shift = countTrailingZeros(per_row);
     return textureLoad(prism_tex, vec2<u32>((p & (per_row - 1u)) * PRISM_TEXELS + k, p >> shift), 0);
+}
+
+fn prism_texel(p: u32, k: u32) -> vec4<f32> {
+    return bitcast<vec4<f32>>(prism_word(p, k));
+}
+
+// prisms.rs's `oct_decode`: an octahedral snorm16 code's unit direction.
+fn oct_decode(c: u32) -> vec3<f32> {
+    let e = unpack2x16snorm(c);
+    var v = vec3<f32>(e, 1.0 - abs(e.x) - abs(e.y));
+    let t = max(-v.z, 0.0);
+    v.x = v.x + select(t, -t, v.x >= 0.0);
+    v.y = v.y + select(t, -t, v.y >= 0.0);
+    return normalize(v);
 }
 
 // The prism across `side` (0-2) from the adjacency `adj` (the bottom corners' w), or NONE (the
@@ -87,6 +104,10 @@ struct Span {
     // the highest and the lowest height under the prism
     max_h: f32,
     min_h: f32,
+    // the corners' extrusions (top - bottom: the normal times the shell's depth)
+    e0: vec3<f32>,
+    e1: vec3<f32>,
+    e2: vec3<f32>,
 }
 
 // The span's running entry and exit while it tests the prism's eight boundary triangles: each
@@ -183,6 +204,9 @@ fn prism_span(p: u32, o: vec3<f32>, d: vec3<f32>) -> Span {
     sp.adj = vec3<f32>(q3.w, q4.w, q5.w);
     sp.max_h = q0.w;
     sp.min_h = q2.w;
+    sp.e0 = q0.xyz - q3.xyz;
+    sp.e1 = q1.xyz - q4.xyz;
+    sp.e2 = q2.xyz - q5.xyz;
     let diag = u32(q1.w);
     let t0 = ray_corner(q0.xyz, o, d);
     let t1 = ray_corner(q1.xyz, o, d);
@@ -237,25 +261,23 @@ fn bary(b: vec2<f32>) -> vec3<f32> {
 
 // The uv at two points of one prism (a segment's entry and exit), its corners read once.
 fn prism_uv2(p: u32, b0: vec2<f32>, b1: vec2<f32>) -> array<vec2<f32>, 2> {
-    let u0 = prism_texel(p, 6u).xy;
-    let u1 = prism_texel(p, 7u).xy;
-    let u2 = prism_texel(p, 8u).xy;
+    let q6 = prism_texel(p, 6u);
+    let u2 = prism_texel(p, 7u).xy;
     let w0 = bary(b0);
     let w1 = bary(b1);
-    return array<vec2<f32>, 2>(u0 * w0.x + u1 * w0.y + u2 * w0.z, u0 * w1.x + u1 * w1.y + u2 * w1.z);
-}
-
-fn prism_normal(p: u32, b: vec2<f32>) -> vec3<f32> {
-    let w = bary(b);
-    return prism_texel(p, 9u).xyz * w.x + prism_texel(p, 10u).xyz * w.y + prism_texel(p, 11u).xyz * w.z;
+    return array<vec2<f32>, 2>(q6.xy * w0.x + q6.zw * w0.y + u2 * w0.z, q6.xy * w1.x + q6.zw * w1.y + u2 * w1.z);
 }
 
 fn prism_frame(p: u32, b: vec2<f32>) -> TangentFrame {
     let w = bary(b);
-    let t0 = prism_texel(p, 12u);
-    let t = t0 * w.x + prism_texel(p, 13u) * w.y + prism_texel(p, 14u) * w.z;
-    let sc = prism_texel(p, 6u).zw * w.x + prism_texel(p, 7u).zw * w.y + prism_texel(p, 8u).zw * w.z;
-    return make_frame(prism_normal(p, b), vec4<f32>(t.xyz, select(1.0, -1.0, t0.w < 0.0)), sc);
+    let f0 = prism_word(p, 8u);
+    let f1 = prism_word(p, 9u);
+    let f2 = prism_word(p, 10u);
+    let n = oct_decode(f0.x) * w.x + oct_decode(f1.x) * w.y + oct_decode(f2.x) * w.z;
+    let t = oct_decode(f0.y) * w.x + oct_decode(f1.y) * w.y + oct_decode(f2.y) * w.z;
+    let sc = abs(bitcast<vec2<f32>>(f0.zw)) * w.x + abs(bitcast<vec2<f32>>(f1.zw)) * w.y
+        + abs(bitcast<vec2<f32>>(f2.zw)) * w.z;
+    return make_frame(n, vec4<f32>(t, select(1.0, -1.0, (f0.z >> 31u) != 0u)), sc);
 }
 
 // The walk of a ray from `o` (a point of prism `first`'s boundary) along `view` (object space,
@@ -315,6 +337,8 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
     // the candidate's plateau: its height where the field under it is flat (lowest = highest
     // height), or -1
     var plateau = -1.0;
+    // the candidate's normal at its entry (the extrusions interpolated), for its layer count
+    var n_cand = vec3<f32>(0.0, 0.0, 1.0);
     loop {
         var cand = false;
         loop {
@@ -355,6 +379,8 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
             if (min(h_e, h_x) <= sp.max_h) {
                 cand = true;
                 plateau = select(-1.0, sp.max_h, sp.min_h >= sp.max_h);
+                let w = bary(st_in.xy);
+                n_cand = sp.e0 * w.x + sp.e1 * w.y + sp.e2 * w.z;
                 break;
             }
             // crossed without a march: no sample carries to the next prism
@@ -391,7 +417,7 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
             // the shared linear search from entry to exit, at POM's layer density: a segment
             // spanning dh of the shell's height gets n * dh layers (>= 1); the entry's sample
             // is the previous prism's last one
-            let ndotv = -dot(view, normalize(prism_normal(p, st_in.xy)));
+            let ndotv = -dot(view, normalize(n_cand));
             let n = max(ceil(pom_sample_count(ndotv, params.min_steps, params.max_steps, true) * abs(dh_seg)), 2.0);
             if (!have_d0) {
                 d0 = h_e - height_at(s_e, hl);

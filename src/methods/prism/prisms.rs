@@ -48,12 +48,46 @@ pub struct PrismData {
 /// No prism across a side.
 pub const NONE: u32 = u32::MAX;
 
-/// Texels (rgba32float) of one prism in the texture prism.wgsl reads (`PRISM_TEXELS` there):
-/// top[3], bottom[3], uv[3], normal[3], tangent[3]. What the walk needs at every prism it
-/// crosses rides in the corners' w, so that a span reads six texels, not eight: top[0].w the
-/// highest height (`info[0]`), top[1].w the diagonal bits, top[2].w the lowest height (`info[1]`), bottom[k].w the prism across side k
-/// as a float (-1 for `NONE`; exact below 2^24 prisms).
-pub const TEXELS_PER_PRISM: u32 = 15;
+/// A direction as octahedral snorm16 (x in the low half, y in the high half), the form WGSL's
+/// `unpack2x16snorm` reads (prism.wgsl's `oct_decode`); zero maps to +z.
+pub fn oct_encode(v: DVec3) -> u32 {
+    let l1 = v.x.abs() + v.y.abs() + v.z.abs();
+    let (mut x, mut y) = if l1 > 0.0 {
+        (v.x / l1, v.y / l1)
+    } else {
+        (0.0, 0.0)
+    };
+    if l1 > 0.0 && v.z < 0.0 {
+        let sx = if x >= 0.0 { 1.0 } else { -1.0 };
+        let sy = if y >= 0.0 { 1.0 } else { -1.0 };
+        (x, y) = ((1.0 - y.abs()) * sx, (1.0 - x.abs()) * sy);
+    }
+    let q = |a: f64| ((a.clamp(-1.0, 1.0) * 32767.0).round() as i16) as u16 as u32;
+    q(x) | (q(y) << 16)
+}
+
+/// `oct_encode`'s direction back, unit length (as prism.wgsl's `oct_decode` computes it).
+pub fn oct_decode(c: u32) -> [f32; 3] {
+    let s = |h: u32| ((h as u16 as i16) as f32 / 32767.0).max(-1.0);
+    let (x, y) = (s(c & 0xffff), s(c >> 16));
+    let z = 1.0 - x.abs() - y.abs();
+    let t = (-z).max(0.0);
+    let x = x + if x >= 0.0 { -t } else { t };
+    let y = y + if y >= 0.0 { -t } else { t };
+    let l = (x * x + y * y + z * z).sqrt();
+    [x / l, y / l, z / l]
+}
+
+/// Texels (rgba32uint) of one prism in the texture prism.wgsl reads (`PRISM_TEXELS` there).
+/// 0-5: top[3], bottom[3] (f32 bits); what the walk needs at every prism it crosses rides in
+/// their w, so that a span reads six texels: top[0].w the highest height (`info[0]`), top[1].w
+/// the diagonal bits, top[2].w the lowest height (`info[1]`), bottom[k].w the prism across side
+/// k (-1 for `NONE`; exact below 2^24 prisms), all as f32. 6: uv0, uv1; 7: uv2 (a candidate's
+/// segment reads these two). 8-10, corner k's frame, the hit's three texels: its normal and
+/// tangent (`oct_encode`) and its uv scale (f32 bits; corner 0's x carries the tangent's
+/// handedness in its sign, a scale being positive). On lavapipe a texel fetch costs about the
+/// same whatever its format (docs/cost.md), so the frame is packed into as few as it fits.
+pub const TEXELS_PER_PRISM: u32 = 11;
 
 /// The per-prism data as a texture, and its size: a power-of-two number of prisms a row (the
 /// shader finds a prism's texels with a shift and a mask), each `TEXELS_PER_PRISM` texels wide.
@@ -63,7 +97,7 @@ pub const TEXELS_PER_PRISM: u32 = 15;
 pub fn texels(
     data: &[PrismData],
     max_dim: u32,
-) -> std::result::Result<(Vec<[f32; 4]>, (u32, u32)), usize> {
+) -> std::result::Result<(Vec<[u32; 4]>, (u32, u32)), usize> {
     let n = data.len().max(1);
     let fit = (max_dim / TEXELS_PER_PRISM).max(1);
     // the largest power of two within the limit, no wider than the mesh needs
@@ -73,26 +107,35 @@ pub fn texels(
         return Err(per_row as usize * max_dim as usize);
     }
     let width = per_row * TEXELS_PER_PRISM;
-    let mut t = vec![[0.0f32; 4]; width as usize * rows];
-    let adj = |a: u32| if a == NONE { -1.0 } else { a as f32 };
+    let mut t = vec![[0u32; 4]; width as usize * rows];
+    let adj = |a: u32| if a == NONE { -1.0f32 } else { a as f32 };
+    let f = |v: [f32; 4]| v.map(f32::to_bits);
+    let dir = |v: [f32; 4]| oct_encode(DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64));
     for (i, d) in data.iter().enumerate() {
         let (row, col) = (i / per_row as usize, i % per_row as usize);
         let at = row * width as usize + col * TEXELS_PER_PRISM as usize;
-        let fields = d
-            .top
-            .iter()
-            .chain(&d.bottom)
-            .chain(&d.uv)
-            .chain(&d.normal)
-            .chain(&d.tangent);
-        for (k, v) in fields.enumerate() {
-            t[at + k] = *v;
-        }
-        t[at][3] = d.info[0];
-        t[at + 1][3] = d.adj[3] as f32;
-        t[at + 2][3] = d.info[1];
         for k in 0..3 {
-            t[at + 3 + k][3] = adj(d.adj[k]);
+            t[at + k] = f(d.top[k]);
+            t[at + 3 + k] = f(d.bottom[k]);
+            t[at + 3 + k][3] = adj(d.adj[k]).to_bits();
+        }
+        t[at][3] = d.info[0].to_bits();
+        t[at + 1][3] = (d.adj[3] as f32).to_bits();
+        t[at + 2][3] = d.info[1].to_bits();
+        let uv = d.uv;
+        t[at + 6] = f([uv[0][0], uv[0][1], uv[1][0], uv[1][1]]);
+        t[at + 7] = f([uv[2][0], uv[2][1], 0.0, 0.0]);
+        for k in 0..3 {
+            let mut sx = uv[k][2].abs();
+            if k == 0 && d.tangent[0][3] < 0.0 {
+                sx = -sx;
+            }
+            t[at + 8 + k] = [
+                dir(d.normal[k]),
+                dir(d.tangent[k]),
+                sx.to_bits(),
+                uv[k][3].to_bits(),
+            ];
         }
     }
     Ok((t, (width, rows as u32)))
@@ -331,7 +374,7 @@ mod tests {
             .sum()
     }
 
-    /// The texture prism.wgsl reads: each prism's 15 texels at (index mod per_row, index div
+    /// The texture prism.wgsl reads: each prism's 11 texels at (index mod per_row, index div
     /// per_row), per_row a power of two within the device's limit, the adjacency as floats (-1
     /// for NONE), and an error naming how many prisms fit when the rows exceed the limit. The
     /// shader's PRISM_TEXELS is this file's TEXELS_PER_PRISM.
@@ -351,29 +394,45 @@ mod tests {
             (4, 4 * TEXELS_PER_PRISM, n.div_ceil(4))
         );
         let adj = |a: u32| if a == NONE { -1.0 } else { a as f32 };
+        let f = |v: [u32; 4]| v.map(f32::from_bits);
         for (i, d) in p.data.iter().enumerate() {
             let at = (i / 4) * w as usize + (i % 4) * TEXELS_PER_PRISM as usize;
             for k in 0..3 {
-                assert_eq!(t[at + k][..3], d.top[k][..3]);
-                assert_eq!(t[at + 3 + k], {
+                assert_eq!(f(t[at + k])[..3], d.top[k][..3]);
+                assert_eq!(f(t[at + 3 + k]), {
                     let mut b = d.bottom[k];
                     b[3] = adj(d.adj[k]);
                     b
                 });
+                // the frame: the normal and the tangent within an octahedral code's rounding
+                let back = |c: u32, v: [f32; 4]| {
+                    let o = oct_decode(c);
+                    (0..3).all(|i| (o[i] - v[i]).abs() < 5e-5)
+                };
+                assert!(
+                    back(t[at + 8 + k][0], d.normal[k]) && back(t[at + 8 + k][1], d.tangent[k])
+                );
+                assert_eq!(f32::from_bits(t[at + 8 + k][2]).abs(), d.uv[k][2]);
+                assert_eq!(f32::from_bits(t[at + 8 + k][3]), d.uv[k][3]);
             }
             assert_eq!(
-                [t[at][3], t[at + 1][3], t[at + 2][3]],
+                [f(t[at])[3], f(t[at + 1])[3], f(t[at + 2])[3]],
                 [d.info[0], d.adj[3] as f32, d.info[1]]
             );
-            assert_eq!(t[at + 6], d.uv[0]);
-            assert_eq!(t[at + 14], d.tangent[2]);
+            assert_eq!(
+                f(t[at + 6]),
+                [d.uv[0][0], d.uv[0][1], d.uv[1][0], d.uv[1][1]]
+            );
+            assert_eq!(f(t[at + 7])[..2], d.uv[2][..2]);
+            // the handedness in the sign of corner 0's u scale
+            assert_eq!(t[at + 8][2] >> 31 == 1, d.tangent[0][3] < 0.0);
         }
         assert!(p.data.iter().any(|d| d.adj[..3].contains(&NONE)));
         // the widest rows fit: one row of 32 for 18 prisms under a large limit
         assert_eq!(texels(&p.data, 16384).unwrap().1 .0, 32 * TEXELS_PER_PRISM);
-        // rows over the limit: an error with the prisms that fit (one a row, 15 rows, for 18)
+        // rows over the limit: an error with the prisms that fit (one a row, 11 rows, for 18)
         assert_eq!(n, 18);
-        assert_eq!(texels(&p.data, TEXELS_PER_PRISM).err(), Some(15));
+        assert_eq!(texels(&p.data, TEXELS_PER_PRISM).err(), Some(11));
     }
 
     /// Closed meshes make closed shells: every side is shared (across the uv seams and at the
