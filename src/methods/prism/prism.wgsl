@@ -192,7 +192,8 @@ fn consider_side(acc: ptr<function, SpanAcc>, tk: RayCorner, tj: RayCorner, bk: 
 }
 
 fn prism_span(p: u32, o: vec3<f32>, d: vec3<f32>) -> Span {
-    // the prism's corners, with its adjacency and max height in their w (no texels: bytes only)
+    // the prism's corners, with its adjacency, highest and lowest height and diagonals in their
+    // w (no texels: bytes only)
     fetched(0u, 96u);
     let q0 = prism_texel(p, 0u);
     let q1 = prism_texel(p, 1u);
@@ -401,35 +402,35 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
             hit = select(0.0, (h_e - plateau) / (h_e - h_x), h_e > plateau);
         } else {
 #ifdef PRISM_EXACT
-        if (abs(dh_seg) > 1e-4) {
-            // exact=True: the max-mip traversal along the segment, parameterised by height
-            let slope = (s_x - s_e) / abs(dh_seg) * G.map_size;
-            let p0 = positive_start(s_e, slope);
-            let tr = maxmip_traverse(p0, h_e, slope.x, slope.y, sign(dh_seg), abs(dh_seg), G.max_iterations);
-            steps = steps + tr.iters;
-            if (tr.hit) {
-                hit = tr.t / abs(dh_seg);
-            }
-        } else {
+            if (abs(dh_seg) > 1e-4) {
+                // exact=True: the max-mip traversal along the segment, parameterised by height
+                let slope = (s_x - s_e) / abs(dh_seg) * G.map_size;
+                let p0 = positive_start(s_e, slope);
+                let tr = maxmip_traverse(p0, h_e, slope.x, slope.y, sign(dh_seg), abs(dh_seg), G.max_iterations);
+                steps = steps + tr.iters;
+                if (tr.hit) {
+                    hit = tr.t / abs(dh_seg);
+                }
+            } else {
 #else
-        {
+            {
 #endif
-            // the shared linear search from entry to exit, at POM's layer density: a segment
-            // spanning dh of the shell's height gets n * dh layers (>= 1); the entry's sample
-            // is the previous prism's last one
-            let ndotv = -dot(view, normalize(n_cand));
-            let n = max(ceil(pom_sample_count(ndotv, params.min_steps, params.max_steps, true) * abs(dh_seg)), 2.0);
-            if (!have_d0) {
-                d0 = h_e - height_at(s_e, hl);
-                steps = steps + 1.0;
+                // the shared linear search from entry to exit, at POM's layer density: a segment
+                // spanning dh of the shell's height gets n * dh layers (>= 1); the entry's sample
+                // is the previous prism's last one
+                let ndotv = -dot(view, normalize(n_cand));
+                let n = max(ceil(pom_sample_count(ndotv, params.min_steps, params.max_steps, true) * abs(dh_seg)), 2.0);
+                if (!have_d0) {
+                    d0 = h_e - height_at(s_e, hl);
+                    steps = steps + 1.0;
+                }
+                let b = linear_search_from(Segment(s_e, s_x - s_e, h_e, dh_seg), n, hl, d0, 0.0);
+                steps = steps + b.steps;
+                d0 = b.d_cur;
+                if (b.d_cur <= 0.0) {
+                    hit = refine_linear(b);
+                }
             }
-            let b = linear_search_from(Segment(s_e, s_x - s_e, h_e, dh_seg), n, hl, d0, 0.0);
-            steps = steps + b.steps;
-            d0 = b.d_cur;
-            if (b.d_cur <= 0.0) {
-                hit = refine_linear(b);
-            }
-        }
         }
         if (hit >= 0.0) {
             // the frame is interpolated after the loop, once (see below)

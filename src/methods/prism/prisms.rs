@@ -66,18 +66,6 @@ pub fn oct_encode(v: DVec3) -> u32 {
     q(x) | (q(y) << 16)
 }
 
-/// `oct_encode`'s direction back, unit length (as prism.wgsl's `oct_decode` computes it).
-pub fn oct_decode(c: u32) -> [f32; 3] {
-    let s = |h: u32| ((h as u16 as i16) as f32 / 32767.0).max(-1.0);
-    let (x, y) = (s(c & 0xffff), s(c >> 16));
-    let z = 1.0 - x.abs() - y.abs();
-    let t = (-z).max(0.0);
-    let x = x + if x >= 0.0 { -t } else { t };
-    let y = y + if y >= 0.0 { -t } else { t };
-    let l = (x * x + y * y + z * z).sqrt();
-    [x / l, y / l, z / l]
-}
-
 /// Texels (rgba32uint) of one prism in the texture prism.wgsl reads (`PRISM_TEXELS` there).
 /// 0-5: top[3], bottom[3] (f32 bits); what the walk needs at every prism it crosses rides in
 /// their w, so that a span reads six texels: top[0].w the highest height (`info[0]`), top[1].w
@@ -92,7 +80,7 @@ pub const TEXELS_PER_PRISM: u32 = 11;
 /// The per-prism data as a texture, and its size: a power-of-two number of prisms a row (the
 /// shader finds a prism's texels with a shift and a mask), each `TEXELS_PER_PRISM` texels wide.
 /// On lavapipe a storage buffer read at an index that differs between the lanes of a SIMD
-/// vector is a scalar loop over the lanes, and Prism's walk reads eight of them per prism
+/// vector is a scalar loop over the lanes, and Prism's walk reads six of them per prism
 /// crossed; a texel fetch is one vector gather. Err: the rows exceed `max_dim`.
 pub fn texels(
     data: &[PrismData],
@@ -322,7 +310,7 @@ pub fn build(mesh: &Mesh, depth: f32, outward: bool, height: &HeightMap, tiling:
 /// The lowest and the highest height of the texels a bilinear sample in a triangle's uv box
 /// reads: the highest rejects prisms the ray passes above; where both are equal the field under
 /// the prism is that plateau, and the walk meets it without a march.
-pub fn height_range_under(mesh: &Mesh, tri: &[u32], height: &HeightMap, tiling: f32) -> (f64, f64) {
+fn height_range_under(mesh: &Mesh, tri: &[u32], height: &HeightMap, tiling: f32) -> (f64, f64) {
     let uvs: Vec<DVec2> = tri
         .iter()
         .map(|&i| DVec2::from_array(mesh.uvs[i as usize].map(|x| x as f64)) * tiling as f64)
@@ -359,6 +347,18 @@ pub fn height_range_under(mesh: &Mesh, tri: &[u32], height: &HeightMap, tiling: 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `oct_encode`'s direction back, unit length (as prism.wgsl's `oct_decode` computes it).
+    fn oct_decode(c: u32) -> [f32; 3] {
+        let s = |h: u32| ((h as u16 as i16) as f32 / 32767.0).max(-1.0);
+        let (x, y) = (s(c & 0xffff), s(c >> 16));
+        let z = 1.0 - x.abs() - y.abs();
+        let t = (-z).max(0.0);
+        let x = x + if x >= 0.0 { -t } else { t };
+        let y = y + if y >= 0.0 { -t } else { t };
+        let l = (x * x + y * y + z * z).sqrt();
+        [x / l, y / l, z / l]
+    }
 
     /// a pole's zero-area triangles (corners within rounding of each other)
     fn degenerate(d: &PrismData) -> bool {
