@@ -56,14 +56,19 @@ def planar_methods():
         "relief": pk.Relief(mip_filtering=True), "relief_bias": pk.Relief(depth_bias=True, shadows="soft", mip_filtering=True),
         "exact": pk.Exact(), "exact_shadow": pk.Exact(shadows="exact", ao_directions=8),
         "tess": pk.Tessellated(), "tess_none": pk.Tessellated(shadows="none"),
-        "prism": pk.Prism(), "prism_exact": pk.Prism(exact=True, shadows="none"),
+        # the full shell these were saved with (the tight shell became the default with issue 33)
+        "prism": pk.Prism(tight=False), "prism_exact": pk.Prism(exact=True, shadows="none", tight=False),
+        "prism_tight": pk.Prism(), "prism_tight_exact": pk.Prism(exact=True, shadows="none"),
     }
 
 
 def curved_methods():
     return {
         "pom": pk.POM(mip_filtering=True), "ncs": pk.NCS(), "ncs_c1": pk.NCS(step_scale=1.0, max_steps=32, shadows="hard"),
-        "prism": pk.Prism(), "prism_out": pk.Prism(outward=True, shadows="horizon"), "prism_exact": pk.Prism(exact=True),
+        "prism": pk.Prism(tight=False), "prism_out": pk.Prism(outward=True, shadows="horizon", tight=False),
+        "prism_exact": pk.Prism(exact=True, tight=False),
+        "prism_tight": pk.Prism(), "prism_tight_out": pk.Prism(outward=True, shadows="horizon"),
+        "prism_tight_exact": pk.Prism(exact=True),
         "tess": pk.Tessellated(),
     }
 

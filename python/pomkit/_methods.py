@@ -315,7 +315,12 @@ class Prism(_PerPixel):
     highest height lies below the ray are crossed without a march. With several objects the
     hit's depth is the fragment depth. `outward=True` builds the shell above the base mesh (the
     paper's set-up: h = 0 on the base mesh, h = 1 `depth` above it); the default is pomkit's
-    inward convention. `exact=True` marches each segment with the max-mip traversal (exact patch
+    inward convention. `tight=True` (default) lowers each vertical edge's top to the highest
+    height of the field under the prisms beside it (never below 1/256 of the depth), so that a
+    ray crosses no empty shell above the field: neighbours share the edge, so the shell stays
+    closed, and every prism's top stays above its field. Thinner prisms also bend the march's
+    straight segments less (docs/cost.md, "The tight shell"). `tight=False` is the paper's
+    shell, every top at the full depth. `exact=True` marches each segment with the max-mip traversal (exact patch
     intersection) instead of POM's search. Level 0 by default (`mip_filtering=False`, as POM).
     Shadows: "hard", "soft" (default) or "horizon", and `ao_directions`."""
 
@@ -323,6 +328,7 @@ class Prism(_PerPixel):
     max_steps: int = 50
     outward: bool = False
     exact: bool = False
+    tight: bool = True
     shadows: ShadowKind = field(default="soft", kw_only=True)
     # level 0, as POM: the footprint of the grazing top face a silhouette ray enters through is
     # no footprint for its walk down through the shell (mask IoU against Mitsuba, 256^2:
@@ -342,6 +348,7 @@ class Prism(_PerPixel):
         if self.min_steps > self.max_steps:
             raise ValueError(f"min_steps: must not exceed max_steps ({self.min_steps} > {self.max_steps})")
         _bool_field(self, "outward")
+        _bool_field(self, "tight")
 
 
 @dataclass(frozen=True)

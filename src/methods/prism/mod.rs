@@ -18,6 +18,7 @@ use std::sync::Arc;
 #[derive(Debug)]
 pub struct PrismShell {
     pub outward: bool,
+    pub tight: bool,
 }
 
 impl MethodGeometry for PrismShell {
@@ -29,7 +30,7 @@ impl MethodGeometry for PrismShell {
             &m.height.key.to_le_bytes(),
             &m.depth.to_le_bytes(),
             &m.tiling.to_le_bytes(),
-            &[self.outward as u8],
+            &[self.outward as u8, self.tight as u8],
         ])
     }
     fn build(&self, ctx: &Context, object: &Object) -> Result<GpuMesh> {
@@ -37,7 +38,7 @@ impl MethodGeometry for PrismShell {
         let prisms::Prisms {
             vertices: verts,
             data,
-        } = prisms::build(mesh, m.depth, self.outward, &m.height, m.tiling);
+        } = prisms::build(mesh, m.depth, self.outward, self.tight, &m.height, m.tiling);
         let vbytes = std::mem::size_of_val(verts.as_slice()) as u64;
         let max_dim = ctx.limits.max_texture_dimension_2d;
         let texels = prisms::texels(&data, max_dim);
@@ -90,6 +91,7 @@ impl MethodGeometry for PrismShell {
 #[derive(Debug)]
 pub struct PrismData {
     pub outward: bool,
+    pub tight: bool,
 }
 
 impl MethodResources for PrismData {
@@ -100,6 +102,7 @@ impl MethodResources for PrismData {
         // the geometry's upload holds the buffer: no second copy, keyed as the geometry is
         let shell = PrismShell {
             outward: self.outward,
+            tight: self.tight,
         };
         hash_bytes(&[b"prism data", &shell.key(object).to_le_bytes()])
     }
@@ -121,6 +124,8 @@ crate::params! {
         pub outward: bool,
         /// march each segment with the max-mip traversal
         pub exact: bool,
+        /// each vertical edge's top at the highest height beside it, not at the full depth
+        pub tight: bool,
     }
 }
 
@@ -131,6 +136,7 @@ impl Unit for Prism {
             max_steps: 50,
             outward: false,
             exact: false,
+            tight: true,
         }]
     }
     fn spec(&self, o: &PerPixel) -> Spec {
@@ -156,9 +162,11 @@ impl Unit for Prism {
         }
         s.geometry = Geometry::Own(Arc::new(PrismShell {
             outward: self.outward,
+            tight: self.tight,
         }));
         s.resources = Some(Arc::new(PrismData {
             outward: self.outward,
+            tight: self.tight,
         }));
         s
     }

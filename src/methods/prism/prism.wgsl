@@ -101,9 +101,9 @@ struct Span {
     ok: bool,
     // the prism across each side (prism_across)
     adj: vec3<f32>,
-    // the highest and the lowest height under the prism
+    // the highest height under the prism, and whether the lowest equals it (a plateau)
     max_h: f32,
-    min_h: f32,
+    plateau: bool,
     // the corners' extrusions (top - bottom: the normal times the shell's depth)
     e0: vec3<f32>,
     e1: vec3<f32>,
@@ -177,9 +177,10 @@ fn consider(acc: ptr<function, SpanAcc>, dt_a: f32, dt_b: f32, dt_c: f32, e_ab: 
 // edge(B_k, B_j), verticals v_k = edge(T_k, B_k), v_j): its two triangles, split along
 // top(k)-bottom(j), or along top(j)-bottom(k) when `flip` (the same split as the neighbour's).
 fn consider_side(acc: ptr<function, SpanAcc>, tk: RayCorner, tj: RayCorner, bk: RayCorner, bj: RayCorner,
-                 e_t: f32, e_b: f32, v_k: f32, v_j: f32, sk: vec2<f32>, sj: vec2<f32>, flip: bool, side: u32) {
-    let stk = vec3<f32>(sk, 1.0);
-    let stj = vec3<f32>(sj, 1.0);
+                 e_t: f32, e_b: f32, v_k: f32, v_j: f32, sk: vec2<f32>, sj: vec2<f32>, mk: f32, mj: f32,
+                 flip: bool, side: u32) {
+    let stk = vec3<f32>(sk, mk);
+    let stj = vec3<f32>(sj, mj);
     let sbk = vec3<f32>(sk, 0.0);
     let sbj = vec3<f32>(sj, 0.0);
     // flip: (T_k, T_j, B_k) and (T_j, B_j, B_k), diagonal g = T_j-B_k; else (T_k, T_j, B_j) and
@@ -204,11 +205,15 @@ fn prism_span(p: u32, o: vec3<f32>, d: vec3<f32>) -> Span {
     var sp: Span;
     sp.adj = vec3<f32>(q3.w, q4.w, q5.w);
     sp.max_h = q0.w;
-    sp.min_h = q2.w;
+    let w1 = bitcast<u32>(q1.w);
+    sp.plateau = (w1 & 8u) != 0u;
+    // the tops' heights (the tight shell)
+    let m01 = unpack2x16unorm(bitcast<u32>(q2.w));
+    let m = vec3<f32>(m01, unpack2x16unorm(w1).y);
     sp.e0 = q0.xyz - q3.xyz;
     sp.e1 = q1.xyz - q4.xyz;
     sp.e2 = q2.xyz - q5.xyz;
-    let diag = u32(q1.w);
+    let diag = w1 & 7u;
     let t0 = ray_corner(q0.xyz, o, d);
     let t1 = ray_corner(q1.xyz, o, d);
     let t2 = ray_corner(q2.xyz, o, d);
@@ -239,11 +244,11 @@ fn prism_span(p: u32, o: vec3<f32>, d: vec3<f32>) -> Span {
     let s0 = vec2<f32>(0.0, 0.0);
     let s1 = vec2<f32>(1.0, 0.0);
     let s2 = vec2<f32>(0.0, 1.0);
-    consider(&acc, t0.dt, t1.dt, t2.dt, et01, et12, et20, vec3<f32>(s0, 1.0), vec3<f32>(s1, 1.0), vec3<f32>(s2, 1.0), 3u);
+    consider(&acc, t0.dt, t1.dt, t2.dt, et01, et12, et20, vec3<f32>(s0, m.x), vec3<f32>(s1, m.y), vec3<f32>(s2, m.z), 3u);
     consider(&acc, b0.dt, b1.dt, b2.dt, eb01, eb12, eb20, vec3<f32>(s0, 0.0), vec3<f32>(s1, 0.0), vec3<f32>(s2, 0.0), 3u);
-    consider_side(&acc, t0, t1, b0, b1, et01, eb01, v0, v1, s0, s1, (diag & 1u) != 0u, 0u);
-    consider_side(&acc, t1, t2, b1, b2, et12, eb12, v1, v2, s1, s2, (diag & 2u) != 0u, 1u);
-    consider_side(&acc, t2, t0, b2, b0, et20, eb20, v2, v0, s2, s0, (diag & 4u) != 0u, 2u);
+    consider_side(&acc, t0, t1, b0, b1, et01, eb01, v0, v1, s0, s1, m.x, m.y, (diag & 1u) != 0u, 0u);
+    consider_side(&acc, t1, t2, b1, b2, et12, eb12, v1, v2, s1, s2, m.y, m.z, (diag & 2u) != 0u, 1u);
+    consider_side(&acc, t2, t0, b2, b0, et20, eb20, v2, v0, s2, s0, m.z, m.x, (diag & 4u) != 0u, 2u);
     sp.ok = acc.ok;
     sp.side = acc.side;
     let inv_in = 1.0 / max(acc.in_den, 1e-30);
@@ -379,7 +384,7 @@ fn prism_walk(first: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
             // a march only where the ray's lowest point in the prism is below its highest height
             if (min(h_e, h_x) <= sp.max_h) {
                 cand = true;
-                plateau = select(-1.0, sp.max_h, sp.min_h >= sp.max_h);
+                plateau = select(-1.0, sp.max_h, sp.plateau);
                 let w = bary(st_in.xy);
                 n_cand = sp.e0 * w.x + sp.e1 * w.y + sp.e2 * w.z;
                 break;

@@ -43,6 +43,8 @@ pub struct PrismData {
     pub tangent: [[f32; 4]; 3],
     pub info: [f32; 4],
     pub adj: [u32; 4],
+    /// the tight shell: corner k's top as a unorm16 code of the height there (`lift_code`)
+    pub lift: [u32; 4],
 }
 
 /// No prism across a side.
@@ -68,9 +70,11 @@ pub fn oct_encode(v: DVec3) -> u32 {
 
 /// Texels (rgba32uint) of one prism in the texture prism.wgsl reads (`PRISM_TEXELS` there).
 /// 0-5: top[3], bottom[3] (f32 bits); what the walk needs at every prism it crosses rides in
-/// their w, so that a span reads six texels: top[0].w the highest height (`info[0]`), top[1].w
-/// the diagonal bits, top[2].w the lowest height (`info[1]`), bottom[k].w the prism across side
-/// k (-1 for `NONE`; exact below 2^24 prisms), all as f32. 6: uv0, uv1; 7: uv2 (a candidate's
+/// their w, so that a span reads six texels: top[0].w the highest height (`info[0]`, f32),
+/// top[1].w the diagonal bits (0-2), the plateau bit (3: the lowest height equals the highest)
+/// and corner 2's top height (`lift[2]`, unorm16 in bits 16-31), top[2].w corners 0 and 1's
+/// (unorm16 x 2, `unpack2x16unorm`), bottom[k].w the prism across side k (f32, -1 for `NONE`;
+/// exact below 2^24 prisms). 6: uv0, uv1; 7: uv2 (a candidate's
 /// segment reads these two). 8-10, corner k's frame, the hit's three texels: its normal and
 /// tangent (`oct_encode`) and its uv scale (f32 bits; corner 0's x carries the tangent's
 /// handedness in its sign, a scale being positive). On lavapipe a texel fetch costs about the
@@ -107,9 +111,11 @@ pub fn texels(
             t[at + 3 + k] = f(d.bottom[k]);
             t[at + 3 + k][3] = adj(d.adj[k]).to_bits();
         }
+        let [c0, c1, c2, _] = d.lift;
+        let plateau = (d.info[1] >= d.info[0]) as u32;
         t[at][3] = d.info[0].to_bits();
-        t[at + 1][3] = (d.adj[3] as f32).to_bits();
-        t[at + 2][3] = d.info[1].to_bits();
+        t[at + 1][3] = (d.adj[3] & 7) | plateau << 3 | c2 << 16;
+        t[at + 2][3] = c0 | c1 << 16;
         let uv = d.uv;
         t[at + 6] = f([uv[0][0], uv[0][1], uv[1][0], uv[1][1]]);
         t[at + 7] = f([uv[2][0], uv[2][1], 0.0, 0.0]);
@@ -146,7 +152,14 @@ type EdgeKey = [i64; 6];
 /// convention) or outward (bottom = base surface, top `depth` above along the normals: the
 /// paper's set-up, where features rise above the base mesh). Neighbouring prisms share their
 /// side: they split it along the same diagonal, so that a ray leaving one enters the other.
-pub fn build(mesh: &Mesh, depth: f32, outward: bool, height: &HeightMap, tiling: f32) -> Prisms {
+pub fn build(
+    mesh: &Mesh,
+    depth: f32,
+    outward: bool,
+    tight: bool,
+    height: &HeightMap,
+    tiling: f32,
+) -> Prisms {
     let ntri = mesh.indices.len() / 3;
     let d = depth as f64;
     let p = |i: u32| DVec3::from_array(mesh.positions[i as usize].map(|x| x as f64));
@@ -189,6 +202,29 @@ pub fn build(mesh: &Mesh, depth: f32, outward: bool, height: &HeightMap, tiling:
             })
         })
         .collect();
+    // the tight shell: each vertical edge's top lowered to the highest height any prism on it has
+    // under it (rounded up to a unorm16 code), so that rays cross no empty space above the field.
+    // Neighbours share the edge and its height, so the shell stays closed; every prism's top
+    // stays at or above its own highest height, never below `MIN_LIFT` (no flat prisms).
+    let ranges: Vec<(f64, f64)> = mesh
+        .indices
+        .chunks_exact(3)
+        .map(|tri| height_range_under(mesh, tri, height, tiling))
+        .collect();
+    // the full shell (the paper's): every top at the depth
+    let mut lift = vec![if tight { MIN_LIFT } else { 1.0 }; edge_ids.len()];
+    for (t, id) in ids.iter().enumerate() {
+        for &e in id {
+            lift[e as usize] = lift[e as usize].max(ranges[t].1);
+        }
+    }
+    let lift: Vec<u16> = lift.into_iter().map(lift_code).collect();
+    for (t, (top, bot, _)) in corners.iter_mut().enumerate() {
+        for k in 0..3 {
+            let m = lift[ids[t][k] as usize] as f64 / 65535.0;
+            top[k] = bot[k] + (top[k] - bot[k]) * m;
+        }
+    }
     // adjacency: a side is shared when exactly two prisms have its two vertical edges
     let mut sides: std::collections::HashMap<(EdgeKey, EdgeKey), Vec<(u32, usize)>> =
         std::collections::HashMap::with_capacity(ntri * 3);
@@ -298,13 +334,33 @@ pub fn build(mesh: &Mesh, depth: f32, outward: bool, height: &HeightMap, tiling:
             }),
             tangent: [0, 1, 2].map(|k| mesh.tangents[tri[k] as usize]),
             info: {
-                let (mn, mx) = height_range_under(mesh, tri, height, tiling);
+                let (mn, mx) = ranges[t];
                 [mx as f32, mn as f32, 0.0, 0.0]
+            },
+            lift: {
+                let c = [0, 1, 2].map(|k| lift[ids[t][k] as usize] as u32);
+                [c[0], c[1], c[2], 0]
             },
             adj: adj[t],
         });
     }
     Prisms { vertices, data }
+}
+
+/// The lowest top a tight shell gives a vertical edge, as a fraction of the depth: no prism is
+/// flat, so that a ray entering one always finds its way out.
+const MIN_LIFT: f64 = 1.0 / 256.0;
+
+/// A height in [0, 1] as the unorm16 code WGSL's `unpack2x16unorm` reads, rounded up: the code's
+/// value (code / 65535) is never below it.
+fn lift_code(m: f64) -> u16 {
+    let c = (m.clamp(0.0, 1.0) * 65535.0).ceil();
+    let c = if (c / 65535.0) as f32 >= m as f32 {
+        c
+    } else {
+        c + 1.0
+    };
+    c.min(65535.0) as u16
 }
 
 /// The lowest and the highest height of the texels a bilinear sample in a triangle's uv box
@@ -384,7 +440,7 @@ mod tests {
             .contains(&format!("const PRISM_TEXELS: u32 = {TEXELS_PER_PRISM}u;")));
         let hm = HeightMap::new(4, 4, vec![0.5; 16]).unwrap();
         let mesh = Mesh::plane(2.0, 3).unwrap();
-        let p = build(&mesh, 0.1, false, &hm, 1.0);
+        let p = build(&mesh, 0.1, false, true, &hm, 1.0);
         let n = p.data.len();
         // a limit of 4 prisms a row: 18 prisms in 5 rows
         let (t, (w, h)) = texels(&p.data, 4 * TEXELS_PER_PRISM + 3).unwrap();
@@ -415,10 +471,12 @@ mod tests {
                 assert_eq!(f32::from_bits(t[at + 8 + k][2]).abs(), d.uv[k][2]);
                 assert_eq!(f32::from_bits(t[at + 8 + k][3]), d.uv[k][3]);
             }
-            assert_eq!(
-                [f(t[at])[3], f(t[at + 1])[3], f(t[at + 2])[3]],
-                [d.info[0], d.adj[3] as f32, d.info[1]]
-            );
+            // the highest height; the diagonals, the plateau bit and corner 2's top code; corners
+            // 0 and 1's top codes
+            assert_eq!(f(t[at])[3], d.info[0]);
+            let plateau = (d.info[1] >= d.info[0]) as u32;
+            assert_eq!(t[at + 1][3], d.adj[3] | plateau << 3 | d.lift[2] << 16);
+            assert_eq!(t[at + 2][3], d.lift[0] | d.lift[1] << 16);
             assert_eq!(
                 f(t[at + 6]),
                 [d.uv[0][0], d.uv[0][1], d.uv[1][0], d.uv[1][1]]
@@ -446,7 +504,7 @@ mod tests {
             ("torus", Mesh::torus(1.0, 0.35, 48, 24).unwrap()),
         ] {
             for outward in [false, true] {
-                let p = build(&mesh, 0.1, outward, &hm, 1.0);
+                let p = build(&mesh, 0.1, outward, true, &hm, 1.0);
                 let tris = p.data.iter().filter(|d| !degenerate(d)).count();
                 assert_eq!(boundary_sides(&p), 0, "{name}");
                 assert_eq!(
@@ -462,10 +520,106 @@ mod tests {
                 }
             }
         }
-        let plane = build(&Mesh::plane(2.0, 4).unwrap(), 0.1, false, &hm, 1.0);
+        let plane = build(&Mesh::plane(2.0, 4).unwrap(), 0.1, false, true, &hm, 1.0);
         assert_eq!(boundary_sides(&plane), 16, "a 4x4 plane's rim");
-        let cube = build(&Mesh::cube(2.0, 1).unwrap(), 0.1, false, &hm, 1.0);
+        let cube = build(&Mesh::cube(2.0, 1).unwrap(), 0.1, false, true, &hm, 1.0);
         assert_eq!(boundary_sides(&cube), 24, "every face's rim is a crease");
+    }
+
+    /// A height's unorm16 code is never below it and at most one code above.
+    #[test]
+    fn lift_codes_round_up() {
+        for i in 0..=20000 {
+            let m = i as f64 / 20000.0;
+            for m in [m, (m as f32) as f64, m.next_up(), (m - 1e-9).max(0.0)] {
+                let c = lift_code(m);
+                let v = c as f32 / 65535.0;
+                assert!(v >= m.min(1.0) as f32, "{m} -> {c}");
+                assert!(
+                    c == 0 || (c - 1) as f64 / 65535.0 < m,
+                    "{m} -> {c}: not the least code"
+                );
+            }
+        }
+        assert_eq!(
+            (lift_code(0.0), lift_code(1.0), lift_code(2.0)),
+            (0, 65535, 65535)
+        );
+    }
+
+    /// The tight shell: every top at or above the field under its prism and at least MIN_LIFT,
+    /// on the full shell's vertical edge (the same point, lowered along it), each vertical edge's
+    /// top one point and one code for every prism on it (so the shell stays closed, across uv
+    /// seams too), and the full shell's tops all at the depth (code 65535).
+    #[test]
+    fn tight_shells_stay_closed_and_above_the_field() {
+        // a floor at 0 with sparse spikes at 1 and a ramp: prisms with empty space above them
+        let (w, h) = (37usize, 29usize);
+        let mut v = vec![0.0f32; w * h];
+        for (i, x) in v.iter_mut().enumerate() {
+            let (px, py) = (i % w, i / w);
+            *x = if px % 12 == 3 && py % 10 == 4 {
+                1.0
+            } else if px > 30 {
+                (py as f32 / h as f32) * 0.6
+            } else {
+                0.0
+            };
+        }
+        let hm = HeightMap::new(w as u32, h as u32, v).unwrap();
+        for (name, mesh) in [
+            ("sphere", Mesh::sphere(1.0, 24, 12).unwrap()),
+            ("torus", Mesh::torus(1.0, 0.35, 20, 10).unwrap()),
+        ] {
+            for outward in [false, true] {
+                for tiling in [1.0, 2.0] {
+                    let full = build(&mesh, 0.1, outward, false, &hm, tiling);
+                    let tight = build(&mesh, 0.1, outward, true, &hm, tiling);
+                    assert!(
+                        full.data.iter().all(|d| d.lift[..3] == [65535; 3]),
+                        "{name}"
+                    );
+                    let mut lowered = 0;
+                    let mut at_edge: std::collections::HashMap<[i32; 6], ([f32; 3], u32)> =
+                        Default::default();
+                    for (d, f) in tight
+                        .data
+                        .iter()
+                        .zip(&full.data)
+                        .filter(|(d, _)| !degenerate(d))
+                    {
+                        for k in 0..3 {
+                            let m = d.lift[k] as f64 / 65535.0;
+                            assert!(
+                                m as f32 >= d.info[0] && m >= MIN_LIFT - 1e-12,
+                                "{name}: a top below the field"
+                            );
+                            lowered += (d.lift[k] < 65535) as usize;
+                            for i in 0..3 {
+                                let want = f.bottom[k][i] as f64
+                                    + (f.top[k][i] as f64 - f.bottom[k][i] as f64) * m;
+                                assert!(
+                                    (d.top[k][i] as f64 - want).abs() < 1e-6,
+                                    "{name}: off its edge"
+                                );
+                            }
+                            let q = |x: f32| (x * 1e4).round() as i32;
+                            let (ft, fb) = (f.top[k], f.bottom[k]);
+                            let key = [q(ft[0]), q(ft[1]), q(ft[2]), q(fb[0]), q(fb[1]), q(fb[2])];
+                            let top = [d.top[k][0], d.top[k][1], d.top[k][2]];
+                            let seen = at_edge.entry(key).or_insert((top, d.lift[k]));
+                            assert_eq!(seen.1, d.lift[k], "{name}: an edge with two heights");
+                            // one point (a uv seam's repeated vertex differs in its last bits)
+                            assert!(
+                                (0..3).all(|i| (seen.0[i] - top[i]).abs() < 1e-6),
+                                "{name}: an edge with two tops"
+                            );
+                        }
+                    }
+                    assert!(lowered > 0, "{name}: nothing lowered");
+                }
+            }
+        }
     }
 
     /// Neighbours split their shared side along the same diagonal.
@@ -476,6 +630,7 @@ mod tests {
             &Mesh::torus(1.0, 0.35, 12, 8).unwrap(),
             0.1,
             false,
+            true,
             &hm,
             1.0,
         );
