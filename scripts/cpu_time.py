@@ -20,7 +20,7 @@ import os
 import subprocess
 import sys
 
-METHODS = ("prism", "prism_exact", "grid", "fan", "pom", "flat", "exact", "ncs")
+METHODS = ("prism", "prism_full", "prism_exact", "grid", "fan", "pom", "flat", "exact", "ncs")
 
 
 def _child(scene_name: str, methods: list[str], frames: int) -> None:
@@ -34,7 +34,8 @@ def _child(scene_name: str, methods: list[str], frames: int) -> None:
     if scene_name not in scenes:
         scenes = dict(heldout_planar_suite(256))
     sc = scenes[scene_name]
-    make = {"prism": lambda: pk.Prism(shadows="none"), "prism_exact": lambda: pk.Prism(shadows="none", exact=True),
+    make = {"prism": lambda: pk.Prism(shadows="none"), "prism_full": lambda: pk.Prism(shadows="none", tight=False),
+            "prism_exact": lambda: pk.Prism(shadows="none", exact=True),
             "grid": lambda: pk.Tessellated(1.0, shadows="none", pattern="grid"),
             "fan": lambda: pk.Tessellated(1.0, shadows="none", pattern="fan"), "pom": lambda: pk.POM(shadows="none"),
             "flat": pk.Flat, "exact": pk.Exact, "ncs": lambda: pk.NCS(shadows="none")}

@@ -23,6 +23,11 @@ And the Tessellated frames (-tess, -tess_none; issue 30: the displaced mesh cuts
 quad into four triangles about a centre vertex on the field, a quarter of the chord error);
 against render_exact they are checked in test_reference_exact.py.
 
+The Prism frames above are rendered with tight=False, the full shell they were saved with (issue
+33 made the tight shell the default, Prism.tight); the tight shell's own frames (-prism_tight,
+-prism_tight_out, -prism_tight_exact) were pinned when it was built. Against Mitsuba it is no
+less accurate (tests/test_silhouettes.py).
+
 Every AOV must be bit-identical, except where a shared routine changed the arithmetic: those
 frames are listed in TOLERANT with the reason and the measured bound, and are checked against it
 (uv in texels and colour on the pixels both frames cover, steps within one sample, flags

@@ -37,6 +37,7 @@ pub use ncs::MAP_SIZE as NCS_MAP_SIZE;
 pub use parallax::Parallax;
 pub use pom::Pom;
 pub use prism::Prism;
+pub use prism::{PRISM_BYTES, PRISM_VERTEX_BYTES};
 pub use relief::Relief;
 pub use steep::SteepParallax;
 pub use tessellated::Tessellated;

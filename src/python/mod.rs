@@ -34,6 +34,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("NCS_MAP_SIZE", crate::methods::NCS_MAP_SIZE)?;
     m.add("NCS_MAP_BYTES", crate::methods::NCS_MAP_BYTES)?;
+    m.add("PRISM_BYTES", crate::methods::PRISM_BYTES)?;
+    m.add("PRISM_VERTEX_BYTES", crate::methods::PRISM_VERTEX_BYTES)?;
     // the contracts Python derives its checks and Literals from (one source: the core)
     m.add("MAX_LIGHTS", crate::scene::MAX_LIGHTS)?;
     m.add("AOV_NAMES", crate::render::Aovs::NAMES.to_vec())?;

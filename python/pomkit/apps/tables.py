@@ -245,10 +245,11 @@ def silhouettes_table(size: int = 256) -> str:
     from pomkit import _core
     MAP_BYTES = {"size": _core.NCS_MAP_SIZE, "bytes": _core.NCS_MAP_BYTES}  # one packed Rgba32Uint map, two texels a map texel
     tris = len(pk.Mesh.torus(segments=48, tube_segments=24).indices) // 3
-    # a closed shell draws its tops only: 3 vertices of 60 bytes, and 272 bytes of prism data
-    prism_bytes = tris * (3 * 60 + 272)
+    # a closed shell draws its tops only: 3 vertices a prism, and its data
+    vb, pb = _core.PRISM_VERTEX_BYTES, _core.PRISM_BYTES
+    prism_bytes = tris * (3 * vb + pb)
     rows += ["", f"NCS's extra GPU memory: one packed {MAP_BYTES['size']}² Rgba32Uint map = {MAP_BYTES['bytes'] / 2**20:.0f} MiB per mesh (cached, at most 4 meshes).",
-             f"Prism's extra GPU memory: 3 boundary vertices of 60 bytes (a closed shell) + 272 bytes of prism data per triangle = {prism_bytes / 2**20:.2f} MiB for this {tris}-triangle torus."]
+             f"Prism's extra GPU memory: 3 boundary vertices of {vb} bytes (a closed shell) + {pb} bytes of prism data per triangle = {prism_bytes / 2**20:.2f} MiB for this {tris}-triangle torus."]
     return "\n".join(rows)
 
 

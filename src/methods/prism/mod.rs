@@ -4,6 +4,11 @@
 //! binding 1).
 pub mod prisms;
 
+/// GPU bytes of one prism's data (its texels in the prism texture).
+pub const PRISM_BYTES: usize = prisms::TEXELS_PER_PRISM as usize * 16;
+/// GPU bytes of one vertex of the shell's boundary faces.
+pub const PRISM_VERTEX_BYTES: usize = std::mem::size_of::<prisms::PrismVertex>();
+
 use super::{check_range, Geometry, Pass, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::contract::{
     BuildInputs, GpuMesh, MethodGeometry, MethodResources, Resident, ResourceKind,
