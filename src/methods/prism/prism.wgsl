@@ -10,9 +10,12 @@
 // highest height lies below the ray's lowest point in them are crossed without a march.
 //
 // Parameterisation: a point of a prism is (b1, b2, h): barycentrics of the base triangle and
-// the height coordinate (1 on the top). uv, the tangent frame and the height interpolate
-// linearly in it, so the march between entry and exit is linear in texture space, as in the
-// paper. The frame at the hit is interpolated from the triangle's corners.
+// the height in the field's units (0 on the bottom; on the top, each corner's top height: 1 on
+// the paper's full shell, the highest height beside the corner's edge on the tight shell,
+// prisms.rs). The boundary triangles interpolate it linearly from their corners; uv, the tangent
+// frame and the height interpolate linearly in it, so the march between entry and exit is linear
+// in texture space, as in the paper. The frame at the hit is interpolated from the triangle's
+// corners.
 //
 // The method's own pass (a top-level shader, not a `march` module): its geometry is the prisms
 // (geometry::prisms). Outward shells (the paper's set-up) put h = 0 on the base mesh and h = 1
@@ -37,10 +40,11 @@ const MAX_PRISMS: u32 = 64u;
 
 // The method's own resource (group 2, binding 1): the per-prism data as rgba32uint texels
 // (prisms.rs's `texels`), PRISM_TEXELS a prism, a power-of-two number of prisms a row:
-//   0-2 top corners, 3-5 bottom corners (xyz, f32 bits). In their w (f32), what the walk needs
-//   at every prism it crosses: 0.w the highest height under the prism, 1.w the diagonal bits
-//   (bit k: side k's split), 2.w the lowest height, 3.w-5.w the prism across side k (-1: the
-//   shell's boundary). A span reads these six texels.
+//   0-2 top corners, 3-5 bottom corners (xyz, f32 bits). In their w, what the walk needs at
+//   every prism it crosses: 0.w the highest height under the prism (f32), 1.w the diagonal bits
+//   (bit k: side k's split), the plateau bit (3: the lowest height equals the highest) and corner
+//   2's top height (unorm16, bits 16-31), 2.w corners 0 and 1's top heights (unorm16 x 2),
+//   3.w-5.w the prism across side k (f32, -1: the shell's boundary). A span reads these six.
 //   6: uv0, uv1; 7: uv2 (f32 bits): a candidate's segment reads these two.
 //   8-10: corner k's frame: normal and tangent (octahedral snorm16), uv scale (f32 bits; corner
 //   0's x carries the tangent's handedness in its sign bit): the hit's three texels (nine when

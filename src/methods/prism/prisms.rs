@@ -1,6 +1,6 @@
 //! Prism POM (Dachsbacher & Tatarchuk 2007): each base triangle extruded along its vertex
 //! normals into a prism (top, bottom and three side slabs of two triangles each, wound outward),
-//! built once per (mesh, depth, shell direction) on the CPU.
+//! built once per (mesh, map, depth, tiling, shell direction, tightness) on the CPU.
 
 use crate::mesh::{Mesh, Vertex};
 use crate::scene::HeightMap;
@@ -152,6 +152,8 @@ type EdgeKey = [i64; 6];
 /// convention) or outward (bottom = base surface, top `depth` above along the normals: the
 /// paper's set-up, where features rise above the base mesh). Neighbouring prisms share their
 /// side: they split it along the same diagonal, so that a ray leaving one enters the other.
+/// `tight`: each vertical edge's top lowered to the highest height under the prisms beside it
+/// (`PrismData::lift`); else every top at the full depth, the paper's shell.
 pub fn build(
     mesh: &Mesh,
     depth: f32,
