@@ -162,6 +162,7 @@ impl Unit for Prism {
             shadow_fs: "fs_prism_shadow",
         };
         s.defs.clear();
+        s.defs.push("PRISM_CORNER");
         if self.exact {
             s.defs.push("PRISM_EXACT");
         }

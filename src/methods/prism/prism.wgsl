@@ -82,16 +82,39 @@ fn prism_across(adj: vec3<f32>, side: u32) -> u32 {
     return select(NONE, u32(max(a, 0.0)), side <= 2u && a >= 0.0);
 }
 
-// A boundary-face corner seen through `clip_from_world` (the camera's or the light's).
-fn prism_vertex(v: VertexIn, prism: u32, clip_from_world: mat4x4<f32>) -> VertexOut {
+// A boundary-face corner seen through `clip_from_world` (the camera's or the light's), with its
+// face's centre; the faces are drawn unindexed, three vertices each, so `vi % 3` is the
+// corner's place in its face.
+fn prism_vertex(v: VertexIn, vi: u32, prism: u32, centre: vec3<f32>, clip_from_world: mat4x4<f32>) -> VertexOut {
     var o = pass_through(v, to_clip(v.position, clip_from_world));
     o.prism = prism;
+    let c = vi % 3u;
+    o.corner = vec3<f32>(f32(c == 0u), f32(c == 1u), f32(c == 2u));
+    o.from_centre = v.position - centre;
     return o;
 }
 
 @vertex
-fn vs_prism(v: VertexIn, @location(5) prism: u32) -> VertexOut {
-    return prism_vertex(v, prism, V.view_proj);
+fn vs_prism(v: VertexIn, @builtin(vertex_index) vi: u32, @location(5) prism: u32,
+            @location(6) centre: vec3<f32>) -> VertexOut {
+    return prism_vertex(v, vi, prism, centre, V.view_proj);
+}
+
+// The least barycentric a walk starts at in its boundary face (walk_origin).
+const EDGE_MARGIN: f32 = 1e-5;
+
+// The point a boundary fragment walks from: its interpolated position, moved toward its face's
+// centre where it lies within EDGE_MARGIN (barycentric) of an edge, until it lies that far
+// inside. There the rasteriser (exact, fixed point) and the interpolated position (float) can
+// disagree: a pixel the rasteriser gives this face can lie just outside it, the ray from there
+// misses the fragment's prism, its span finds no entry, and the pixel was a pinhole (about one a
+// frame on smooth content, both shells). Elsewhere the point is the fragment's own.
+fn walk_origin(in: VertexOut) -> vec3<f32> {
+    let b = in.corner;
+    let m = min(b.x, min(b.y, b.z));
+    // the least barycentric grows linearly toward the centre, where all are 1/3
+    let f = (EDGE_MARGIN - m) / max(1.0 / 3.0 - m, 1e-6);
+    return select(in.world, in.world - in.from_centre * f, m < EDGE_MARGIN);
 }
 
 // The ray's way through one prism: entry and exit (t and (b1, b2, h)) and the side it leaves
@@ -474,11 +497,12 @@ fn fs_prism(in: VertexOut) -> FsOut {
     let to_p = in.world - G.eye_object;
     let view = to_p / max(length(to_p), 1e-20);
     let px = in.clip.xy;
-    let ph = prism_walk(in.prism, in.world, view, lod);
+    let start = walk_origin(in);
+    let ph = prism_walk(in.prism, start, view, lod);
     if (!ph.ok) {
         discard;
     }
-    let p_obj = in.world + view * ph.t;
+    let p_obj = start + view * ph.t;
     let p = to_world(p_obj);
     let sh = shade(ph.f, ph.s, ph.h, p, normal_to_world(height_normal(ph.f, ph.s, ph.hl)), ph.hl, true, px);
     var dist = length(p - V.eye);
@@ -495,17 +519,19 @@ fn fs_prism(in: VertexOut) -> FsOut {
 // The shadow-map pass: the shell's boundary seen from the light, each fragment walked along the
 // light's direction; the hit's depth in the light's projection.
 @vertex
-fn vs_prism_shadow(v: VertexIn, @location(5) prism: u32) -> VertexOut {
-    return prism_vertex(v, prism, V.shadow_vp);
+fn vs_prism_shadow(v: VertexIn, @builtin(vertex_index) vi: u32, @location(5) prism: u32,
+                   @location(6) centre: vec3<f32>) -> VertexOut {
+    return prism_vertex(v, vi, prism, centre, V.shadow_vp);
 }
 
 @fragment
 fn fs_prism_shadow(in: VertexOut) -> @builtin(frag_depth) f32 {
     let lod = compute_lod(in.uv * G.tiling);
     let view = shadow_light_object();
-    let ph = prism_walk(in.prism, in.world, view, lod);
+    let start = walk_origin(in);
+    let ph = prism_walk(in.prism, start, view, lod);
     if (!ph.ok) {
         discard;
     }
-    return shadow_depth(to_world(in.world + view * ph.t));
+    return shadow_depth(to_world(start + view * ph.t));
 }

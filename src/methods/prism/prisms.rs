@@ -7,17 +7,33 @@ use crate::scene::HeightMap;
 use glam::{DVec2, DVec3};
 
 /// A vertex of a prism's boundary face: the shared vertex (`pomkit::vertex::VertexIn`, locations
-/// 0-4) and the index of its prism (location 5).
+/// 0-4), the index of its prism (location 5) and the centre of its face (location 6: prism.wgsl's
+/// `walk_origin` moves a fragment within rounding of an edge toward it).
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct PrismVertex {
     pub vertex: Vertex,
     pub prism: u32,
+    pub centre: [f32; 3],
 }
 
 impl PrismVertex {
-    pub const ATTRIBUTES: [wgpu::VertexAttribute; 6] =
-        Vertex::with_location5(wgpu::VertexFormat::Uint32);
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 7] = {
+        let a = Vertex::with_location5(wgpu::VertexFormat::Uint32);
+        [
+            a[0],
+            a[1],
+            a[2],
+            a[3],
+            a[4],
+            a[5],
+            wgpu::VertexAttribute {
+                format: wgpu::VertexFormat::Float32x3,
+                offset: std::mem::size_of::<Vertex>() as u64 + 4,
+                shader_location: 6,
+            },
+        ]
+    };
     pub fn layout() -> wgpu::VertexBufferLayout<'static> {
         wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<PrismVertex>() as u64,
@@ -280,12 +296,15 @@ pub fn build(
                     uv_scale: mesh.uv_scale[i],
                 },
                 prism: t as u32,
+                centre: [0.0; 3],
             }
         };
-        let mut push_tri = |a: PrismVertex, b: PrismVertex, c: PrismVertex| {
+        let mut push_tri = |mut a: PrismVertex, mut b: PrismVertex, mut c: PrismVertex| {
             let pa = DVec3::from_array(a.vertex.position.map(|x| x as f64));
             let pb = DVec3::from_array(b.vertex.position.map(|x| x as f64));
             let pc = DVec3::from_array(c.vertex.position.map(|x| x as f64));
+            let mid = ((pa + pb + pc) / 3.0).as_vec3().to_array();
+            (a.centre, b.centre, c.centre) = (mid, mid, mid);
             let g = (pb - pa).cross(pc - pa);
             // outward: the face's normal points away from the prism's centre
             if g.dot((pa + pb + pc) / 3.0 - centre) >= 0.0 {
