@@ -320,8 +320,8 @@ class Prism(_PerPixel):
     ray crosses no empty shell above the field: neighbours share the edge, so the shell stays
     closed, and every prism's top stays above its field. Thinner prisms also bend the march's
     straight segments less (docs/cost.md, "The tight shell"). `tight=False` is the paper's
-    shell, every top at the full depth. `exact=True` marches each segment with the max-mip traversal (exact patch
-    intersection) instead of POM's search. Level 0 by default (`mip_filtering=False`, as POM).
+    shell, every top at the full depth. `exact=True` marches each segment with the max-mip
+    traversal (exact patch intersection) instead of POM's search. Level 0 by default (`mip_filtering=False`, as POM).
     Shadows: "hard", "soft" (default) or "horizon", and `ao_directions`."""
 
     min_steps: int = 8

@@ -20,7 +20,7 @@ use std::sync::Arc;
 
 /// The prisms of an object's base mesh, inward or outward: the boundary faces to draw, with the
 /// per-prism data built beside them (`GpuMesh::extra[0]`).
-#[derive(Debug)]
+#[derive(Debug, Clone, Copy)]
 pub struct PrismShell {
     pub outward: bool,
     pub tight: bool,
@@ -92,11 +92,10 @@ impl MethodGeometry for PrismShell {
     }
 }
 
-/// The per-prism data (`prisms` in prism.wgsl), made with the geometry.
+/// The per-prism data (`prisms` in prism.wgsl), made with the geometry of its shell.
 #[derive(Debug)]
 pub struct PrismData {
-    pub outward: bool,
-    pub tight: bool,
+    pub shell: PrismShell,
 }
 
 impl MethodResources for PrismData {
@@ -105,11 +104,7 @@ impl MethodResources for PrismData {
     }
     fn key(&self, object: &Object) -> u64 {
         // the geometry's upload holds the buffer: no second copy, keyed as the geometry is
-        let shell = PrismShell {
-            outward: self.outward,
-            tight: self.tight,
-        };
-        hash_bytes(&[b"prism data", &shell.key(object).to_le_bytes()])
+        hash_bytes(&[b"prism data", &self.shell.key(object).to_le_bytes()])
     }
     fn build(&self, inputs: &BuildInputs<'_>) -> Result<Vec<Resident>> {
         let data = inputs
@@ -166,14 +161,12 @@ impl Unit for Prism {
         if self.exact {
             s.defs.push("PRISM_EXACT");
         }
-        s.geometry = Geometry::Own(Arc::new(PrismShell {
+        let shell = PrismShell {
             outward: self.outward,
             tight: self.tight,
-        }));
-        s.resources = Some(Arc::new(PrismData {
-            outward: self.outward,
-            tight: self.tight,
-        }));
+        };
+        s.geometry = Geometry::Own(Arc::new(shell));
+        s.resources = Some(Arc::new(PrismData { shell }));
         s
     }
     fn validate(&self) -> Result<()> {

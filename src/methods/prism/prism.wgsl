@@ -131,7 +131,8 @@ struct Span {
     // the highest height under the prism, and whether the lowest equals it (a plateau)
     max_h: f32,
     plateau: bool,
-    // the corners' extrusions (top - bottom: the normal times the shell's depth)
+    // the corners' extrusions (top - bottom: the normal times the shell's depth and the
+    // corner's top height)
     e0: vec3<f32>,
     e1: vec3<f32>,
     e2: vec3<f32>,
@@ -220,8 +221,8 @@ fn consider_side(acc: ptr<function, SpanAcc>, tk: RayCorner, tj: RayCorner, bk: 
 }
 
 fn prism_span(p: u32, o: vec3<f32>, d: vec3<f32>) -> Span {
-    // the prism's corners, with its adjacency, highest and lowest height and diagonals in their
-    // w (no texels: bytes only)
+    // the prism's corners, with its highest height, diagonals, plateau bit, tops' heights and
+    // adjacency in their w (no texels: bytes only)
     fetched(0u, 96u);
     let q0 = prism_texel(p, 0u);
     let q1 = prism_texel(p, 1u);

@@ -303,11 +303,12 @@ pub fn build(
             let pa = DVec3::from_array(a.vertex.position.map(|x| x as f64));
             let pb = DVec3::from_array(b.vertex.position.map(|x| x as f64));
             let pc = DVec3::from_array(c.vertex.position.map(|x| x as f64));
-            let mid = ((pa + pb + pc) / 3.0).as_vec3().to_array();
-            (a.centre, b.centre, c.centre) = (mid, mid, mid);
+            let mid = (pa + pb + pc) / 3.0;
+            let mid32 = mid.as_vec3().to_array();
+            (a.centre, b.centre, c.centre) = (mid32, mid32, mid32);
             let g = (pb - pa).cross(pc - pa);
             // outward: the face's normal points away from the prism's centre
-            if g.dot((pa + pb + pc) / 3.0 - centre) >= 0.0 {
+            if g.dot(mid - centre) >= 0.0 {
                 vertices.extend_from_slice(&[a, b, c]);
             } else {
                 vertices.extend_from_slice(&[a, c, b]);
