@@ -4,6 +4,7 @@
 //! and call [`render::Renderer::render`]. The `python` feature adds the pyo3 layer
 //! (`pomkit._core`), which only converts arrays and errors.
 
+pub mod assets;
 pub mod contract;
 pub mod error;
 pub mod gpu;

@@ -81,6 +81,8 @@ def scene_hash(scene, **settings) -> str:
         if o.mesh.recipe is not None:
             h.update(b"mesh recipe" + _json(o.mesh.recipe))
         else:
+            # the displaced mesh of a mesh from arrays welds its shared edges (seams, hard edges)
+            h.update(b"mesh arrays, welded edges")
             mesh = o.mesh._arrays()
             for k in sorted(mesh):
                 _array(h, k, mesh[k])

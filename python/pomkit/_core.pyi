@@ -129,6 +129,41 @@ class MeshFromArrays(MeshArrays):
 
 
 @type_check_only
+class GltfNode(MeshArrays):
+    """`load_gltf`: one mesh node of a glTF file."""
+    name: str
+    transform: list[float]   # 16, row-major: the node's world transform
+    tangents: Literal["file", "mikktspace"]
+    flat_normals: int
+
+
+@type_check_only
+class AssetReportDict(TypedDict):
+    """`check_asset`: the asset report's fields (pomkit.AssetReport)."""
+    vertices: int
+    triangles: int
+    welded_vertices: int
+    charts: int
+    mirrored_charts: int
+    mirrored_triangles: int
+    degenerate_uv_triangles: int
+    degenerate_triangles: int
+    seam_edges: int
+    mirror_edges: int
+    open_edges: int
+    open_length: float
+    hard_edges: int
+    nonmanifold_edges: int
+    uvs_outside_unit_square: bool
+    seam_height_max: Optional[float]
+    seam_height_mean: Optional[float]
+    overlapping_texels: Optional[int]
+    min_chart_gap_texels: Optional[int]
+    max_clean_mip: Optional[int]
+    examples: list[tuple[str, list[float]]]
+
+
+@type_check_only
 class AdapterDict(TypedDict):
     name: str
     backend: str
@@ -203,7 +238,10 @@ def reference_directions(axes: np.ndarray, tan_r: np.ndarray, q: np.ndarray, n: 
 def tessellate(scene: SceneDict, texels_per_vertex: float, object: int = 0,
                pattern: Literal["fan", "grid"] = "fan") -> TessellationDict: ...
 def mesh_from_arrays(positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray, indices: np.ndarray,
-                     tangents: Optional[np.ndarray] = None) -> MeshFromArrays: ...
+                     tangents: Optional[np.ndarray] = None,
+                     frames: Literal["pomkit", "mikktspace"] = "pomkit") -> MeshFromArrays: ...
+def load_gltf(path: str) -> list[GltfNode]: ...
+def check_asset(mesh: MeshData, height: Optional[HeightData] = None, tiling: float = 1.0) -> AssetReportDict: ...
 def mesh_generate(kind: Literal["plane", "sphere", "torus", "cylinder", "cube"], a: float, b: float, n1: int,
                   n2: int) -> MeshArrays: ...
 def load_image(path: Any, kind: Literal["height", "albedo"]) -> tuple[np.ndarray, int]: ...

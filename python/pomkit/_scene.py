@@ -120,10 +120,16 @@ class Mesh:
         return cls._generate("cube", _pos("size", size), 0.0, _count("segments", segments), 1)
 
     @classmethod
-    def from_arrays(cls, positions, normals, uvs, indices, tangents=None) -> "Mesh":
-        """A mesh from numpy arrays: positions (n,3), normals (n,3), uvs (n,2), indices (m,) or
-        (m/3,3), optional tangents (n,4). Tangents are computed when not given; triangles with
-        degenerate uvs get a fallback frame and a warning; a mesh with no usable uvs raises."""
+    def from_arrays(cls, positions, normals, uvs, indices, tangents: Any = None) -> "Mesh":
+        """A mesh from numpy arrays: positions (n,3), normals (n,3), uvs (n,2) in pomkit's
+        convention (v down: row 0 of a map at v = 0), indices (m,) or (m/3,3).
+
+        tangents: an (n,4) array in pomkit's handedness (the bitangent w * cross(N, T) points
+        along +dP/dv, minus glTF's w), or which frames to compute: "pomkit" (None, the default:
+        dP/du per triangle, area-weighted per vertex, the uv derivatives a height field's
+        displacement follows) or "mikktspace" (MikkTSpace, what glTF asks for and what engines
+        bake normal maps against). Triangles with degenerate uvs get a fallback frame and a
+        warning; a mesh with no usable uvs raises."""
         p = _float_array("positions", positions, 3)
         n = _float_array("normals", normals, 3)
         uv = _float_array("uvs", uvs, 2)
@@ -139,8 +145,13 @@ class Mesh:
         if idx.size and idx.max() >= len(p):
             raise ValueError(f"indices: index {int(idx.max())} is out of range for {len(p)} vertices")
         idx = np.ascontiguousarray(idx, dtype=np.uint32)
-        t = None if tangents is None else _float_array("tangents", tangents, 4)
-        out = _core.mesh_from_arrays(p, n, uv, idx, t)
+        if tangents is None or isinstance(tangents, str):
+            frames = "pomkit" if tangents is None else tangents
+            if frames not in ("pomkit", "mikktspace"):
+                raise ValueError(f'tangents: expected "pomkit", "mikktspace" or an (n, 4) array, got {frames!r}')
+            out = _core.mesh_from_arrays(p, n, uv, idx, None, frames)
+        else:
+            out = _core.mesh_from_arrays(p, n, uv, idx, _float_array("tangents", tangents, 4))
         degenerate, fallback = out["degenerate_uv_triangles"], out["fallback_vertices"]
         if degenerate:
             warnings.warn(
@@ -151,12 +162,21 @@ class Mesh:
         return cls._from_core(out, "arrays")
 
     @classmethod
-    def from_trimesh(cls, mesh) -> "Mesh":
-        """A mesh from a `trimesh.Trimesh` with uvs (`mesh.visual.uv`)."""
+    def from_trimesh(cls, mesh, tangents: Any = "mikktspace") -> "Mesh":
+        """A mesh from a `trimesh.Trimesh` with uvs (`mesh.visual.uv`).
+
+        trimesh keeps uvs with v pointing up (it flips glTF's v on load and samples images at
+        1 - v); pomkit's v points down (row 0 of a map at v = 0, as glTF's), so the uvs become
+        (u, 1 - v). Normals are `mesh.vertex_normals`: the file's only where trimesh kept them
+        (`trimesh.load(path, process=False)`; its default processing merges vertices and
+        recomputes normals). For glTF, `pk.load_mesh` reads the file as it is, tangents included.
+        tangents: as in `from_arrays`; MikkTSpace by default, as for a loaded asset."""
         uv = getattr(getattr(mesh, "visual", None), "uv", None)
         if uv is None:
             raise ValueError("mesh: the trimesh has no uvs (mesh.visual.uv); give it a parameterisation")
-        return cls.from_arrays(mesh.vertices, mesh.vertex_normals, uv, mesh.faces)
+        uv = np.asarray(uv, dtype=np.float64)
+        uv = np.stack([uv[:, 0], 1.0 - uv[:, 1]], axis=1)
+        return cls.from_arrays(mesh.vertices, mesh.vertex_normals, uv, mesh.faces, tangents=tangents)
 
     def _arrays(self) -> dict:
         return dict(positions=self.positions, normals=self.normals, uvs=self.uvs, indices=self.indices,

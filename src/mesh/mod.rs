@@ -5,6 +5,8 @@
 //! (|dP/du|, |dP/dv|; Chen & Chang's S_tangent and S_binormal), which turns a world direction into
 //! a texture-space one.
 
+pub mod topology;
+
 use crate::error::{Error, Result};
 use glam::{DVec2, DVec3};
 use std::f64::consts::PI;
@@ -21,6 +23,17 @@ pub struct Mesh {
     /// row-major from uv (0,0) to (1,1), quads split along the (i+1,j)-(i,j+1) diagonal. Empty for
     /// meshes from arrays. Lets the tessellation place vertices exactly on texel centres.
     pub charts: Vec<[u32; 3]>,
+}
+
+/// Where a mesh from arrays gets its tangent frames (the uv scales are always computed).
+#[derive(Clone, Debug)]
+pub enum TangentFrames {
+    /// the caller's tangents, in pomkit's handedness (bitangent `w * cross(N, T)` along +dP/dv)
+    Given(Vec<[f32; 4]>),
+    /// MikkTSpace, as glTF asks where a file has none (maps baked against it line up)
+    MikkTSpace,
+    /// pomkit's own: per-triangle dP/du accumulated per vertex, weighted by area
+    Pomkit,
 }
 
 /// What `compute_frames` found: triangles whose uvs are degenerate get a fallback frame.
@@ -102,14 +115,26 @@ impl Mesh {
         DVec2::from(self.uvs[i as usize].map(f64::from))
     }
 
-    /// Build a mesh from arrays, validating them and computing the tangent frames (and the
-    /// uv scales) when `tangents` is None.
+    /// Build a mesh from arrays, validating them and computing the tangent frames (pomkit's)
+    /// and the uv scales when `tangents` is None.
     pub fn from_arrays(
         positions: Vec<[f32; 3]>,
         normals: Vec<[f32; 3]>,
         uvs: Vec<[f32; 2]>,
         indices: Vec<u32>,
         tangents: Option<Vec<[f32; 4]>>,
+    ) -> Result<(Self, FrameReport)> {
+        let frames = tangents.map_or(TangentFrames::Pomkit, TangentFrames::Given);
+        Self::from_arrays_with(positions, normals, uvs, indices, frames)
+    }
+
+    /// Build a mesh from arrays, validating them, with the tangent frames `frames` says.
+    pub fn from_arrays_with(
+        positions: Vec<[f32; 3]>,
+        normals: Vec<[f32; 3]>,
+        uvs: Vec<[f32; 2]>,
+        indices: Vec<u32>,
+        frames: TangentFrames,
     ) -> Result<(Self, FrameReport)> {
         let n = positions.len();
         if n == 0 {
@@ -160,7 +185,7 @@ impl Mesh {
                 "contain NaN, Inf or zero-length vectors",
             ));
         }
-        if let Some(t) = &tangents {
+        if let TangentFrames::Given(t) = &frames {
             if t.len() != n {
                 return Err(Error::arg(
                     "tangents",
@@ -180,7 +205,25 @@ impl Mesh {
         };
         // counter-clockwise seen from where the normals point: the pipeline culls back faces
         mesh.orient_outward();
-        let report = mesh.compute_frames(tangents)?;
+        let report = match frames {
+            TangentFrames::Given(t) => mesh.compute_frames(Some(t))?,
+            TangentFrames::Pomkit => mesh.compute_frames(None)?,
+            TangentFrames::MikkTSpace => {
+                let report = mesh.compute_frames(None)?;
+                let mikk = crate::assets::tangents::mikktspace(
+                    &mesh.positions,
+                    &mesh.normals,
+                    &mesh.uvs,
+                    &mesh.indices,
+                );
+                for (t, m) in mesh.tangents.iter_mut().zip(mikk) {
+                    if let Some(m) = m {
+                        *t = m;
+                    }
+                }
+                report
+            }
+        };
         Ok((mesh, report))
     }
 

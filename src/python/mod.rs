@@ -1,8 +1,9 @@
 //! The pyo3 layer: conversion only, one file per concept (tokenizers' layout). The Renderer
 //! (`renderer.rs`), scenes and meshes (`scene_args.rs`), methods (`method_args.rs`), frames
-//! (`frame.rs`), the oracle (`oracle_arrays.rs`), image files (`io.rs`), long builds (`build_hooks.rs`)
+//! (`frame.rs`), the oracle (`oracle_arrays.rs`), assets (`assets.rs`), image files (`io.rs`), long builds (`build_hooks.rs`)
 //! and errors (`errors.rs`); this file holds the module's init and one array helper.
 
+mod assets;
 mod build_hooks;
 mod errors;
 mod frame;
@@ -72,6 +73,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(oracle_arrays::oracle_refusal, m)?)?;
     m.add_function(wrap_pyfunction!(oracle_arrays::reference_directions, m)?)?;
     m.add_function(wrap_pyfunction!(scene_args::mesh_from_arrays, m)?)?;
+    m.add_function(wrap_pyfunction!(assets::load_gltf, m)?)?;
+    m.add_function(wrap_pyfunction!(assets::check_asset, m)?)?;
     m.add_function(wrap_pyfunction!(scene_args::mesh_generate, m)?)?;
     m.add_function(wrap_pyfunction!(scene_args::bounding_sphere, m)?)?;
     m.add_function(wrap_pyfunction!(scene_args::tessellate, m)?)?;

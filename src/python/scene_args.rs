@@ -4,7 +4,7 @@
 
 use super::nd_array;
 use crate::error::Error;
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, TangentFrames};
 use crate::scene::{
     shared, Albedo, Camera, HeightMap, Light, Material, Object, Scene, Shared, Transform,
 };
@@ -28,7 +28,7 @@ fn rows<const N: usize>(a: &PyReadonlyArray2<'_, f32>, name: &str) -> PyResult<V
 
 /// A mesh's arrays by name (the stub's `MeshArrays`): positions (n, 3), normals (n, 3), uvs
 /// (n, 2), indices (m,), tangents (n, 4), uv_scale (n, 2), charts (c, 3).
-fn mesh_out<'py>(py: Python<'py>, m: &Mesh) -> PyResult<Bound<'py, PyDict>> {
+pub(crate) fn mesh_out<'py>(py: Python<'py>, m: &Mesh) -> PyResult<Bound<'py, PyDict>> {
     let n = m.positions.len();
     let f = |v: Vec<f32>, k: usize| nd_array(py, (n, k), v);
     let d = PyDict::new(py);
@@ -45,10 +45,11 @@ fn mesh_out<'py>(py: Python<'py>, m: &Mesh) -> PyResult<Bound<'py, PyDict>> {
     Ok(d)
 }
 
-/// Validate mesh arrays and compute the tangent frames. Returns the mesh's arrays by name
-/// (`mesh_out`) and the repairs made: degenerate_uv_triangles, fallback_vertices.
+/// Validate mesh arrays and compute the tangent frames: the given `tangents`, or else `frames`
+/// ("pomkit" or "mikktspace"). Returns the mesh's arrays by name (`mesh_out`) and the repairs
+/// made: degenerate_uv_triangles, fallback_vertices.
 #[pyfunction]
-#[pyo3(signature = (positions, normals, uvs, indices, tangents=None))]
+#[pyo3(signature = (positions, normals, uvs, indices, tangents=None, frames="pomkit"))]
 pub fn mesh_from_arrays<'py>(
     py: Python<'py>,
     positions: PyReadonlyArray2<'py, f32>,
@@ -56,6 +57,7 @@ pub fn mesh_from_arrays<'py>(
     uvs: PyReadonlyArray2<'py, f32>,
     indices: PyReadonlyArray1<'py, u32>,
     tangents: Option<PyReadonlyArray2<'py, f32>>,
+    frames: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let p = rows::<3>(&positions, "positions")?;
     let n = rows::<3>(&normals, "normals")?;
@@ -65,7 +67,19 @@ pub fn mesh_from_arrays<'py>(
         .as_ref()
         .map(|t| rows::<4>(t, "tangents"))
         .transpose()?;
-    let (mesh, rep) = py.detach(|| Mesh::from_arrays(p, n, u, i, t))?;
+    let frames = match (t, frames) {
+        (Some(t), _) => TangentFrames::Given(t),
+        (None, "pomkit") => TangentFrames::Pomkit,
+        (None, "mikktspace") => TangentFrames::MikkTSpace,
+        (None, o) => return Err(Error::arg(
+            "tangents",
+            format!(
+                "unknown tangent frames {o:?}: give \"mikktspace\", \"pomkit\" or an (n, 4) array"
+            ),
+        )
+        .into()),
+    };
+    let (mesh, rep) = py.detach(|| Mesh::from_arrays_with(p, n, u, i, frames))?;
     let d = mesh_out(py, &mesh)?;
     d.set_item("degenerate_uv_triangles", rep.degenerate_uv_triangles)?;
     d.set_item("fallback_vertices", rep.fallback_vertices)?;

@@ -244,64 +244,9 @@ pub fn tessellate(
             }
         }
     } else {
-        let kw = hm.width as f64 * tiling / tpv;
-        let kh = hm.height as f64 * tiling / tpv;
-        let mut total = 0usize;
-        let levels: Vec<usize> = mesh
-            .indices
-            .chunks_exact(3)
-            .map(|t| {
-                let uv = |i: u32| {
-                    DVec2::new(
-                        mesh.uvs[i as usize][0] as f64,
-                        mesh.uvs[i as usize][1] as f64,
-                    )
-                };
-                let mut n = 1.0f64;
-                for (x, y) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
-                    let d = uv(y) - uv(x);
-                    n = n.max((d.x.abs() * kw).max(d.y.abs() * kh).ceil());
-                }
-                let n = n as usize;
-                total += (n + 1) * (n + 2) / 2;
-                n
-            })
-            .collect();
-        check(total)?;
-        for (tri, &n) in mesh.indices.chunks_exact(3).zip(&levels) {
-            let base = out.positions.len() as u32;
-            let (i0, i1, i2) = (tri[0] as usize, tri[1] as usize, tri[2] as usize);
-            let uv = |i: usize| DVec2::new(mesh.uvs[i][0] as f64, mesh.uvs[i][1] as f64);
-            for a in 0..=n {
-                for b in 0..=(n - a) {
-                    let w1 = a as f64 / n as f64;
-                    let w2 = b as f64 / n as f64;
-                    let w0 = 1.0 - w1 - w2;
-                    let bs = lerp_vertex(mesh, [(i0, w0), (i1, w1), (i2, w2)]);
-                    push(&mut out, bs, uv(i0) * w0 + uv(i1) * w1 + uv(i2) * w2);
-                }
-            }
-            // vertex index of (a, b) in the row-by-row layout
-            let row_start: Vec<u32> = (0..=n)
-                .scan(base, |acc, a| {
-                    let s = *acc;
-                    *acc += (n + 1 - a) as u32;
-                    Some(s)
-                })
-                .collect();
-            for a in 0..n {
-                for b in 0..(n - a) {
-                    let p = row_start[a] + b as u32;
-                    let q = row_start[a] + b as u32 + 1;
-                    let r = row_start[a + 1] + b as u32;
-                    out.indices.extend_from_slice(&[p, r, q]);
-                    if b + 1 < n - a {
-                        let s = row_start[a + 1] + b as u32 + 1;
-                        out.indices.extend_from_slice(&[q, r, s]);
-                    }
-                }
-            }
-        }
+        arrays_mesh(
+            mesh, tpv, tiling, hm.width, hm.height, &mut out, &push, &check,
+        )?;
     }
     // wind counter-clockwise about the base normal, like the base mesh
     for tri in out.indices.chunks_exact_mut(3) {
@@ -315,6 +260,198 @@ pub fn tessellate(
         }
     }
     Ok(out)
+}
+
+/// Where a vertex of a subdivided triangle lies on the welded surface: a mesh corner (welded id),
+/// point j of a geometric edge cut in m, or inside the triangle.
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+enum Place {
+    Corner(u32),
+    Edge(u32, u32),
+    Inside,
+}
+
+/// Meshes from arrays: each triangle cut barycentrically at level n, the most segments any of
+/// its edges needs, where an edge is cut into the most segments either of its sides needs so
+/// that no sub-edge spans more than tpv texels. A side cut into fewer segments than its
+/// triangle's level has its lattice points snapped (monotonically) to the edge's points, and the
+/// triangles that collapse are dropped. The vertices of a geometric edge (welded by position) are
+/// then the same points for every triangle on it; where its sides carry other uvs or normals (a
+/// seam, a hard edge), each side keeps its own vertex for its uv and frame, and all of them take
+/// the mean of their displaced positions, so that the displaced surface is one surface.
+#[allow(clippy::too_many_arguments)]
+fn arrays_mesh(
+    mesh: &Mesh,
+    tpv: f64,
+    tiling: f64,
+    width: u32,
+    height: u32,
+    out: &mut Tessellation,
+    push: &dyn Fn(&mut Tessellation, BaseSample, DVec2),
+    check: &dyn Fn(usize) -> Result<()>,
+) -> Result<()> {
+    use crate::mesh::topology::Topology;
+    use std::collections::HashMap;
+    let kw = width as f64 * tiling / tpv;
+    let kh = height as f64 * tiling / tpv;
+    let topo = Topology::new(mesh);
+    let uv = |i: u32| {
+        DVec2::new(
+            mesh.uvs[i as usize][0] as f64,
+            mesh.uvs[i as usize][1] as f64,
+        )
+    };
+    let need = |a: u32, b: u32| {
+        let d = uv(b) - uv(a);
+        (d.x.abs() * kw).max(d.y.abs() * kh).ceil().max(1.0) as u32
+    };
+    let cuts: Vec<u32> = topo
+        .edges
+        .iter()
+        .map(|(_, sides)| {
+            sides
+                .iter()
+                .map(|&s| {
+                    let (a, b) = topo.side_vertices(mesh, s);
+                    need(a, b)
+                })
+                .max()
+                .unwrap_or(1)
+        })
+        .collect();
+    let levels: Vec<u32> = topo
+        .tri_edges
+        .iter()
+        .map(|e| {
+            cuts[e[0] as usize]
+                .max(cuts[e[1] as usize])
+                .max(cuts[e[2] as usize])
+        })
+        .collect();
+    check(
+        levels
+            .iter()
+            .map(|&n| (n as usize + 1) * (n as usize + 2) / 2)
+            .sum(),
+    )?;
+    // output vertex of a place on the welded surface, seen from one side (its mesh vertices)
+    let mut shared: HashMap<(Place, u32, u32), u32> = HashMap::new();
+    // the output vertices of each shared place, to average their displaced positions
+    let mut groups: HashMap<Place, Vec<u32>> = HashMap::new();
+    for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
+        let n = levels[t];
+        let corner = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
+        let te = topo.tri_edges[t];
+        // the place of lattice point (a, b): weights w1 = a/n on corner 1, w2 = b/n on corner 2
+        let place = |a: u32, b: u32| -> (Place, [(usize, f64); 3]) {
+            let c = n - a - b; // weight of corner 0, in n-ths
+            let on_side = if b == 0 {
+                Some((0usize, a)) // corner 0 -> corner 1, t = a/n
+            } else if c == 0 {
+                Some((1, b)) // corner 1 -> corner 2, t = b/n
+            } else if a == 0 {
+                Some((2, c)) // corner 2 -> corner 0, t = c/n
+            } else {
+                None
+            };
+            let Some((k, num)) = on_side else {
+                let (w1, w2) = (a as f64 / n as f64, b as f64 / n as f64);
+                return (
+                    Place::Inside,
+                    [(corner[0], 1.0 - w1 - w2), (corner[1], w1), (corner[2], w2)],
+                );
+            };
+            let e = te[k];
+            let m = cuts[e as usize];
+            // snapped to the edge's m points, counted from the side's first corner
+            let j = ((num as u64 * m as u64 * 2 + n as u64) / (2 * n as u64)) as u32;
+            let (v0, v1) = (corner[k], corner[(k + 1) % 3]);
+            let (w0, w1) = (topo.weld[v0], topo.weld[v1]);
+            // from the edge's lower welded end, so that both sides compute the same point
+            let (lo, hi, jl) = if w0 <= w1 {
+                (v0, v1, j)
+            } else {
+                (v1, v0, m - j)
+            };
+            let s = jl as f64 / m as f64;
+            let pl = if jl == 0 {
+                Place::Corner(topo.weld[lo])
+            } else if jl == m {
+                Place::Corner(topo.weld[hi])
+            } else {
+                Place::Edge(e, jl)
+            };
+            (pl, [(lo, 1.0 - s), (hi, s), (lo, 0.0)])
+        };
+        let mut local: Vec<u32> = Vec::with_capacity(((n + 1) * (n + 2) / 2) as usize);
+        for a in 0..=n {
+            for b in 0..=(n - a) {
+                let (pl, ws) = place(a, b);
+                let key = match pl {
+                    Place::Inside => None,
+                    _ => {
+                        let mut pair = [ws[0].0 as u32, ws[1].0 as u32];
+                        if ws[1].1 == 0.0 {
+                            pair[1] = pair[0];
+                        } else if ws[0].1 == 0.0 {
+                            pair[0] = pair[1];
+                        }
+                        Some((pl, pair[0], pair[1]))
+                    }
+                };
+                if let Some(&v) = key.as_ref().and_then(|k| shared.get(k)) {
+                    local.push(v);
+                    continue;
+                }
+                let v = out.positions.len() as u32;
+                let bs = lerp_vertex(mesh, ws);
+                let puv = uv(ws[0].0 as u32) * ws[0].1
+                    + uv(ws[1].0 as u32) * ws[1].1
+                    + uv(ws[2].0 as u32) * ws[2].1;
+                push(out, bs, puv);
+                if let Some(k) = key {
+                    shared.insert(k, v);
+                    groups.entry(k.0).or_default().push(v);
+                }
+                local.push(v);
+            }
+        }
+        // lattice index of (a, b) in the row-by-row layout
+        let row_start: Vec<usize> = (0..=n as usize)
+            .scan(0usize, |acc, a| {
+                let s = *acc;
+                *acc += n as usize + 1 - a;
+                Some(s)
+            })
+            .collect();
+        let mut emit = |p: usize, q: usize, r: usize| {
+            let (p, q, r) = (local[p], local[q], local[r]);
+            if p != q && q != r && r != p {
+                out.indices.extend_from_slice(&[p, r, q]);
+            }
+        };
+        let n = n as usize;
+        for a in 0..n {
+            for b in 0..(n - a) {
+                let p = row_start[a] + b;
+                let r = row_start[a + 1] + b;
+                emit(p, p + 1, r);
+                if b + 1 < n - a {
+                    emit(p + 1, r + 1, r);
+                }
+            }
+        }
+    }
+    for vs in groups.values().filter(|vs| vs.len() > 1) {
+        let mean = vs
+            .iter()
+            .fold(DVec3::ZERO, |acc, &v| acc + v3(out.positions[v as usize]))
+            / vs.len() as f64;
+        for &v in vs {
+            out.positions[v as usize] = [mean.x as f32, mean.y as f32, mean.z as f32];
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -416,5 +553,92 @@ mod tests {
         assert!((grid - depth * 2.0 / 4.0).abs() < 1e-6, "grid {grid}");
         assert!((fan - depth * 2.0 / 16.0).abs() < 1e-6, "fan {fan}");
         assert_eq!(n_fan, 2 * n_grid);
+    }
+
+    /// A seam: a unit quad whose two triangles sit in different charts of the atlas, one drawn
+    /// three times larger (so cut into more segments), over a map whose heights differ between the
+    /// charts. The displaced mesh is still one surface: welded by position, its only open edges
+    /// are the quad's border (no T-junction, no crack along the diagonal).
+    #[test]
+    fn a_seam_is_welded_without_t_junctions() {
+        let positions = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 0.0, 1.0],
+            [0.0, 0.0, 1.0],
+        ];
+        let uvs = vec![
+            [0.05, 0.05],
+            [0.25, 0.05],
+            [0.05, 0.25],
+            [0.9, 0.3],
+            [0.9, 0.9],
+            [0.3, 0.9],
+        ];
+        let (m, _) = Mesh::from_arrays(
+            positions,
+            vec![[0.0, 1.0, 0.0]; 6],
+            uvs,
+            vec![0, 2, 1, 3, 5, 4],
+            None,
+        )
+        .unwrap();
+        let data: Vec<f32> = (0..64 * 64)
+            .map(|k| ((k * 7919) % 101) as f32 / 100.0)
+            .collect();
+        let mat = Material {
+            height: crate::scene::shared(HeightMap::new(64, 64, data).unwrap()).unwrap(),
+            depth: 0.2,
+            tiling: 1.0,
+            albedo: None,
+        };
+        for tpv in [0.5, 1.0, 3.0] {
+            let t = tessellate(&m, &mat, tpv, Pattern::Fan).unwrap();
+            let key = |i: u32| t.positions[i as usize].map(f32::to_bits);
+            let mut edges: std::collections::HashMap<([u32; 3], [u32; 3]), u32> =
+                Default::default();
+            for tri in t.indices.chunks_exact(3) {
+                for k in 0..3 {
+                    let (a, b) = (key(tri[k]), key(tri[(k + 1) % 3]));
+                    *edges
+                        .entry(if a < b { (a, b) } else { (b, a) })
+                        .or_default() += 1;
+                }
+            }
+            let mut border = 0.0;
+            for ((a, b), n) in &edges {
+                assert!(*n <= 2, "an edge with {n} triangles");
+                if *n == 1 {
+                    let (a, b) = (a.map(f32::from_bits), b.map(f32::from_bits));
+                    let mid = [(a[0] + b[0]) * 0.5, (a[2] + b[2]) * 0.5];
+                    assert!(
+                        (mid[0] + mid[1] - 1.0).abs() > 1e-4,
+                        "an open edge on the diagonal at {mid:?} (tpv {tpv})"
+                    );
+                    border += ((a[0] - b[0]).powi(2) + (a[2] - b[2]).powi(2)).sqrt() as f64;
+                }
+            }
+            assert!(
+                (border - 4.0).abs() < 1e-5,
+                "border length {border} (tpv {tpv})"
+            );
+            // no triangle folded over: the uv areas add up to the base triangles'
+            let area: f64 = t
+                .indices
+                .chunks_exact(3)
+                .map(|tri| {
+                    let p = [tri[0], tri[1], tri[2]].map(|i| {
+                        DVec2::new(
+                            t.positions[i as usize][0] as f64,
+                            t.positions[i as usize][2] as f64,
+                        )
+                    });
+                    0.5 * (p[1] - p[0]).perp_dot(p[2] - p[0]).abs()
+                })
+                .sum();
+            assert!((area - 1.0).abs() < 1e-6, "area {area} (tpv {tpv})");
+        }
     }
 }

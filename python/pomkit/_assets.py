@@ -1,0 +1,205 @@
+"""Users' assets: glTF 2.0 loaded as the file says (read by the core), other formats through
+trimesh, and the asset report.
+
+`load_mesh(path)` gives one `Mesh`; `load_objects(path, material)` one `Object` per mesh node with
+its world transform. glTF keeps positions, normals, TEXCOORD_0 and TANGENT as stored (glTF's uv
+origin is pomkit's; a file's tangent handedness w becomes pomkit's, -w); a file without tangents
+gets MikkTSpace ones, as the glTF specification asks.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from typing import Any, Optional, Union
+
+import numpy as np
+
+from . import _core
+from ._scene import Material, Mesh, Object
+
+__all__ = ["load_mesh", "load_objects", "check_asset", "AssetReport"]
+
+PathLike = Union[str, "os.PathLike[str]"]
+GLTF = (".gltf", ".glb")
+
+
+def _path(path: PathLike) -> str:
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path: expected a file path, got {type(path).__name__}")
+    p = os.fspath(path)
+    if not os.path.isfile(p):
+        raise ValueError(f"path: {p}: no such file")
+    return p
+
+
+def _nodes(path: str) -> list:
+    return list(_core.load_gltf(path))
+
+
+def _merge(meshes: list[tuple[dict, np.ndarray]]) -> dict:
+    """Several nodes' arrays in one space (each node's transform applied)."""
+    pos, nrm, uv, tan, idx = [], [], [], [], []
+    base = 0
+    for a, m in meshes:
+        lin = m[:3, :3]
+        p = np.asarray(a["positions"], np.float64) @ lin.T + m[:3, 3]
+        n = np.asarray(a["normals"], np.float64) @ np.linalg.inv(lin)
+        n /= np.linalg.norm(n, axis=1, keepdims=True)
+        t = np.asarray(a["tangents"], np.float64).copy()
+        t[:, :3] = t[:, :3] @ lin.T
+        t[:, :3] /= np.maximum(np.linalg.norm(t[:, :3], axis=1, keepdims=True), 1e-30)
+        if np.linalg.det(lin) < 0:  # a mirroring transform flips the handedness
+            t[:, 3] = -t[:, 3]
+        pos.append(p), nrm.append(n), uv.append(np.asarray(a["uvs"])), tan.append(t)
+        idx.append(np.asarray(a["indices"], np.int64) + base)
+        base += len(p)
+    return dict(positions=np.concatenate(pos), normals=np.concatenate(nrm), uvs=np.concatenate(uv),
+                tangents=np.concatenate(tan), indices=np.concatenate(idx))
+
+
+def load_mesh(path: PathLike, *, tangents: Any = None) -> Mesh:
+    """One mesh from a file. glTF 2.0 (.gltf, .glb) is read by pomkit's core as the file says:
+    positions, normals, TEXCOORD_0 and TANGENT bit for bit (the tangent's w as pomkit's
+    handedness, minus glTF's), MikkTSpace tangents where the file has none, flat normals where it
+    has none (as glTF asks). A file of several mesh nodes is merged into one mesh in the scene's
+    space (their transforms applied; `load_objects` keeps them apart). Other formats (OBJ, PLY,
+    ...) load through trimesh (`Mesh.from_trimesh`, v flipped to pomkit's convention).
+
+    tangents: None keeps the file's (or MikkTSpace); "mikktspace", "pomkit" or an (n, 4) array
+    replace them (see `Mesh.from_arrays`)."""
+    p = _path(path)
+    if not p.lower().endswith(GLTF):
+        try:
+            import trimesh
+        except ImportError:
+            raise ImportError(f"path: {p}: formats other than glTF load through trimesh; pip install trimesh (or pomkit[reference])") from None
+        tm = trimesh.load(p, force="mesh", process=False)
+        return Mesh.from_trimesh(tm, tangents="mikktspace" if tangents is None else tangents)
+    nodes = _nodes(p)
+    if len(nodes) == 1 and np.array_equal(np.asarray(nodes[0]["transform"]), np.eye(4).reshape(-1)) and tangents is None:
+        return Mesh._from_core(nodes[0], "arrays")
+    if len(nodes) == 1 and np.array_equal(np.asarray(nodes[0]["transform"]), np.eye(4).reshape(-1)):
+        a = nodes[0]
+    else:
+        a = _merge([(n, np.asarray(n["transform"], np.float64).reshape(4, 4)) for n in nodes])
+    t = a["tangents"] if tangents is None else tangents
+    return Mesh.from_arrays(a["positions"], a["normals"], a["uvs"], a["indices"], tangents=t)
+
+
+def load_objects(path: PathLike, material: Material) -> list[Object]:
+    """One `pk.Object` per mesh node of a glTF 2.0 file, each with its node's world transform
+    and the given `material`: positions, normals, uvs and tangents as the file stores them (see
+    `load_mesh`). Give each object its own material with `dataclasses.replace`."""
+    if not isinstance(material, Material):
+        raise TypeError(f"material: expected a pk.Material, got {type(material).__name__}")
+    p = _path(path)
+    if not p.lower().endswith(GLTF):
+        raise ValueError(f"path: {p}: load_objects reads glTF 2.0 (.gltf, .glb); use load_mesh for other formats")
+    out = []
+    for n in _nodes(p):
+        m = np.asarray(n["transform"], np.float64).reshape(4, 4)
+        out.append(Object(Mesh._from_core(n, "arrays"), material, transform=None if np.array_equal(m, np.eye(4)) else m))
+    return out
+
+
+#: what each finding changes, for the report's text
+_MEANING = {
+    "open border": "the displaced surface ends there (no method adds a skirt)",
+    "seam": "uvs split: each side samples its own texels; the displaced surface is welded across it",
+    "seam heights disagree": "the two sides of a seam read different heights: the bake's mismatch, rendered as the file says",
+    "mirror axis": "the tangent frame's handedness flips across it",
+    "mirrored chart": "a chart whose uvs are mirrored (handedness w = +1)",
+    "hard edge": "split normals: the sides displace along different normals; the reference welds them at their mean",
+    "non-manifold edge": "more than two triangles share the edge",
+    "degenerate uv triangle": "zero uv area: no tangent frame of its own (a fallback frame)",
+    "degenerate triangle": "zero area",
+    "overlapping charts": "two charts map the same texels",
+}
+
+
+@dataclass(frozen=True)
+class AssetReport:
+    """What `check_asset` found. Counts are over the mesh's triangles and its geometric edges
+    (vertices welded by position); `examples` names up to five places (in the mesh's space) of
+    each finding. The height-map fields are None without a map."""
+
+    vertices: int
+    triangles: int
+    welded_vertices: int
+    charts: int
+    mirrored_charts: int
+    mirrored_triangles: int
+    degenerate_uv_triangles: int
+    degenerate_triangles: int
+    seam_edges: int
+    mirror_edges: int
+    open_edges: int
+    open_length: float
+    hard_edges: int
+    nonmanifold_edges: int
+    uvs_outside_unit_square: bool
+    seam_height_max: Optional[float]
+    seam_height_mean: Optional[float]
+    seam_world_max: Optional[float]
+    overlapping_texels: Optional[int]
+    min_chart_gap_texels: Optional[int]
+    max_clean_mip: Optional[int]
+    examples: list = field(default_factory=list)
+    warnings: list = field(default_factory=list)
+
+    def __str__(self) -> str:
+        lines = [f"{self.triangles} triangles, {self.vertices} vertices ({self.welded_vertices} positions), {self.charts} chart(s)"]
+        lines.append(f"seams: {self.seam_edges} edges; mirror axes: {self.mirror_edges}; mirrored charts: {self.mirrored_charts}")
+        lines.append(f"open borders: {self.open_edges} edges ({self.open_length:.4g} long); hard edges: {self.hard_edges}; non-manifold: {self.nonmanifold_edges}")
+        lines.append(f"degenerate: {self.degenerate_triangles} triangles, {self.degenerate_uv_triangles} in uv")
+        if self.seam_height_max is not None:
+            w = "" if self.seam_world_max is None else f" ({self.seam_world_max:.3g} world units)"
+            lines.append(f"seam height mismatch: max {self.seam_height_max:.4g}{w}, mean {self.seam_height_mean:.3g}")
+        if self.overlapping_texels is not None:
+            lines.append(f"overlapping texels: {self.overlapping_texels}")
+        if self.min_chart_gap_texels is not None:
+            mip = "none (charts touch)" if self.max_clean_mip is None else f"0..{self.max_clean_mip}"
+            lines.append(f"narrowest gap between charts: {self.min_chart_gap_texels} texels; mip levels that stay inside a chart: {mip}")
+        for w in self.warnings:
+            lines.append(f"warning: {w}")
+        for what, p in self.examples:
+            lines.append(f"  {what} at ({p[0]:.4g}, {p[1]:.4g}, {p[2]:.4g}): {_MEANING.get(what, '')}")
+        return "\n".join(lines)
+
+
+def check_asset(mesh: Mesh, height: Any = None) -> AssetReport:
+    """A report on `mesh` (and its height map) to read before trusting a comparison: charts,
+    seams and how far the height field disagrees across them, mirrored charts and mirror axes,
+    degenerate triangles, open borders, hard edges (split normals), non-manifold edges; with a
+    map, overlapping charts and the narrowest gap between charts against the mip levels a method
+    samples (a bilinear footprint at level k reaches 2^k texels: a chart with g texels of gutter
+    on its side stays clean up to level log2(g)).
+
+    height: None, a height map (2-D array), or a `pk.Material` (its height, depth and tiling:
+    the mismatch is then also given in world units)."""
+    if not isinstance(mesh, Mesh):
+        raise TypeError(f"mesh: expected a pk.Mesh, got {type(mesh).__name__}")
+    depth, tiling, hd = None, 1.0, None
+    if isinstance(height, Material):
+        depth, tiling = height.depth, height.tiling
+        hd = height._height_data()
+    elif height is not None:
+        hd = Material(height=height)._height_data()
+    d = dict(_core.check_asset(mesh._describe(), hd, float(tiling)))
+    d["seam_world_max"] = None if (depth is None or d["seam_height_max"] is None) else d["seam_height_max"] * depth
+    d["examples"] = [(w, tuple(p)) for w, p in d["examples"]]
+    warn = []
+    if d["charts"] > 0 and d["mirrored_charts"] == d["charts"] and d["charts"] > 0:
+        warn.append("every chart is mirrored: the uvs probably have v pointing up (trimesh's and OBJ's convention); pomkit's v points down (use pk.Mesh.from_trimesh or v -> 1 - v)")
+    if d["seam_height_max"] is not None and d["seam_height_max"] > 2.0 / 255.0:
+        warn.append(f"heights disagree across seams by up to {d['seam_height_max']:.3g}: the displaced surface steps there")
+    if d["overlapping_texels"]:
+        warn.append(f"{d['overlapping_texels']} texels are mapped by two charts")
+    if d["min_chart_gap_texels"] is not None and d["max_clean_mip"] is None:
+        warn.append("charts touch (no gutter): filtered samples bleed between them at every mip level")
+    if d["degenerate_uv_triangles"]:
+        warn.append(f"{d['degenerate_uv_triangles']} triangles have zero uv area")
+    if d["nonmanifold_edges"]:
+        warn.append(f"{d['nonmanifold_edges']} non-manifold edges")
+    return AssetReport(**d, warnings=warn)

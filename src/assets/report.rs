@@ -1,0 +1,399 @@
+//! The asset report: what in a mesh (and its height map) changes what the methods can do, with
+//! where it is. Charts, seams and how far their two sides' heights disagree, mirrored charts,
+//! degenerate triangles, open borders, hard edges, non-manifold edges; with a height map, the
+//! texels each chart covers, charts that overlap, and the gutter between charts against the mip
+//! levels a method samples.
+
+use crate::mesh::topology::Topology;
+use crate::mesh::{uv_derivatives, Mesh};
+use crate::scene::HeightMap;
+use glam::{DVec2, DVec3};
+use std::collections::VecDeque;
+
+/// How many places the report names for each finding.
+pub const EXAMPLES: usize = 5;
+
+#[derive(Clone, Debug, Default)]
+pub struct AssetReport {
+    pub vertices: usize,
+    pub triangles: usize,
+    /// distinct positions
+    pub welded_vertices: usize,
+    /// groups of triangles joined by edges whose uvs and handedness agree
+    pub charts: usize,
+    /// charts whose uv map is mirrored (most of their triangles have handedness w = +1)
+    pub mirrored_charts: usize,
+    pub mirrored_triangles: usize,
+    /// triangles with zero uv area (no tangent frame of their own)
+    pub degenerate_uv_triangles: usize,
+    /// triangles with zero area in space
+    pub degenerate_triangles: usize,
+    /// geometric edges whose sides carry other uvs
+    pub seam_edges: usize,
+    /// edges whose sides share their uvs but not their handedness (a mirror axis inside a chart
+    /// folded onto itself: the tangent frame flips there)
+    pub mirror_edges: usize,
+    /// edges with one side: the displaced surface ends there
+    pub open_edges: usize,
+    pub open_length: f64,
+    /// edges whose sides carry other normals (split normals)
+    pub hard_edges: usize,
+    /// edges with more than two sides
+    pub nonmanifold_edges: usize,
+    /// any uv outside [0, 1] (the map repeats there)
+    pub uvs_outside_unit_square: bool,
+    /// with a height map: the largest and mean difference of the height field across a seam
+    /// (in height units, 0..1), sampled along each seam edge on its sides
+    pub seam_height_max: Option<f64>,
+    pub seam_height_mean: Option<f64>,
+    /// texels (of the height map) covered by two or more charts
+    pub overlapping_texels: Option<usize>,
+    /// the fewest empty texels between two charts (the map repeats)
+    pub min_chart_gap_texels: Option<u32>,
+    /// the highest mip level whose bilinear footprint stays within a chart's half of the
+    /// narrowest gap (None: charts touch, even level 0 reads a neighbour)
+    pub max_clean_mip: Option<i32>,
+    /// (finding, position in the mesh's space) for up to `EXAMPLES` places of each finding
+    pub examples: Vec<(String, [f32; 3])>,
+}
+
+fn v3(a: [f32; 3]) -> DVec3 {
+    DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)
+}
+
+fn find(parent: &mut [u32], mut x: u32) -> u32 {
+    while parent[x as usize] != x {
+        parent[x as usize] = parent[parent[x as usize] as usize];
+        x = parent[x as usize];
+    }
+    x
+}
+
+/// `height`, with the material's `tiling`: the map the report samples across seams and rasterises
+/// the charts into.
+pub fn check_asset(mesh: &Mesh, height: Option<&HeightMap>, tiling: f64) -> AssetReport {
+    let topo = Topology::new(mesh);
+    let ntri = mesh.indices.len() / 3;
+    let mut r = AssetReport {
+        vertices: mesh.positions.len(),
+        triangles: ntri,
+        welded_vertices: topo.welded,
+        ..Default::default()
+    };
+    let example = |r: &mut AssetReport, what: &str, p: DVec3| {
+        if r.examples.iter().filter(|(w, _)| w == what).count() < EXAMPLES {
+            r.examples
+                .push((what.to_string(), [p.x as f32, p.y as f32, p.z as f32]));
+        }
+    };
+    let uv = |i: u32| {
+        DVec2::new(
+            mesh.uvs[i as usize][0] as f64,
+            mesh.uvs[i as usize][1] as f64,
+        )
+    };
+    r.uvs_outside_unit_square = mesh
+        .uvs
+        .iter()
+        .flatten()
+        .any(|&x| !(0.0..=1.0).contains(&x));
+
+    // triangles: handedness, degeneracy
+    let mut mirrored = vec![false; ntri];
+    for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
+        let p = tri
+            .iter()
+            .map(|&i| v3(mesh.positions[i as usize]))
+            .collect::<Vec<_>>();
+        let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
+        let c = (p[0] + p[1] + p[2]) / 3.0;
+        let ng = e1.cross(e2);
+        if ng.length() <= 1e-12 * (e1.length_squared() + e2.length_squared()) {
+            r.degenerate_triangles += 1;
+            example(&mut r, "degenerate triangle", c);
+            continue;
+        }
+        match uv_derivatives(e1, e2, uv(tri[1]) - uv(tri[0]), uv(tri[2]) - uv(tri[0])) {
+            None => {
+                r.degenerate_uv_triangles += 1;
+                example(&mut r, "degenerate uv triangle", c);
+            }
+            Some((dpdu, dpdv)) => {
+                // pomkit's unmirrored handedness is w = -1 (the plane: u along +X, v along +Z)
+                if ng.cross(dpdu).dot(dpdv) > 0.0 {
+                    mirrored[t] = true;
+                    r.mirrored_triangles += 1;
+                }
+            }
+        }
+    }
+
+    // edges: seams, borders, hard edges; charts by union over uv-continuous edges
+    let mut parent: Vec<u32> = (0..ntri as u32).collect();
+    let mut seam_edges: Vec<usize> = Vec::new();
+    for (ei, ((wa, wb), sides)) in topo.edges.iter().enumerate() {
+        let _ = (wa, wb);
+        let ends: Vec<(u32, u32)> = sides.iter().map(|&s| topo.side_vertices(mesh, s)).collect();
+        let (a0, b0) = ends[0];
+        let mid = (v3(mesh.positions[a0 as usize]) + v3(mesh.positions[b0 as usize])) * 0.5;
+        match sides.len() {
+            1 => {
+                r.open_edges += 1;
+                r.open_length +=
+                    (v3(mesh.positions[a0 as usize]) - v3(mesh.positions[b0 as usize])).length();
+                example(&mut r, "open border", mid);
+                continue;
+            }
+            2 => {}
+            _ => {
+                r.nonmanifold_edges += 1;
+                example(&mut r, "non-manifold edge", mid);
+            }
+        }
+        let same_uv = |i: u32, j: u32| mesh.uvs[i as usize] == mesh.uvs[j as usize];
+        let close_n = |i: u32, j: u32| {
+            (v3(mesh.normals[i as usize]).normalize() - v3(mesh.normals[j as usize]).normalize())
+                .length()
+                < 1e-4
+        };
+        let mut seam = false;
+        let mut mirror = false;
+        let mut hard = false;
+        for (k, &(a, b)) in ends.iter().enumerate().skip(1) {
+            if !(same_uv(a, a0) && same_uv(b, b0)) {
+                seam = true;
+            } else if mirrored[sides[k].tri as usize] != mirrored[sides[0].tri as usize] {
+                mirror = true;
+            } else {
+                let (x, y) = (
+                    find(&mut parent, sides[0].tri),
+                    find(&mut parent, sides[k].tri),
+                );
+                parent[x as usize] = y;
+            }
+            hard |= !(close_n(a, a0) && close_n(b, b0));
+        }
+        if seam {
+            r.seam_edges += 1;
+            seam_edges.push(ei);
+            example(&mut r, "seam", mid);
+        }
+        if mirror {
+            r.mirror_edges += 1;
+            example(&mut r, "mirror axis", mid);
+        }
+        if hard {
+            r.hard_edges += 1;
+            example(&mut r, "hard edge", mid);
+        }
+    }
+    let mut chart_of = vec![0u32; ntri];
+    let mut roots = std::collections::HashMap::new();
+    for t in 0..ntri {
+        let root = find(&mut parent, t as u32);
+        let n = roots.len() as u32;
+        chart_of[t] = *roots.entry(root).or_insert(n);
+    }
+    r.charts = roots.len();
+    let mut votes = vec![(0i64, DVec3::ZERO); r.charts];
+    for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
+        votes[chart_of[t] as usize].0 += if mirrored[t] { 1 } else { -1 };
+        votes[chart_of[t] as usize].1 = v3(mesh.positions[tri[0] as usize]);
+    }
+    for (v, p) in votes {
+        if v > 0 {
+            r.mirrored_charts += 1;
+            example(&mut r, "mirrored chart", p);
+        }
+    }
+
+    let Some(hm) = height else { return r };
+    // seams: the height field on each side, sampled along the edge
+    let (w, h) = (hm.width as f64, hm.height as f64);
+    let mut worst = 0.0f64;
+    let mut sum = 0.0;
+    let mut count = 0usize;
+    for &ei in &seam_edges {
+        let sides = &topo.edges[ei].1;
+        let ends: Vec<(u32, u32)> = sides.iter().map(|&s| topo.side_vertices(mesh, s)).collect();
+        let span = |(a, b): (u32, u32)| {
+            let d = (uv(b) - uv(a)) * tiling;
+            (d.x.abs() * w).max(d.y.abs() * h)
+        };
+        let k = ends.iter().map(|&e| span(e)).fold(1.0f64, f64::max).ceil() as usize * 2 + 1;
+        let mut edge_worst = 0.0f64;
+        for i in 0..=k {
+            let s = i as f64 / k as f64;
+            let hs: Vec<f64> = ends
+                .iter()
+                .map(|&(a, b)| {
+                    let q = (uv(a) * (1.0 - s) + uv(b) * s) * tiling;
+                    hm.sample(q.x, q.y)
+                })
+                .collect();
+            let d = hs.iter().fold(f64::MIN, |m, &x| m.max(x))
+                - hs.iter().fold(f64::MAX, |m, &x| m.min(x));
+            edge_worst = edge_worst.max(d);
+            sum += d;
+            count += 1;
+        }
+        if edge_worst > worst {
+            worst = edge_worst;
+        }
+        if edge_worst > 1.0 / 255.0 {
+            let (a, b) = ends[0];
+            example(
+                &mut r,
+                "seam heights disagree",
+                (v3(mesh.positions[a as usize]) + v3(mesh.positions[b as usize])) * 0.5,
+            );
+        }
+    }
+    if count > 0 {
+        r.seam_height_max = Some(worst);
+        r.seam_height_mean = Some(sum / count as f64);
+    }
+
+    // texels: which chart covers each texel centre (the map repeats)
+    let (wi, hi) = (hm.width as usize, hm.height as usize);
+    const EMPTY: u32 = u32::MAX;
+    let mut label = vec![EMPTY; wi * hi];
+    let mut overlap = vec![false; wi * hi];
+    for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
+        let q: Vec<DVec2> = tri
+            .iter()
+            .map(|&i| uv(i) * tiling * DVec2::new(w, h))
+            .collect();
+        let area = (q[1] - q[0]).perp_dot(q[2] - q[0]);
+        if area.abs() < 1e-12 {
+            continue;
+        }
+        let lo = q[0].min(q[1]).min(q[2]);
+        let hi2 = q[0].max(q[1]).max(q[2]);
+        let (x0, x1) = ((lo.x - 0.5).ceil() as i64, (hi2.x - 0.5).floor() as i64);
+        let (y0, y1) = ((lo.y - 0.5).ceil() as i64, (hi2.y - 0.5).floor() as i64);
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                let c = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
+                let e = |a: DVec2, b: DVec2| (b - a).perp_dot(c - a) * area.signum();
+                if e(q[0], q[1]) < 0.0 || e(q[1], q[2]) < 0.0 || e(q[2], q[0]) < 0.0 {
+                    continue;
+                }
+                let k = y.rem_euclid(hi as i64) as usize * wi + x.rem_euclid(wi as i64) as usize;
+                let c = chart_of[t];
+                if label[k] == EMPTY {
+                    label[k] = c;
+                } else if label[k] != c {
+                    overlap[k] = true;
+                }
+            }
+        }
+    }
+    r.overlapping_texels = Some(overlap.iter().filter(|&&o| o).count());
+    if r.overlapping_texels != Some(0) {
+        if let Some(k) = overlap.iter().position(|&o| o) {
+            let _ = k;
+            example(&mut r, "overlapping charts", DVec3::ZERO);
+        }
+    }
+    // the gap between charts: a breadth-first distance (8-connected) from every covered texel
+    let mut dist = vec![u32::MAX; wi * hi];
+    let mut queue = VecDeque::new();
+    for k in 0..wi * hi {
+        if label[k] != EMPTY {
+            dist[k] = 0;
+            queue.push_back(k);
+        }
+    }
+    // charts that share texels have no gap at all
+    let mut gap = if r.overlapping_texels != Some(0) {
+        0
+    } else {
+        u32::MAX
+    };
+    while let Some(k) = queue.pop_front() {
+        let (x, y) = ((k % wi) as i64, (k / wi) as i64);
+        for dy in -1i64..=1 {
+            for dx in -1i64..=1 {
+                if dx == 0 && dy == 0 {
+                    continue;
+                }
+                let n = (y + dy).rem_euclid(hi as i64) as usize * wi
+                    + (x + dx).rem_euclid(wi as i64) as usize;
+                if label[n] == EMPTY && dist[n] == u32::MAX {
+                    dist[n] = dist[k] + 1;
+                    label[n] = label[k];
+                    queue.push_back(n);
+                } else if label[n] != label[k] && label[n] != EMPTY {
+                    gap = gap.min(dist[k] + dist[n]);
+                }
+            }
+        }
+    }
+    if r.charts > 1 && gap != u32::MAX {
+        r.min_chart_gap_texels = Some(gap);
+        let half = gap / 2;
+        r.max_clean_mip = if half >= 1 {
+            Some((half as f64).log2().floor() as i32)
+        } else {
+            None
+        };
+    }
+    r
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two quads side by side sharing an edge in space; the right one's uvs are a mirrored copy
+    /// of the left one's about the shared edge (as a symmetric asset's): no seam, a mirror axis,
+    /// two charts of which one is mirrored, six open edges.
+    #[test]
+    fn a_mirrored_pair_of_quads() {
+        let positions = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 1.0],
+            [1.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [1.0, 0.0, 1.0],
+            [2.0, 0.0, 1.0],
+        ];
+        let uvs = vec![
+            [0.1, 0.1],
+            [0.4, 0.1],
+            [0.1, 0.4],
+            [0.4, 0.4],
+            [0.4, 0.1],
+            [0.1, 0.1],
+            [0.4, 0.4],
+            [0.1, 0.4],
+        ];
+        let (m, _) = Mesh::from_arrays(
+            positions,
+            vec![[0.0, 1.0, 0.0]; 8],
+            uvs,
+            vec![0, 2, 1, 1, 2, 3, 4, 6, 5, 5, 6, 7],
+            None,
+        )
+        .unwrap();
+        let r = check_asset(&m, None, 1.0);
+        assert_eq!(r.charts, 2);
+        assert_eq!(r.mirrored_charts, 1);
+        assert_eq!(r.mirrored_triangles, 2);
+        assert_eq!(r.seam_edges, 0);
+        assert_eq!(r.mirror_edges, 1);
+        assert_eq!(r.open_edges, 6);
+        assert_eq!(r.hard_edges, 0);
+        assert_eq!(r.welded_vertices, 6);
+        // the mirrored chart maps the same texels: its uvs overlap the first's entirely
+        let hm = HeightMap::new(10, 10, (0..100).map(|k| (k % 10) as f32 / 9.0).collect()).unwrap();
+        let r = check_asset(&m, Some(&hm), 1.0);
+        assert_eq!(r.overlapping_texels, Some(9));
+        assert_eq!(r.seam_height_max, None);
+        assert_eq!(r.min_chart_gap_texels, Some(0));
+        assert_eq!(r.max_clean_mip, None);
+    }
+}
