@@ -190,8 +190,8 @@ def check_asset(mesh: Mesh, height: Any = None) -> AssetReport:
     d["seam_world_max"] = None if (depth is None or d["seam_height_max"] is None) else d["seam_height_max"] * depth
     d["examples"] = [(w, tuple(p)) for w, p in d["examples"]]
     warn = []
-    if d["charts"] > 0 and d["mirrored_charts"] == d["charts"] and d["charts"] > 0:
-        warn.append("every chart is mirrored: the uvs probably have v pointing up (trimesh's and OBJ's convention); pomkit's v points down (use pk.Mesh.from_trimesh or v -> 1 - v)")
+    if d["mirrored_triangles"] > 0.75 * d["triangles"]:
+        warn.append(f"{d['mirrored_triangles']} of {d['triangles']} triangles are mirrored: the uvs probably have v pointing up (trimesh's, xatlas's and OBJ's convention); pomkit's v points down (use pk.Mesh.from_trimesh or v -> 1 - v)")
     if d["seam_height_max"] is not None and d["seam_height_max"] > 2.0 / 255.0:
         warn.append(f"heights disagree across seams by up to {d['seam_height_max']:.3g}: the displaced surface steps there")
     if d["overlapping_texels"]:

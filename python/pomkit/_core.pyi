@@ -133,7 +133,7 @@ class GltfNode(MeshArrays):
     """`load_gltf`: one mesh node of a glTF file."""
     name: str
     transform: list[float]   # 16, row-major: the node's world transform
-    tangents: Literal["file", "mikktspace"]
+    tangent_source: Literal["file", "mikktspace"]
     flat_normals: int
 
 

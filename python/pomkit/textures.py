@@ -280,14 +280,14 @@ def fit(a, size: Optional[int] = 128) -> np.ndarray:
 def bake(mesh, f: Callable[[np.ndarray], np.ndarray], size: int = 512, gutter: int = 4) -> np.ndarray:
     """A height map for `mesh`'s uv atlas: `f`, a function of the surface, evaluated where each
     texel centre lies on the mesh (`f(points)` takes (k, 3) float64 positions in the mesh's space
-    and returns k heights in [0, 1]), as a (size, size) float32 array. A texel whose centre lies
-    in a uv triangle takes f at that triangle's point (positions interpolated barycentrically, as
-    the rasteriser does); `gutter` rings of empty texels around the charts then take the mean of
-    their filled neighbours (the map repeats), so that filtered samples near a chart's edge read
-    its own heights; texels farther from every chart hold the mean height.
+    and returns k heights in [0, 1]), as a (size, size) float32 array.
 
-    Two sides of a seam then agree wherever f is continuous on the surface, to within the bilinear
-    field's interpolation (pk.check_asset measures it)."""
+    A texel whose centre lies in a uv triangle takes f at that triangle's point (barycentric, as
+    the rasteriser interpolates). A texel within `gutter` texels of a chart takes f at the nearest
+    point of the nearest uv triangle, so that filtered samples near a chart's edge read the
+    surface's own heights, and the two sides of a seam agree wherever f is continuous on the
+    surface (to within the bilinear field's interpolation: pk.check_asset measures it). Texels
+    farther from every chart hold the mean height. The map repeats (uvs wrap)."""
     size = _check_size(size)
     gutter = _v.integer("gutter", gutter, 0, 4096)
     if not callable(f):
@@ -295,49 +295,52 @@ def bake(mesh, f: Callable[[np.ndarray], np.ndarray], size: int = 512, gutter: i
     pos = np.asarray(mesh.positions, np.float64)
     uv = np.asarray(mesh.uvs, np.float64) * size
     tri = np.asarray(mesh.indices, np.int64).reshape(-1, 3)
-    filled = np.zeros((size, size), bool)
+    best = np.full((size, size), np.inf)  # distance in texels to the point taken
     points = np.zeros((size, size, 3))
+    reach = gutter + 0.5
     for t in tri:
         q = uv[t]
         area = (q[1, 0] - q[0, 0]) * (q[2, 1] - q[0, 1]) - (q[2, 0] - q[0, 0]) * (q[1, 1] - q[0, 1])
         if abs(area) < 1e-12:
             continue
-        x0, y0 = np.ceil(q.min(0) - 0.5).astype(int)
-        x1, y1 = np.floor(q.max(0) - 0.5).astype(int)
-        if x1 < x0 or y1 < y0:
-            continue
+        x0, y0 = np.ceil(q.min(0) - 0.5 - reach).astype(int)
+        x1, y1 = np.floor(q.max(0) - 0.5 + reach).astype(int)
         xs, ys = np.meshgrid(np.arange(x0, x1 + 1), np.arange(y0, y1 + 1))
-        cx, cy = xs.ravel() + 0.5, ys.ravel() + 0.5
-        # barycentric weights of the texel centres
-        w1 = ((cx - q[0, 0]) * (q[2, 1] - q[0, 1]) - (q[2, 0] - q[0, 0]) * (cy - q[0, 1])) / area
-        w2 = ((q[1, 0] - q[0, 0]) * (cy - q[0, 1]) - (cx - q[0, 0]) * (q[1, 1] - q[0, 1])) / area
-        w0 = 1.0 - w1 - w2
-        inside = (w0 >= 0) & (w1 >= 0) & (w2 >= 0)
-        if not inside.any():
+        c = np.stack([xs.ravel() + 0.5, ys.ravel() + 0.5], 1)
+        # barycentric weights of the texel centres, then the nearest point of the triangle
+        w1 = ((c[:, 0] - q[0, 0]) * (q[2, 1] - q[0, 1]) - (q[2, 0] - q[0, 0]) * (c[:, 1] - q[0, 1])) / area
+        w2 = ((q[1, 0] - q[0, 0]) * (c[:, 1] - q[0, 1]) - (c[:, 0] - q[0, 0]) * (q[1, 1] - q[0, 1])) / area
+        w = np.stack([1.0 - w1 - w2, w1, w2], 1)
+        d = np.zeros(len(c))
+        out = (w < 0).any(1)
+        if out.any():
+            dist = np.full(int(out.sum()), np.inf)
+            wo = np.zeros((int(out.sum()), 3))
+            for k in range(3):
+                a, b = q[k], q[(k + 1) % 3]
+                e = b - a
+                s = np.clip(((c[out] - a) @ e) / (e @ e), 0.0, 1.0)
+                dk = np.linalg.norm(a + s[:, None] * e - c[out], axis=1)
+                better = dk < dist
+                dist[better] = dk[better]
+                wo[better] = 0.0
+                wo[better, k] = 1.0 - s[better]
+                wo[better, (k + 1) % 3] = s[better]
+            w[out] = wo
+            d[out] = dist
+        take = (d <= reach) & (d < best[ys.ravel() % size, xs.ravel() % size])
+        if not take.any():
             continue
-        r, c = ys.ravel()[inside] % size, xs.ravel()[inside] % size
-        p = w0[inside, None] * pos[t[0]] + w1[inside, None] * pos[t[1]] + w2[inside, None] * pos[t[2]]
-        points[r, c] = p
-        filled[r, c] = True
-    if not filled.any():
-        raise ValueError("mesh: no texel centre lies in any uv triangle; the uvs cover no texel of a map this size")
+        r, cc = ys.ravel()[take] % size, xs.ravel()[take] % size
+        best[r, cc] = d[take]
+        points[r, cc] = w[take] @ pos[t]
+    filled = np.isfinite(best)
+    if not (best == 0).any() and not filled.any():
+        raise ValueError("mesh: no texel lies on or near any uv triangle; the uvs cover no texel of a map this size")
     h = np.zeros((size, size))
     vals = np.asarray(f(points[filled]), np.float64).reshape(-1)
     if vals.shape[0] != int(filled.sum()) or not np.all(np.isfinite(vals)):
         raise ValueError("f: must return one finite height per point")
     h[filled] = vals
-    for _ in range(gutter):
-        acc = np.zeros_like(h)
-        cnt = np.zeros_like(h)
-        for dy in (-1, 0, 1):
-            for dx in (-1, 0, 1):
-                if dx or dy:
-                    acc += np.roll(np.roll(h * filled, dy, 0), dx, 1)
-                    cnt += np.roll(np.roll(filled.astype(float), dy, 0), dx, 1)
-        grow = ~filled & (cnt > 0)
-        if not grow.any():
-            break
-        h[grow] = acc[grow] / cnt[grow]
-        filled = filled | grow
     h[~filled] = h[filled].mean()
     return np.clip(h, 0.0, 1.0).astype(np.float32)

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 /// Every mesh node of a glTF 2.0 file (.gltf, .glb): a list of dicts with the mesh's arrays
 /// (`MeshArrays`), `name`, `transform` (16 numbers, row-major, the node's world transform),
-/// `tangents` ("file" or "mikktspace") and `flat_normals` (primitives given flat normals).
+/// `tangent_source` ("file" or "mikktspace") and `flat_normals` (primitives given flat normals).
 #[pyfunction]
 pub fn load_gltf<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyList>> {
     let nodes = py.detach(|| assets::load_gltf(&path))?;
@@ -21,7 +21,7 @@ pub fn load_gltf<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyL
             n.transform.transpose().to_cols_array().to_vec(),
         )?;
         d.set_item(
-            "tangents",
+            "tangent_source",
             match n.tangents {
                 TangentSource::File => "file",
                 TangentSource::MikkTSpace => "mikktspace",

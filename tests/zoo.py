@@ -1,0 +1,172 @@
+"""The asset zoo: meshes pomkit did not generate, unwrapped by xatlas (seams, charts, gutters),
+with height maps baked over their atlas by `pk.textures.bake`.
+
+- `rock`: a closed, lumpy icosphere (1280 triangles), smooth normals, an xatlas atlas;
+- `terrain`: a height-field patch with open borders, an xatlas atlas;
+- `mirrored_slab`: a gently curved slab whose left half mirrors the right half's uvs about the
+  middle (one chart folded onto itself, as symmetric game assets are);
+- `crate`: a box with split normals at its 12 hard edges (24 vertices), an xatlas atlas;
+- `big`: a lumpy icosphere of 20480 triangles, an xatlas atlas.
+
+Each returns (mesh, height). The fields baked are 3-D functions of the surface point, so the two
+sides of a seam agree to within the bilinear field's interpolation.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+import pomkit as pk
+
+
+def _lumps(p: np.ndarray) -> np.ndarray:
+    """A smooth 3-D field in [0, 1]: a few plane waves."""
+    s = np.sin(5.0 * p[:, 0] + 1.0) * np.sin(4.0 * p[:, 1] - 0.5) * np.sin(6.0 * p[:, 2] + 0.3)
+    return 0.5 + 0.5 * s
+
+
+def _cells(p: np.ndarray) -> np.ndarray:
+    """Sharper 3-D content: cobbles from a 3-D lattice's distance to its nearest point."""
+    q = p * 6.0
+    f = q - np.floor(q) - 0.5
+    d = np.sqrt((f * f).sum(1))
+    return np.clip(1.0 - 1.6 * d, 0.0, 1.0) ** 0.5
+
+
+def _unwrap(positions: np.ndarray, normals: np.ndarray, faces: np.ndarray, padding: int = 4, resolution: int = 256):
+    """xatlas's atlas of a mesh: vertices split along the seams, uvs in [0, 1] turned from
+    xatlas's v-up convention to pomkit's (v down)."""
+    import xatlas
+
+    atlas = xatlas.Atlas()
+    atlas.add_mesh(positions.astype(np.float32), faces.astype(np.uint32), normals.astype(np.float32))
+    po = xatlas.PackOptions()
+    po.padding = padding
+    po.resolution = resolution
+    atlas.generate(pack_options=po)
+    vmap, idx, uvs = atlas[0]
+    uvs = np.stack([uvs[:, 0], 1.0 - uvs[:, 1].astype(np.float64)], 1)
+    return positions[vmap], normals[vmap], uvs, idx
+
+
+def _lumpy_sphere(subdivisions: int):
+    import trimesh
+
+    s = trimesh.creation.icosphere(subdivisions=subdivisions)
+    v = np.asarray(s.vertices, np.float64)
+    r = 0.8 + 0.12 * np.sin(3.0 * v[:, 0] + 1.0) * np.cos(2.0 * v[:, 1]) + 0.06 * np.sin(5.0 * v[:, 2])
+    s = trimesh.Trimesh(v * r[:, None], s.faces, process=False)
+    return np.asarray(s.vertices), np.asarray(s.vertex_normals), np.asarray(s.faces)
+
+
+@functools.lru_cache(maxsize=None)
+def rock(size: int = 256):
+    p, n, f = _lumpy_sphere(3)
+    p, n, uv, idx = _unwrap(p, n, f, resolution=size)
+    mesh = pk.Mesh.from_arrays(p, n, uv, idx, tangents="mikktspace")
+    return mesh, pk.textures.bake(mesh, _cells, size)
+
+
+@functools.lru_cache(maxsize=None)
+def big(size: int = 512):
+    p, n, f = _lumpy_sphere(5)
+    p, n, uv, idx = _unwrap(p, n, f, resolution=size)
+    mesh = pk.Mesh.from_arrays(p, n, uv, idx, tangents="mikktspace")
+    return mesh, pk.textures.bake(mesh, _lumps, size)
+
+
+@functools.lru_cache(maxsize=None)
+def terrain(size: int = 256):
+    k = 24
+    x, z = np.meshgrid(np.linspace(-1.0, 1.0, k + 1), np.linspace(-1.0, 1.0, k + 1))
+    y = 0.15 * np.sin(2.0 * x + 0.5) * np.cos(1.5 * z)
+    p = np.stack([x, y, z], -1).reshape(-1, 3)
+    gx = 0.3 * np.cos(2.0 * x + 0.5) * np.cos(1.5 * z)
+    gz = -0.225 * np.sin(2.0 * x + 0.5) * np.sin(1.5 * z)
+    n = np.stack([-gx, np.ones_like(x), -gz], -1).reshape(-1, 3)
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    w = k + 1
+    f = []
+    for j in range(k):
+        for i in range(k):
+            a = j * w + i
+            f += [[a, a + w, a + 1], [a + 1, a + w, a + w + 1]]
+    p, n, uv, idx = _unwrap(p, n, np.asarray(f), resolution=size)
+    mesh = pk.Mesh.from_arrays(p, n, uv, idx, tangents="mikktspace")
+    return mesh, pk.textures.bake(mesh, _lumps, size)
+
+
+@functools.lru_cache(maxsize=None)
+def mirrored_slab(size: int = 128):
+    """A slab curved about the Z axis, x in [-1, 1]; u = |x| (mirrored about x = 0), v along z."""
+    k = 16
+    x, z = np.meshgrid(np.linspace(-1.0, 1.0, 2 * k + 1), np.linspace(-0.6, 0.6, k + 1))
+    y = 0.25 * (1.0 - x * x)
+    p = np.stack([x, y, z], -1).reshape(-1, 3)
+    n = np.stack([0.5 * x, np.ones_like(x), np.zeros_like(x)], -1).reshape(-1, 3)
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    uv = np.stack([0.05 + 0.9 * np.abs(x), 0.05 + 0.9 * (z + 0.6) / 1.2], -1).reshape(-1, 2)
+    w = 2 * k + 1
+    f = []
+    for j in range(k):
+        for i in range(2 * k):
+            a = j * w + i
+            f += [[a, a + w, a + 1], [a + 1, a + w, a + w + 1]]
+    mesh = pk.Mesh.from_arrays(p, n, uv, np.asarray(f), tangents="mikktspace")
+    return mesh, pk.textures.bake(mesh, _cells, size)
+
+
+@functools.lru_cache(maxsize=None)
+def crate(size: int = 256):
+    """A box of edge 1.2 with one normal per face: every edge is hard."""
+    p, n, f = [], [], []
+    for axis in range(3):
+        for sign in (-1.0, 1.0):
+            nn = np.zeros(3)
+            nn[axis] = sign
+            u, v = np.zeros(3), np.zeros(3)
+            u[(axis + 1) % 3], v[(axis + 2) % 3] = 1.0, 1.0
+            base = len(p)
+            for a, b in ((-1, -1), (1, -1), (-1, 1), (1, 1)):
+                p.append(0.6 * (nn + a * u + b * v))
+                n.append(nn)
+            q = [[base, base + 1, base + 2], [base + 1, base + 3, base + 2]]
+            fn = np.cross(p[base + 1] - p[base], p[base + 2] - p[base])
+            f += q if fn @ nn > 0 else [[t[0], t[2], t[1]] for t in q]
+    p, n, uv, idx = _unwrap(np.asarray(p), np.asarray(n), np.asarray(f), resolution=size)
+    mesh = pk.Mesh.from_arrays(p, n, uv, idx, tangents="mikktspace")
+    return mesh, pk.textures.bake(mesh, _cells, size)
+
+
+ZOO = {"rock": rock, "terrain": terrain, "mirrored_slab": mirrored_slab, "crate": crate, "big": big}
+
+
+def views(mesh, n: int = 3, size: int = 96, fov: float = 35.0):
+    """`n` cameras around the mesh's bounding sphere, from above the equator."""
+    lo, hi = mesh.positions.min(0), mesh.positions.max(0)
+    c = 0.5 * (lo + hi)
+    r = 0.5 * float(np.linalg.norm(hi - lo))
+    d = r / np.sin(np.radians(fov) / 2.0) * 1.05
+    out = []
+    for k in range(n):
+        a = 2.0 * np.pi * k / n + 0.4
+        e = np.radians(35.0)
+        eye = c + d * np.array([np.cos(e) * np.cos(a), np.sin(e), np.cos(e) * np.sin(a)])
+        out.append(pk.Camera.look_at(tuple(eye), tuple(c), fov_y=fov, width=size, height=size))
+    return out
+
+
+def scene(name: str, camera, depth: float = 0.04):
+    mesh, h = ZOO[name]()
+    return pk.Scene(mesh=mesh, material=pk.Material(h, depth=depth), camera=camera,
+                    lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0)], ambient=0.1)
+
+
+def interior_holes(mask: np.ndarray, inside: np.ndarray) -> int:
+    """Pixels of `inside` (the reference's coverage, eroded by 3 pixels) that `mask` misses."""
+    from scipy import ndimage
+
+    core = ndimage.binary_erosion(inside, iterations=3)
+    return int((core & ~mask).sum())
