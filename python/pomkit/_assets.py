@@ -51,7 +51,10 @@ def _merge(meshes: list[tuple[dict, np.ndarray]]) -> dict:
         t[:, :3] /= np.maximum(np.linalg.norm(t[:, :3], axis=1, keepdims=True), 1e-30)
         if np.linalg.det(lin) < 0:  # a mirroring transform flips the handedness
             t[:, 3] = -t[:, 3]
-        pos.append(p), nrm.append(n), uv.append(np.asarray(a["uvs"])), tan.append(t)
+        pos.append(p)
+        nrm.append(n)
+        uv.append(np.asarray(a["uvs"]))
+        tan.append(t)
         idx.append(np.asarray(a["indices"], np.int64) + base)
         base += len(p)
     return dict(positions=np.concatenate(pos), normals=np.concatenate(nrm), uvs=np.concatenate(uv),
@@ -186,10 +189,12 @@ def check_asset(mesh: Mesh, height: Any = None) -> AssetReport:
         hd = height._height_data()
     elif height is not None:
         hd = Material(height=height)._height_data()
-    d = dict(_core.check_asset(mesh._describe(), hd, float(tiling)))
-    d["seam_world_max"] = None if (depth is None or d["seam_height_max"] is None) else d["seam_height_max"] * depth
-    d["examples"] = [(w, tuple(p)) for w, p in d["examples"]]
-    warn = []
+    r = _core.check_asset(mesh._describe(), hd, float(tiling))
+    d: dict[str, Any] = dict(r)
+    seam = r["seam_height_max"]
+    d["seam_world_max"] = None if (depth is None or seam is None) else seam * depth
+    d["examples"] = [(w, tuple(p)) for w, p in r["examples"]]
+    warn: list[str] = []
     if d["mirrored_triangles"] > 0.75 * d["triangles"]:
         warn.append(f"{d['mirrored_triangles']} of {d['triangles']} triangles are mirrored: the uvs probably have v pointing up (trimesh's, xatlas's and OBJ's convention); pomkit's v points down (use pk.Mesh.from_trimesh or v -> 1 - v)")
     if d["seam_height_max"] is not None and d["seam_height_max"] > 2.0 / 255.0:

@@ -10,7 +10,7 @@ from ._methods import Method
 
 __all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "COST_AOV_NAMES", "CONE_KINDS", "DeviceLostError", "FILTERING_KINDS", "GpuError", "HeightData", "MAX_LIGHTS",
            "MAX_STEPS_LIMIT", "MeshData", "NCS_MAP_BYTES", "NCS_MAP_SIZE", "NoAdapterError", "PATTERN_KINDS", "PRISM_BYTES", "PRISM_VERTEX_BYTES", "REFINE_KINDS", "Renderer", "SHADOW_KINDS",
-           "__version__", "adapters", "bounding_sphere", "exact_uv", "load_image", "mesh_from_arrays", "mesh_generate", "oracle_refusal", "reference_directions", "reference_normals", "render_exact", "set_cache_dir", "set_progress_hook", "tessellate"]
+           "__version__", "adapters", "bounding_sphere", "check_asset", "exact_uv", "load_gltf", "load_image", "mesh_from_arrays", "mesh_generate", "oracle_refusal", "reference_directions", "reference_normals", "render_exact", "set_cache_dir", "set_progress_hook", "tessellate"]
 __version__: str
 NCS_MAP_SIZE: int
 #: GPU bytes of one mesh's NCS frame map (two Rgba32Uint texels a map texel)

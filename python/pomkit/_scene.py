@@ -149,7 +149,7 @@ class Mesh:
             frames = "pomkit" if tangents is None else tangents
             if frames not in ("pomkit", "mikktspace"):
                 raise ValueError(f'tangents: expected "pomkit", "mikktspace" or an (n, 4) array, got {frames!r}')
-            out = _core.mesh_from_arrays(p, n, uv, idx, None, frames)
+            out = _core.mesh_from_arrays(p, n, uv, idx, None, "mikktspace" if frames == "mikktspace" else "pomkit")
         else:
             out = _core.mesh_from_arrays(p, n, uv, idx, _float_array("tangents", tangents, 4))
         degenerate, fallback = out["degenerate_uv_triangles"], out["fallback_vertices"]
