@@ -80,3 +80,17 @@ def test_bad_arguments_say_what_is_wrong():
         pk.explore(_scene(), reference="mitsuba")
     with pytest.raises(TypeError, match="scene"):
         pk.explore("a scene")
+
+
+def test_configured_methods_are_explored_as_configured():
+    pytest.importorskip("anywidget")
+    tuned = pk.POM(min_steps=12, max_steps=40)
+    w = pk.explore(_scene(), methods=[tuned, "Exact"], size=48)
+    assert w.methods == [repr(tuned), "Exact"]
+    w.method = repr(tuned)
+    assert w._method() == tuned
+    w.steps = 20
+    assert w._method() == pk.POM(min_steps=12, max_steps=20)
+    assert w.image
+    with pytest.raises(TypeError, match="methods"):
+        pk.explore(_scene(), methods=[3])

@@ -61,20 +61,21 @@ def _lumpy_sphere(subdivisions: int):
     return np.asarray(s.vertices), np.asarray(s.vertex_normals), np.asarray(s.faces)
 
 
-@functools.lru_cache(maxsize=None)
-def rock(size: int = 256):
-    p, n, f = _lumpy_sphere(3)
+def _atlas_sphere(subdivisions: int, size: int, field):
+    p, n, f = _lumpy_sphere(subdivisions)
     p, n, uv, idx = _unwrap(p, n, f, resolution=size)
     mesh = pk.Mesh.from_arrays(p, n, uv, idx, tangents="mikktspace")
-    return mesh, pk.textures.bake(mesh, _cells, size)
+    return mesh, pk.textures.bake(mesh, field, size)
+
+
+@functools.lru_cache(maxsize=None)
+def rock(size: int = 256):
+    return _atlas_sphere(3, size, _cells)
 
 
 @functools.lru_cache(maxsize=None)
 def big(size: int = 512):
-    p, n, f = _lumpy_sphere(5)
-    p, n, uv, idx = _unwrap(p, n, f, resolution=size)
-    mesh = pk.Mesh.from_arrays(p, n, uv, idx, tangents="mikktspace")
-    return mesh, pk.textures.bake(mesh, _lumps, size)
+    return _atlas_sphere(5, size, _lumps)
 
 
 @functools.lru_cache(maxsize=None)

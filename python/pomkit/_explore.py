@@ -18,6 +18,8 @@ itself (`Tessellated(1.0)`, the default fan: as close to the field as the two-tr
 
 from __future__ import annotations
 
+import dataclasses
+
 import io
 import math
 import time
@@ -123,16 +125,35 @@ def _orbit(cam: Camera) -> tuple[float, float, float]:
     return math.degrees(math.atan2(d[0], d[2])), math.degrees(math.asin(max(-1.0, min(1.0, d[1] / r)))), r
 
 
-def explore(scene: Scene, methods: Optional[Sequence[str]] = None, reference: str = "exact", size: int = 256) -> Any:
-    """A widget that orbits `scene` live with any of `methods` (names of pomkit methods; default:
-    every one) against `reference` ("exact" or "tessellated"). See the module's doc."""
+def _configured(methods: Optional[Sequence[Any]]) -> dict[str, _methods.Method]:
+    """Each entry of `methods` (a method's name, or a configured method such as
+    `pk.POM(min_steps=12)`) under the label the widget lists it by: the name, or the method's repr."""
+    items = list(methods) if methods is not None else [m.__name__ for m in _methods.ALL_METHODS]
+    out: dict[str, _methods.Method] = {}
+    for m in items:
+        if isinstance(m, str):
+            if m not in METHOD_STEPS:
+                raise ValueError(f"methods: {m!r} is not a pomkit method; one of {', '.join(METHOD_STEPS)}, or a configured method such as pk.POM(min_steps=12)")
+            out[m] = getattr(_methods, m)()
+        elif isinstance(m, _methods.Method):
+            out[repr(m)] = m
+        else:
+            raise TypeError(f"methods: expected method names or pomkit methods, got {type(m).__name__}")
+    if not out:
+        raise ValueError("methods: give at least one method")
+    return out
+
+
+def explore(scene: Scene, methods: Optional[Sequence[Any]] = None, reference: str = "exact", size: int = 256) -> Any:
+    """A widget that orbits `scene` live with any of `methods` (names of pomkit methods, or
+    configured methods such as `pk.POM(min_steps=12)`, listed by their repr; default: every method
+    by name) against `reference` ("exact" or "tessellated"). The steps slider, when set, replaces
+    the method's main step count (METHOD_STEPS). See the module's doc."""
     import anywidget
     import traitlets as t
 
-    names = list(methods) if methods is not None else [m.__name__ for m in _methods.ALL_METHODS]
-    for n in names:
-        if n not in METHOD_STEPS:
-            raise ValueError(f"methods: {n!r} is not a pomkit method; one of {', '.join(METHOD_STEPS)}")
+    configured = _configured(methods)
+    names = list(configured)
     if reference not in ("exact", "tessellated"):
         raise ValueError(f"reference: 'exact' or 'tessellated', got {reference!r}")
     if not isinstance(scene, Scene):
@@ -177,12 +198,13 @@ def explore(scene: Scene, methods: Optional[Sequence[str]] = None, reference: st
         def _method(self) -> _methods.Method:
             if self.method not in names:
                 raise ValueError(f"method: one of {', '.join(names)}, got {self.method!r}")
-            cls = getattr(_methods, self.method)
-            field = METHOD_STEPS.get(self.method)
-            kw = {field: int(self.steps)} if (field and self.steps > 0) else {}
-            if self.method == "POM" and kw:
-                kw["min_steps"] = min(8, kw["max_steps"])
-            return cls(**kw)
+            base = configured[self.method]
+            kind = type(base).__name__
+            field = METHOD_STEPS.get(kind)
+            kw: dict[str, Any] = {field: int(self.steps)} if (field and self.steps > 0) else {}
+            if kind == "POM" and kw:
+                kw["min_steps"] = min(getattr(base, "min_steps"), kw["max_steps"])
+            return dataclasses.replace(base, **kw) if kw else base
 
         def _reference(self, sc: Scene) -> tuple[Frame, Optional[Frame]]:
             """(colour reference, geometric oracle or None), cached per pose."""

@@ -70,10 +70,8 @@ pub fn mikktspace(
 mod tests {
     use super::*;
 
-    /// On the plane (u along +X, v along +Z, normal +Y) the tangent is +X and the bitangent
-    /// w * cross(Y, X) = -w Z must point along +Z: w = -1, as pomkit's own frames say.
-    #[test]
-    fn the_plane_s_frame_is_pomkit_s() {
+    /// The unit quad in the XZ plane (normal +Y) with the given corner uvs: each vertex's tangent.
+    fn quad(uv: [[f32; 2]; 4]) -> Vec<[f32; 4]> {
         let p = [
             [0.0, 0.0, 0.0],
             [1.0, 0.0, 0.0],
@@ -81,34 +79,28 @@ mod tests {
             [1.0, 0.0, 1.0],
         ];
         let n = [[0.0, 1.0, 0.0]; 4];
-        let uv = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]];
-        let t = mikktspace(&p, &n, &uv, &[0, 2, 1, 1, 2, 3]);
-        for t in t {
-            let t = t.unwrap();
-            assert!(
-                (t[0] - 1.0).abs() < 1e-6 && t[1].abs() < 1e-6 && t[2].abs() < 1e-6,
-                "{t:?}"
-            );
-            assert_eq!(t[3], -1.0);
-        }
+        mikktspace(&p, &n, &uv, &[0, 2, 1, 1, 2, 3])
+            .into_iter()
+            .map(Option::unwrap)
+            .collect()
     }
 
-    /// A mirrored chart (u reversed) flips the handedness.
+    /// u along +X, v along +Z: the tangent is +X and the bitangent w * cross(Y, X) = -w Z must
+    /// point along +Z: w = -1, as pomkit's own frames say. A mirrored chart (u reversed) flips
+    /// both the tangent and w.
     #[test]
-    fn a_mirrored_chart_flips_w() {
-        let p = [
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [0.0, 0.0, 1.0],
-            [1.0, 0.0, 1.0],
-        ];
-        let n = [[0.0, 1.0, 0.0]; 4];
-        let uv = [[1.0, 0.0], [0.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
-        let t = mikktspace(&p, &n, &uv, &[0, 2, 1, 1, 2, 3]);
-        for t in t {
-            let t = t.unwrap();
-            assert!((t[0] + 1.0).abs() < 1e-6, "{t:?}");
-            assert_eq!(t[3], 1.0);
+    fn the_plane_s_frame_is_pomkit_s_and_a_mirror_flips_it() {
+        for (uv, x, w) in [
+            ([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]], 1.0, -1.0),
+            ([[1.0, 0.0], [0.0, 0.0], [1.0, 1.0], [0.0, 1.0]], -1.0, 1.0),
+        ] {
+            for t in quad(uv) {
+                assert!(
+                    (t[0] - x).abs() < 1e-6 && t[1].abs() < 1e-6 && t[2].abs() < 1e-6,
+                    "{t:?}"
+                );
+                assert_eq!(t[3], w);
+            }
         }
     }
 }

@@ -71,13 +71,15 @@ pub fn mesh_from_arrays<'py>(
         (Some(t), _) => TangentFrames::Given(t),
         (None, "pomkit") => TangentFrames::Pomkit,
         (None, "mikktspace") => TangentFrames::MikkTSpace,
-        (None, o) => return Err(Error::arg(
-            "tangents",
-            format!(
+        (None, o) => {
+            return Err(Error::arg(
+                "tangents",
+                format!(
                 "unknown tangent frames {o:?}: give \"mikktspace\", \"pomkit\" or an (n, 4) array"
             ),
-        )
-        .into()),
+            )
+            .into())
+        }
     };
     let (mesh, rep) = py.detach(|| Mesh::from_arrays_with(p, n, u, i, frames))?;
     let d = mesh_out(py, &mesh)?;

@@ -37,50 +37,47 @@ fn write_gltf(name: &str, p: &Prim, matrix: Option<[f64; 16]>) -> PathBuf {
     let mut views = Vec::new();
     let mut accessors = Vec::new();
     let mut attrs = Vec::new();
-    let mut add = |bin: &mut Vec<u8>,
-                   data: Vec<f32>,
-                   kind: &str,
-                   count: usize,
-                   attr: Option<&str>| {
-        let off = bin.len();
-        for x in &data {
-            bin.extend_from_slice(&x.to_le_bytes());
-        }
-        views.push(format!(
-            r#"{{"buffer":0,"byteOffset":{off},"byteLength":{}}}"#,
-            data.len() * 4
-        ));
-        let i = accessors.len();
-        let minmax = if kind == "VEC3" && attr == Some("POSITION") {
-            let lo: Vec<f32> = (0..3)
-                .map(|k| {
-                    data.iter()
-                        .skip(k)
-                        .step_by(3)
-                        .cloned()
-                        .fold(f32::MAX, f32::min)
-                })
-                .collect();
-            let hi: Vec<f32> = (0..3)
-                .map(|k| {
-                    data.iter()
-                        .skip(k)
-                        .step_by(3)
-                        .cloned()
-                        .fold(f32::MIN, f32::max)
-                })
-                .collect();
-            format!(r#","min":{lo:?},"max":{hi:?}"#)
-        } else {
-            String::new()
-        };
-        accessors.push(format!(
+    let mut add =
+        |bin: &mut Vec<u8>, data: Vec<f32>, kind: &str, count: usize, attr: Option<&str>| {
+            let off = bin.len();
+            for x in &data {
+                bin.extend_from_slice(&x.to_le_bytes());
+            }
+            views.push(format!(
+                r#"{{"buffer":0,"byteOffset":{off},"byteLength":{}}}"#,
+                data.len() * 4
+            ));
+            let i = accessors.len();
+            let minmax = if kind == "VEC3" && attr == Some("POSITION") {
+                let lo: Vec<f32> = (0..3)
+                    .map(|k| {
+                        data.iter()
+                            .skip(k)
+                            .step_by(3)
+                            .cloned()
+                            .fold(f32::MAX, f32::min)
+                    })
+                    .collect();
+                let hi: Vec<f32> = (0..3)
+                    .map(|k| {
+                        data.iter()
+                            .skip(k)
+                            .step_by(3)
+                            .cloned()
+                            .fold(f32::MIN, f32::max)
+                    })
+                    .collect();
+                format!(r#","min":{lo:?},"max":{hi:?}"#)
+            } else {
+                String::new()
+            };
+            accessors.push(format!(
             r#"{{"bufferView":{i},"componentType":5126,"count":{count},"type":"{kind}"{minmax}}}"#
         ));
-        if let Some(a) = attr {
-            attrs.push(format!(r#""{a}":{i}"#));
-        }
-    };
+            if let Some(a) = attr {
+                attrs.push(format!(r#""{a}":{i}"#));
+            }
+        };
     let n = p.positions.len();
     add(&mut bin, p.positions.concat(), "VEC3", n, Some("POSITION"));
     if let Some(v) = &p.normals {
