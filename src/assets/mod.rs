@@ -1,5 +1,5 @@
-//! Users' assets: glTF 2.0 read as the file says (the `gltf` crate), MikkTSpace tangents where a
-//! file has none (`tangents`), and the asset report (`report`).
+//! Users' assets: glTF 2.0 read as the file says (the `gltf` crate; MikkTSpace tangents where a
+//! file has none, from `mesh::mikktspace`), and the asset report (`report`).
 //!
 //! A glTF primitive keeps its positions, normals and `TEXCOORD_0` bit for bit. glTF's uv origin
 //! (top-left, v down) is pomkit's. A file's `TANGENT` keeps its xyz; its handedness is glTF's,
@@ -8,7 +8,6 @@
 //! gets flat normals (its triangles' vertices split), as the glTF specification asks.
 
 pub mod report;
-pub mod tangents;
 
 use crate::error::{Error, Result};
 use crate::mesh::{Mesh, TangentFrames};

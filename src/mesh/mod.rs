@@ -5,6 +5,7 @@
 //! (|dP/du|, |dP/dv|; Chen & Chang's S_tangent and S_binormal), which turns a world direction into
 //! a texture-space one.
 
+pub mod mikktspace;
 pub mod topology;
 
 use crate::error::{Error, Result};
@@ -210,7 +211,7 @@ impl Mesh {
             TangentFrames::Pomkit => mesh.compute_frames(None)?,
             TangentFrames::MikkTSpace => {
                 let report = mesh.compute_frames(None)?;
-                let mikk = crate::assets::tangents::mikktspace(
+                let mikk = mikktspace::mikktspace(
                     &mesh.positions,
                     &mesh.normals,
                     &mesh.uvs,
