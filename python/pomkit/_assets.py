@@ -80,12 +80,10 @@ def load_mesh(path: PathLike, *, tangents: Any = None) -> Mesh:
         tm = trimesh.load(p, force="mesh", process=False)
         return Mesh.from_trimesh(tm, tangents="mikktspace" if tangents is None else tangents)
     nodes = _nodes(p)
-    if len(nodes) == 1 and np.array_equal(np.asarray(nodes[0]["transform"]), np.eye(4).reshape(-1)) and tangents is None:
+    as_stored = len(nodes) == 1 and np.array_equal(np.asarray(nodes[0]["transform"]), np.eye(4).reshape(-1))
+    if as_stored and tangents is None:
         return Mesh._from_core(nodes[0], "arrays")
-    if len(nodes) == 1 and np.array_equal(np.asarray(nodes[0]["transform"]), np.eye(4).reshape(-1)):
-        a = nodes[0]
-    else:
-        a = _merge([(n, np.asarray(n["transform"], np.float64).reshape(4, 4)) for n in nodes])
+    a = nodes[0] if as_stored else _merge([(n, np.asarray(n["transform"], np.float64).reshape(4, 4)) for n in nodes])
     t = a["tangents"] if tangents is None else tangents
     return Mesh.from_arrays(a["positions"], a["normals"], a["uvs"], a["indices"], tangents=t)
 

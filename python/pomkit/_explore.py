@@ -24,7 +24,7 @@ import io
 import math
 import time
 from collections import OrderedDict
-from typing import Any, Optional, Sequence
+from typing import Any, Optional, Sequence, cast
 
 import numpy as np
 
@@ -204,7 +204,7 @@ def explore(scene: Scene, methods: Optional[Sequence[Any]] = None, reference: st
             kw: dict[str, Any] = {field: int(self.steps)} if (field and self.steps > 0) else {}
             if kind == "POM" and kw:
                 kw["min_steps"] = min(getattr(base, "min_steps"), kw["max_steps"])
-            return dataclasses.replace(base, **kw) if kw else base
+            return dataclasses.replace(cast(Any, base), **kw) if kw else base
 
         def _reference(self, sc: Scene) -> tuple[Frame, Optional[Frame]]:
             """(colour reference, geometric oracle or None), cached per pose."""

@@ -57,10 +57,6 @@ pub struct AssetReport {
     pub examples: Vec<(String, [f32; 3])>,
 }
 
-fn v3(a: [f32; 3]) -> DVec3 {
-    DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)
-}
-
 fn find(parent: &mut [u32], mut x: u32) -> u32 {
     while parent[x as usize] != x {
         parent[x as usize] = parent[parent[x as usize] as usize];
@@ -86,12 +82,7 @@ pub fn check_asset(mesh: &Mesh, height: Option<&HeightMap>, tiling: f64) -> Asse
                 .push((what.to_string(), [p.x as f32, p.y as f32, p.z as f32]));
         }
     };
-    let uv = |i: u32| {
-        DVec2::new(
-            mesh.uvs[i as usize][0] as f64,
-            mesh.uvs[i as usize][1] as f64,
-        )
-    };
+    let uv = |i: u32| mesh.uv_f64(i);
     r.uvs_outside_unit_square = mesh
         .uvs
         .iter()
@@ -103,7 +94,7 @@ pub fn check_asset(mesh: &Mesh, height: Option<&HeightMap>, tiling: f64) -> Asse
     for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
         let p = tri
             .iter()
-            .map(|&i| v3(mesh.positions[i as usize]))
+            .map(|&i| mesh.position_f64(i))
             .collect::<Vec<_>>();
         let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
         let c = (p[0] + p[1] + p[2]) / 3.0;
@@ -131,16 +122,14 @@ pub fn check_asset(mesh: &Mesh, height: Option<&HeightMap>, tiling: f64) -> Asse
     // edges: seams, borders, hard edges; charts by union over uv-continuous edges
     let mut parent: Vec<u32> = (0..ntri as u32).collect();
     let mut seam_edges: Vec<usize> = Vec::new();
-    for (ei, ((wa, wb), sides)) in topo.edges.iter().enumerate() {
-        let _ = (wa, wb);
+    for (ei, (_, sides)) in topo.edges.iter().enumerate() {
         let ends: Vec<(u32, u32)> = sides.iter().map(|&s| topo.side_vertices(mesh, s)).collect();
         let (a0, b0) = ends[0];
-        let mid = (v3(mesh.positions[a0 as usize]) + v3(mesh.positions[b0 as usize])) * 0.5;
+        let mid = (mesh.position_f64(a0) + mesh.position_f64(b0)) * 0.5;
         match sides.len() {
             1 => {
                 r.open_edges += 1;
-                r.open_length +=
-                    (v3(mesh.positions[a0 as usize]) - v3(mesh.positions[b0 as usize])).length();
+                r.open_length += (mesh.position_f64(a0) - mesh.position_f64(b0)).length();
                 example(&mut r, "open border", mid);
                 continue;
             }
@@ -152,9 +141,7 @@ pub fn check_asset(mesh: &Mesh, height: Option<&HeightMap>, tiling: f64) -> Asse
         }
         let same_uv = |i: u32, j: u32| mesh.uvs[i as usize] == mesh.uvs[j as usize];
         let close_n = |i: u32, j: u32| {
-            (v3(mesh.normals[i as usize]).normalize() - v3(mesh.normals[j as usize]).normalize())
-                .length()
-                < 1e-4
+            (mesh.normal_f64(i).normalize() - mesh.normal_f64(j).normalize()).length() < 1e-4
         };
         let mut seam = false;
         let mut mirror = false;
@@ -198,7 +185,7 @@ pub fn check_asset(mesh: &Mesh, height: Option<&HeightMap>, tiling: f64) -> Asse
     let mut votes = vec![(0i64, DVec3::ZERO); r.charts];
     for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
         votes[chart_of[t] as usize].0 += if mirrored[t] { 1 } else { -1 };
-        votes[chart_of[t] as usize].1 = v3(mesh.positions[tri[0] as usize]);
+        votes[chart_of[t] as usize].1 = mesh.position_f64(tri[0]);
     }
     for (v, p) in votes {
         if v > 0 {
@@ -245,7 +232,7 @@ pub fn check_asset(mesh: &Mesh, height: Option<&HeightMap>, tiling: f64) -> Asse
             example(
                 &mut r,
                 "seam heights disagree",
-                (v3(mesh.positions[a as usize]) + v3(mesh.positions[b as usize])) * 0.5,
+                (mesh.position_f64(a) + mesh.position_f64(b)) * 0.5,
             );
         }
     }

@@ -1,7 +1,9 @@
 //! The displaced mesh itself (Chen & Chang 2008's "ground truth model"), rasterised by the
 //! surface pass and shaded the same way; shadows from a shadow map of itself. Its geometry is
-//! its own: the tessellation of the displaced surface (tessellate.rs), built on the CPU.
+//! its own: the tessellation of the displaced surface (tessellate.rs; meshes from arrays in
+//! welded.rs), built on the CPU.
 pub mod tessellate;
+mod welded;
 
 use super::{Geometry, PerPixel, Shadows, Spec, Unit};
 use crate::contract::{GpuMesh, MethodGeometry};
