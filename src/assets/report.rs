@@ -246,6 +246,7 @@ pub fn check_asset(mesh: &Mesh, height: Option<&HeightMap>, tiling: f64) -> Asse
     const EMPTY: u32 = u32::MAX;
     let mut label = vec![EMPTY; wi * hi];
     let mut overlap = vec![false; wi * hi];
+    let mut overlap_at: Option<DVec3> = None;
     for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
         let q: Vec<DVec2> = tri
             .iter()
@@ -272,16 +273,19 @@ pub fn check_asset(mesh: &Mesh, height: Option<&HeightMap>, tiling: f64) -> Asse
                     label[k] = c;
                 } else if label[k] != c {
                     overlap[k] = true;
+                    overlap_at.get_or_insert_with(|| {
+                        (mesh.position_f64(tri[0])
+                            + mesh.position_f64(tri[1])
+                            + mesh.position_f64(tri[2]))
+                            / 3.0
+                    });
                 }
             }
         }
     }
     r.overlapping_texels = Some(overlap.iter().filter(|&&o| o).count());
-    if r.overlapping_texels != Some(0) {
-        if let Some(k) = overlap.iter().position(|&o| o) {
-            let _ = k;
-            example(&mut r, "overlapping charts", DVec3::ZERO);
-        }
+    if let Some(p) = overlap_at {
+        example(&mut r, "overlapping charts", p);
     }
     // the gap between charts: a breadth-first distance (8-connected) from every covered texel
     let mut dist = vec![u32::MAX; wi * hi];
@@ -379,6 +383,13 @@ mod tests {
         let hm = HeightMap::new(10, 10, (0..100).map(|k| (k % 10) as f32 / 9.0).collect()).unwrap();
         let r = check_asset(&m, Some(&hm), 1.0);
         assert_eq!(r.overlapping_texels, Some(9));
+        // named at a triangle of the second chart (x in [1, 2]), not at the origin
+        let (_, at) = r
+            .examples
+            .iter()
+            .find(|(w, _)| w == "overlapping charts")
+            .unwrap();
+        assert!(at[0] > 1.0 && at[0] < 2.0, "{at:?}");
         assert_eq!(r.seam_height_max, None);
         assert_eq!(r.min_chart_gap_texels, Some(0));
         assert_eq!(r.max_clean_mip, None);
