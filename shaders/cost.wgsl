@@ -3,14 +3,14 @@
 // away, so a frame that does not ask for them costs and renders exactly as before).
 //
 // What counts: every read of the method's search (the view ray and the light rays) from the
-// height field, the max pyramid, the cone map, the NCS frame map, the distance volume and the
-// prisms' data. The shading normal (the same four samples for every method) and the albedo are
+// height field, the max pyramid, the cone map, the walk data of NCS and curved relief, the
+// distance volume and the prisms' data. The shading normal (the same four samples for every method) and the albedo are
 // not counted: the counts are the method's cost above Flat.
 //   fetches: texel fetch operations. A textureLoad or a storage read of one map value is 1; a
 //            textureGather is 4 (four texels); a hardware-filtered sample is 1 (one texture
 //            instruction; its filter reads 4 texels, 8 between two levels).
 //   bytes:   the bytes those fetches read: 4 per float32 texel, 16 for a filtered bilinear sample
-//            (32 trilinear), 16 per gather, 16 per frame-map texel, 96 per prism visited.
+//            (32 trilinear), 16 per gather, 16 per walk record (vec4), 96 per prism visited.
 //   fragments: the fragment invocations of the surface pass at the pixel (overdraw): every
 //            fragment the method's geometry puts there that runs its shader, whether it then
 //            writes or discards (a prism face tested and missed counts). Counted only in the

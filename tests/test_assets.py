@@ -142,10 +142,24 @@ def test_check_asset_finds_what_each_zoo_asset_has(name):
         assert r.open_edges == 96 and abs(r.open_length - 8.0) < 0.1
     if name == "mirrored_slab":  # one chart folded onto itself about x = 0
         assert r.mirror_edges == 16 and r.mirrored_charts == 1 and r.charts == 2 and r.seam_edges == 0
+        assert r.mirror_shared_edges == 0  # the axis's vertices are split, as exporters write them
         assert r.overlapping_texels > 0
     if name == "crate":  # six faces, split normals on every edge, one chart a face
         assert r.hard_edges == 12 and r.seam_edges == 12 and r.charts == 6 and r.welded_vertices == 8
     assert "triangles" in str(r)
+
+
+def test_check_asset_warns_of_vertices_shared_across_a_mirror_axis():
+    """The mirrored slab with its axis's vertices merged (same position and uv): MikkTSpace gives
+    each a tangent of one handedness, wrong for the triangles on the other side."""
+    mesh, _ = zoo.mirrored_slab()
+    key = np.concatenate([mesh.positions, mesh.uvs], 1)
+    _, first, inv = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    merged = pk.Mesh.from_arrays(mesh.positions[first], mesh.normals[first], mesh.uvs[first],
+                                 inv.ravel()[mesh.indices], tangents="mikktspace")
+    r = pk.check_asset(merged)
+    assert r.mirror_shared_edges == 16, r
+    assert any("split those vertices" in w for w in r.warnings)
 
 
 def test_check_asset_says_when_v_points_up():

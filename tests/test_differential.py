@@ -50,10 +50,12 @@ PLANAR = {
     "Parallax": pk.Parallax, "SteepParallax": pk.SteepParallax, "POM": pk.POM, "Relief": pk.Relief,
     "Exact": pk.Exact, "ConeStep": pk.ConeStep,
     "ConeStep-relaxed": lambda **k: pk.ConeStep(cones="relaxed", refine="binary", **k),
-    "CurvedRelief": pk.CurvedRelief,
     "DistanceMapping": pk.DistanceMapping,
 }
-SHELL = {"NCS": pk.NCS, "Prism": pk.Prism, "Prism-exact": lambda **k: pk.Prism(exact=True, **k)}
+# methods whose displaced surface ends at the mesh's open border, as the reference mesh's does
+# (the planar oracle takes the plane as infinite): their coverage is not the base plane's
+SHELL = {"NCS": pk.NCS, "CurvedRelief": pk.CurvedRelief, "Prism": pk.Prism,
+         "Prism-exact": lambda **k: pk.Prism(exact=True, **k)}
 METHODS = {**PLANAR, **SHELL}
 SAFE = ("Exact", "ConeStep", "Prism-exact")
 SHADOWS = ("none", "hard", "soft", "horizon", "exact")

@@ -115,7 +115,15 @@ def mirrored_slab(size: int = 128):
         for i in range(2 * k):
             a = j * w + i
             f += [[a, a + w, a + 1], [a + 1, a + w, a + w + 1]]
-    mesh = pk.Mesh.from_arrays(p, n, uv, np.asarray(f), tangents="mikktspace")
+    # the axis's vertices split, as an exporter writes a mirrored asset: each side's tangent has
+    # its own handedness (a vertex shared across the axis would carry one for both)
+    f = np.asarray(f)
+    axis = np.arange(k + 1) * w + k
+    dup = {int(v): len(p) + i for i, v in enumerate(axis)}
+    left = (p[f][:, :, 0] < 0.0).any(axis=1)
+    f[left] = np.vectorize(lambda v: dup.get(int(v), int(v)))(f[left])
+    p, n, uv = (np.concatenate([a, a[axis]]) for a in (p, n, uv))
+    mesh = pk.Mesh.from_arrays(p, n, uv, f, tangents="mikktspace")
     return mesh, pk.textures.bake(mesh, _cells, size)
 
 

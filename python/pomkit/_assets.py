@@ -110,6 +110,7 @@ _MEANING = {
     "seam": "uvs split: each side samples its own texels; the displaced surface is welded across it",
     "seam heights disagree": "the two sides of a seam read different heights: the bake's mismatch, rendered as the file says",
     "mirror axis": "the tangent frame's handedness flips across it",
+    "vertex shared across a mirror axis": "one tangent serves both handednesses: the frame collapses in the triangles beside it (split the vertex, as glTF exporters do)",
     "mirrored chart": "a chart whose uvs are mirrored (handedness w = +1)",
     "hard edge": "split normals: the sides displace along different normals; the reference welds them at their mean",
     "non-manifold edge": "more than two triangles share the edge",
@@ -135,6 +136,7 @@ class AssetReport:
     degenerate_triangles: int
     seam_edges: int
     mirror_edges: int
+    mirror_shared_edges: int
     open_edges: int
     open_length: float
     hard_edges: int
@@ -151,7 +153,7 @@ class AssetReport:
 
     def __str__(self) -> str:
         lines = [f"{self.triangles} triangles, {self.vertices} vertices ({self.welded_vertices} positions), {self.charts} chart(s)"]
-        lines.append(f"seams: {self.seam_edges} edges; mirror axes: {self.mirror_edges}; mirrored charts: {self.mirrored_charts}")
+        lines.append(f"seams: {self.seam_edges} edges; mirror axes: {self.mirror_edges} ({self.mirror_shared_edges} sharing vertices); mirrored charts: {self.mirrored_charts}")
         lines.append(f"open borders: {self.open_edges} edges ({self.open_length:.4g} long); hard edges: {self.hard_edges}; non-manifold: {self.nonmanifold_edges}")
         lines.append(f"degenerate: {self.degenerate_triangles} triangles, {self.degenerate_uv_triangles} in uv")
         if self.seam_height_max is not None:
@@ -203,6 +205,8 @@ def check_asset(mesh: Mesh, height: Any = None) -> AssetReport:
         warn.append("charts touch (no gutter): filtered samples bleed between them at every mip level")
     if d["degenerate_uv_triangles"]:
         warn.append(f"{d['degenerate_uv_triangles']} triangles have zero uv area")
+    if d["mirror_shared_edges"]:
+        warn.append(f"{d['mirror_shared_edges']} mirror-axis edges share vertices across the axis: one tangent serves both handednesses there, and shading and the texture-space methods (NCS, CurvedRelief) go wrong beside them; split those vertices, as glTF exporters do")
     if d["nonmanifold_edges"]:
         warn.append(f"{d['nonmanifold_edges']} non-manifold edges")
     return AssetReport(**d, warnings=warn)

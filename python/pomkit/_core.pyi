@@ -9,12 +9,11 @@ import numpy as np
 from ._methods import Method
 
 __all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "COST_AOV_NAMES", "CONE_KINDS", "DeviceLostError", "FILTERING_KINDS", "GpuError", "HeightData", "MAX_LIGHTS",
-           "MAX_STEPS_LIMIT", "MeshData", "NCS_MAP_BYTES", "NCS_MAP_SIZE", "NoAdapterError", "PATTERN_KINDS", "PRISM_BYTES", "PRISM_VERTEX_BYTES", "REFINE_KINDS", "Renderer", "SHADOW_KINDS",
+           "MAX_STEPS_LIMIT", "MeshData", "NoAdapterError", "PATTERN_KINDS", "PRISM_BYTES", "PRISM_VERTEX_BYTES", "REFINE_KINDS", "Renderer", "SHADOW_KINDS", "WALK_BYTES_PER_TRIANGLE",
            "__version__", "adapters", "bounding_sphere", "check_asset", "exact_uv", "load_gltf", "load_image", "mesh_from_arrays", "mesh_generate", "oracle_refusal", "reference_directions", "reference_normals", "render_exact", "set_cache_dir", "set_progress_hook", "tessellate"]
 __version__: str
-NCS_MAP_SIZE: int
-#: GPU bytes of one mesh's NCS frame map (two Rgba32Uint texels a map texel)
-NCS_MAP_BYTES: int
+#: GPU bytes of one triangle's walk data (NCS and curved relief)
+WALK_BYTES_PER_TRIANGLE: int
 #: GPU bytes of one prism's data (its Rgba32Uint texels) and of one boundary-face vertex
 PRISM_BYTES: int
 PRISM_VERTEX_BYTES: int
@@ -150,6 +149,7 @@ class AssetReportDict(TypedDict):
     degenerate_triangles: int
     seam_edges: int
     mirror_edges: int
+    mirror_shared_edges: int
     open_edges: int
     open_length: float
     hard_edges: int

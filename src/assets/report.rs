@@ -33,6 +33,9 @@ pub struct AssetReport {
     /// edges whose sides share their uvs but not their handedness (a mirror axis inside a chart
     /// folded onto itself: the tangent frame flips there)
     pub mirror_edges: usize,
+    /// mirror-axis edges whose two sides share a vertex (not only its position): one tangent
+    /// serves both handednesses there, and the frame between the sides' corners collapses
+    pub mirror_shared_edges: usize,
     /// edges with one side: the displaced surface ends there
     pub open_edges: usize,
     pub open_length: f64,
@@ -145,12 +148,14 @@ pub fn check_asset(mesh: &Mesh, height: Option<&HeightMap>, tiling: f64) -> Asse
         };
         let mut seam = false;
         let mut mirror = false;
+        let mut shared = false;
         let mut hard = false;
         for (k, &(a, b)) in ends.iter().enumerate().skip(1) {
             if !(same_uv(a, a0) && same_uv(b, b0)) {
                 seam = true;
             } else if mirrored[sides[k].tri as usize] != mirrored[sides[0].tri as usize] {
                 mirror = true;
+                shared |= a == a0 || b == b0;
             } else {
                 let (x, y) = (
                     find(&mut parent, sides[0].tri),
@@ -168,6 +173,10 @@ pub fn check_asset(mesh: &Mesh, height: Option<&HeightMap>, tiling: f64) -> Asse
         if mirror {
             r.mirror_edges += 1;
             example(&mut r, "mirror axis", mid);
+        }
+        if shared {
+            r.mirror_shared_edges += 1;
+            example(&mut r, "vertex shared across a mirror axis", mid);
         }
         if hard {
             r.hard_edges += 1;

@@ -3,8 +3,9 @@
 //!
 //! MikkTSpace runs on pomkit's uvs (v down): its bitangent `w * cross(N, T)` then points along
 //! +dP/dv, which is pomkit's handedness. Its answer is per triangle corner; a vertex takes its
-//! first corner's (MikkTSpace gives a vertex's corners one answer unless the vertex is shared
-//! across a uv split, which a vertex with one uv cannot be).
+//! first corner's. MikkTSpace gives a vertex's corners one answer except where the vertex is
+//! shared across a mirror axis (its corners' handedness differs); `check_asset` reports those
+//! (`mirror_shared_edges`), and exporters split such vertices.
 
 use bevy_mikktspace::{Geometry, TangentSpace};
 

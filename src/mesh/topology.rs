@@ -30,15 +30,37 @@ pub struct Topology {
 }
 
 impl Topology {
+    /// Vertices welded where their positions are bit-equal (a file's split vertices).
     pub fn new(mesh: &Mesh) -> Topology {
-        let mut ids: HashMap<[u32; 3], u32> = HashMap::new();
+        Self::welded_by(mesh, |p| p.map(|x| if x == 0.0 { 0 } else { x.to_bits() as i64 }))
+    }
+
+    /// Vertices welded where their positions agree to a millionth of the mesh's extent: also
+    /// the seams of generated meshes, whose two sides' positions differ in the last bits.
+    pub fn quantised(mesh: &Mesh) -> Topology {
+        let (lo, hi) = mesh.positions.iter().fold(
+            ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+            |(mut a, mut b), p| {
+                for i in 0..3 {
+                    a[i] = a[i].min(p[i] as f64);
+                    b[i] = b[i].max(p[i] as f64);
+                }
+                (a, b)
+            },
+        );
+        let extent = (0..3).map(|i| (hi[i] - lo[i]).max(0.0)).fold(0.0, f64::max);
+        let quantum = extent.max(1e-30) * 1e-6;
+        Self::welded_by(mesh, |p| p.map(|x| (x as f64 / quantum).round() as i64))
+    }
+
+    fn welded_by(mesh: &Mesh, key: impl Fn([f32; 3]) -> [i64; 3]) -> Topology {
+        let mut ids: HashMap<[i64; 3], u32> = HashMap::new();
         let weld: Vec<u32> = mesh
             .positions
             .iter()
             .map(|p| {
                 let n = ids.len() as u32;
-                *ids.entry(p.map(|x| if x == 0.0 { 0 } else { x.to_bits() }))
-                    .or_insert(n)
+                *ids.entry(key(*p)).or_insert(n)
             })
             .collect();
         let mut t = Topology {

@@ -23,6 +23,7 @@ pub mod prism;
 mod relief;
 mod steep;
 pub mod tessellated;
+pub mod walk;
 
 pub use bump::Bump;
 pub use cone_step::{ConeStep, Cones, Refine};
@@ -32,8 +33,6 @@ pub use distance_mapping::DistanceMapping;
 pub use exact::Exact;
 pub use flat::Flat;
 pub use ncs::Ncs;
-pub use ncs::MAP_BYTES as NCS_MAP_BYTES;
-pub use ncs::MAP_SIZE as NCS_MAP_SIZE;
 pub use parallax::Parallax;
 pub use pom::Pom;
 pub use prism::Prism;
@@ -41,6 +40,7 @@ pub use prism::{PRISM_BYTES, PRISM_VERTEX_BYTES};
 pub use relief::Relief;
 pub use steep::SteepParallax;
 pub use tessellated::Tessellated;
+pub use walk::WALK_BYTES_PER_TRIANGLE;
 
 pub use crate::contract::{
     check_finite, check_range, flag, Fields, Filtering, FromFields, Geometry, Pass, PerPixel,

@@ -57,6 +57,7 @@ pub fn check_asset<'py>(
     d.set_item("degenerate_triangles", r.degenerate_triangles)?;
     d.set_item("seam_edges", r.seam_edges)?;
     d.set_item("mirror_edges", r.mirror_edges)?;
+    d.set_item("mirror_shared_edges", r.mirror_shared_edges)?;
     d.set_item("open_edges", r.open_edges)?;
     d.set_item("open_length", r.open_length)?;
     d.set_item("hard_edges", r.hard_edges)?;

@@ -33,8 +33,7 @@ pub(crate) fn nd_array<'py, T: numpy::Element, D: numpy::ndarray::Dimension>(
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
-    m.add("NCS_MAP_SIZE", crate::methods::NCS_MAP_SIZE)?;
-    m.add("NCS_MAP_BYTES", crate::methods::NCS_MAP_BYTES)?;
+    m.add("WALK_BYTES_PER_TRIANGLE", crate::methods::WALK_BYTES_PER_TRIANGLE)?;
     m.add("PRISM_BYTES", crate::methods::PRISM_BYTES)?;
     m.add("PRISM_VERTEX_BYTES", crate::methods::PRISM_VERTEX_BYTES)?;
     // the contracts Python derives its checks and Literals from (one source: the core)

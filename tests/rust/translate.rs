@@ -199,20 +199,12 @@ fn every_variant_translates_to_every_backend() {
         }
     }
     for (src, file) in [
-        (
-            pomkit::methods::ncs::TEXSPACE_SHADER,
-            "src/methods/ncs/texspace.wgsl",
-        ),
         (pomkit::heightmap::MIPS_SHADER, "shaders/mips.wgsl"),
         (
             pomkit::methods::cone_step::CONE_MAP_SHADER,
             "src/methods/cone_step/cone_map.wgsl",
         ),
     ] {
-        // a method's builder registers its own library modules first (NCS: pomkit::frame_map)
-        use pomkit::contract::Composer;
-        lib.register(&pomkit::methods::ncs::frame_map_unit())
-            .unwrap();
         let module = lib.compose_pass(src, file).unwrap();
         let info = validate(&module, file);
         outputs += translate(&module, &info, file);

@@ -243,12 +243,12 @@ def silhouettes_table(size: int = 256) -> str:
                 sweep_rows.append(f"| {c:g} | {((f.flags & 2) > 0)[f.mask].mean():.3f} | {e['p95']:.3f} | {e['mask_iou']:.4f} |")
     rows += ["", "NCS step_scale c on the torus (64 steps, the paper's fixed step: adaptive=False):", "", "| c | early-termination rate | uv p95 | mask IoU |", "|---|---|---|---|"] + sweep_rows
     from pomkit import _core
-    MAP_BYTES = {"size": _core.NCS_MAP_SIZE, "bytes": _core.NCS_MAP_BYTES}  # one packed Rgba32Uint map, two texels a map texel
     tris = len(pk.Mesh.torus(segments=48, tube_segments=24).indices) // 3
     # a closed shell draws its tops only: 3 vertices a prism, and its data
     vb, pb = _core.PRISM_VERTEX_BYTES, _core.PRISM_BYTES
     prism_bytes = tris * (3 * vb + pb)
-    rows += ["", f"NCS's extra GPU memory: one packed {MAP_BYTES['size']}² Rgba32Uint map = {MAP_BYTES['bytes'] / 2**20:.0f} MiB per mesh (cached, at most 4 meshes).",
+    wb = _core.WALK_BYTES_PER_TRIANGLE
+    rows += ["", f"NCS's (and curved relief's) extra GPU memory: {wb} bytes of walk data per triangle, and the mesh drawn unindexed (3 vertices of 72 bytes a triangle) = {tris * (wb + 3 * 72) / 2**20:.2f} MiB for this {tris}-triangle torus.",
              f"Prism's extra GPU memory: 3 boundary vertices of {vb} bytes (a closed shell) + {pb} bytes of prism data per triangle = {prism_bytes / 2**20:.2f} MiB for this {tris}-triangle torus."]
     return "\n".join(rows)
 

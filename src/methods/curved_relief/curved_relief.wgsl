@@ -6,12 +6,16 @@
 // [0, t_end], t_end where d reaches the shell's depth (the floor) or, where the surface curves
 // away faster than the ray descends, where d returns to 0: the ray leaves the shell through its
 // top without a hit and the fragment is discarded (the silhouette). A linear search of
-// `linear_steps`, then `binary_steps` bisections. The hit is shaded in the entry's frame.
+// `linear_steps`, then `binary_steps` bisections. The search's uv walks across the base mesh's
+// triangles (walk.wgsl): across a seam it continues in the neighbouring chart, and a ray that
+// walks out through an open border has left the surface (discarded). The hit is shaded in the
+// mesh's frame at the hit.
 #define_import_path pomkit::methods::curved_relief
 
 #import pomkit::globals::G
 #import pomkit::march::{Ray, Hit}
 #import pomkit::height::height_at
+#import pomkit::walk::{WalkPoint, walk_move, walk_frame, walk_start}
 
 // the ray's height in the shell (1 at the curved base, 0 at the floor) at world distance t
 fn ray_h(q: f32, c: f32, depth: f32, t: f32) -> f32 {
@@ -46,46 +50,59 @@ fn march(r: Ray) -> Hit {
     }
     let n = max(params.linear_steps, 1.0);
     let dt = t_end / n;
-    var t_prev = 0.0;
-    var t_cur = 0.0;
+    let tiling = G.tiling;
+    // the last point above the height field (lo) and the first below (hi), each a walk point
+    // at world distance t along the view; dir: uv per world length in the point's chart
+    var lo = WalkPoint(walk_start(r.extra), r.uv, r.v_ts.xy / tiling, true);
+    var hi = lo;
+    var t_lo = 0.0;
+    var t_hi = 0.0;
     var found = false;
     var steps = 0.0;
     let ni = i32(n);
     for (var i = 1; i <= ni; i = i + 1) {
-        t_cur = dt * f32(i);
-        let hs = height_at(r.s + r.v_ts.xy * t_cur, r.lod);
+        t_hi = dt * f32(i);
+        hi = walk_move(lo.tri, lo.uv, lo.dir, dt);
         steps = steps + 1.0;
-        if (ray_h(q, c, depth, t_cur) <= hs) {
+        if (!hi.on) {
+            // out through an open border: off the surface
+            hit.exited = true;
+            hit.steps = steps;
+            return hit;
+        }
+        if (ray_h(q, c, depth, t_hi) <= height_at(hi.uv * tiling, r.lod)) {
             found = true;
             break;
         }
-        t_prev = t_cur;
+        lo = hi;
+        t_lo = t_hi;
     }
     if (!found) {
         // only a ray that leaves through the top gets here (at the floor h_ray = 0 <= any height)
         hit.exited = exits;
         hit.steps = steps;
-        hit.s = r.s + r.v_ts.xy * t_end;
+        hit.s = hi.uv * tiling;
         hit.h = 0.0;
         hit.len = t_end;
         return hit;
     }
-    var lo = t_prev;
-    var hi = t_cur;
     let nb = i32(params.binary_steps);
     for (var k = 0; k < nb; k = k + 1) {
-        let mid = 0.5 * (lo + hi);
-        let hs = height_at(r.s + r.v_ts.xy * mid, r.lod);
+        let mid = 0.5 * (t_lo + t_hi);
+        let w = walk_move(lo.tri, lo.uv, lo.dir, mid - t_lo);
         steps = steps + 1.0;
-        if (ray_h(q, c, depth, mid) <= hs) {
-            hi = mid;
+        if (ray_h(q, c, depth, mid) <= height_at(w.uv * tiling, r.lod)) {
+            hi = w;
+            t_hi = mid;
         } else {
-            lo = mid;
+            lo = w;
+            t_lo = mid;
         }
     }
-    hit.s = r.s + r.v_ts.xy * hi;
-    hit.h = clamp(ray_h(q, c, depth, hi), 0.0, 1.0);
-    hit.len = hi;
+    hit.s = hi.uv * tiling;
+    hit.h = clamp(ray_h(q, c, depth, t_hi), 0.0, 1.0);
+    hit.len = t_hi;
     hit.steps = steps;
+    hit.f = walk_frame(hi.tri, hi.uv);
     return hit;
 }

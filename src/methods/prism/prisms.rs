@@ -275,6 +275,11 @@ pub fn build(
     }
     // a closed shell is entered only through its top from outside: its bottoms (the inner
     // surface) are drawn only where the shell is open (an edge, a crease), where a ray can reach them
+    // the sides on an open border of the surface (one triangle on the edge, welded by position),
+    // unlike creases, where two triangles meet with other normals: the displaced surface ends at
+    // an open border, and prism.wgsl lets a ray through an open wall only above the height field
+    let topo = crate::mesh::topology::Topology::quantised(mesh);
+    let border = |t: usize, k: usize| topo.edges[topo.tri_edges[t][k] as usize].1.len() == 1;
     let open = adj
         .iter()
         .zip(&degenerate)
@@ -332,12 +337,20 @@ pub fn build(
             if adj[t][k] != NONE || degenerate[t] {
                 continue;
             }
+            let open_side = border(t, k);
+            let wall = |c: usize, on_top: bool| {
+                let mut v = corner(c, on_top);
+                if open_side {
+                    v.prism |= OPEN_WALL;
+                }
+                v
+            };
             if flip {
-                push_tri(corner(k, true), corner(j, true), corner(k, false));
-                push_tri(corner(j, true), corner(j, false), corner(k, false));
+                push_tri(wall(k, true), wall(j, true), wall(k, false));
+                push_tri(wall(j, true), wall(j, false), wall(k, false));
             } else {
-                push_tri(corner(k, true), corner(j, true), corner(j, false));
-                push_tri(corner(k, true), corner(j, false), corner(k, false));
+                push_tri(wall(k, true), wall(j, true), wall(j, false));
+                push_tri(wall(k, true), wall(j, false), wall(k, false));
             }
         }
         adj[t][3] = diagonals;
@@ -368,6 +381,9 @@ pub fn build(
     }
     Prisms { vertices, data }
 }
+
+/// The bit of `PrismVertex::prism` that marks a face on an open border of the surface.
+pub const OPEN_WALL: u32 = 1 << 31;
 
 /// The lowest top a tight shell gives a vertical edge, as a fraction of the depth: no prism is
 /// flat, so that a ray entering one always finds its way out.

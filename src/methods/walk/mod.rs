@@ -1,0 +1,406 @@
+//! The base mesh as a surface a texture-space ray walks across (walk.wgsl): NCS and curved
+//! relief march in uv, and on an atlas a ray leaves its triangle, its chart, or the surface.
+//! Each triangle carries what the walk needs to follow it:
+//! - the affine map from uv to its barycentrics (the test "still inside");
+//! - for each side, the triangle across it (welded by position, mesh::topology) and the affine
+//!   map from this triangle's uv to the neighbour's: the identity inside a chart, and across a
+//!   seam or a mirror axis the map that lays the neighbour beside this triangle as the surface
+//!   unfolds (two points of the edge to their uvs on the other side, the neighbour's far corner,
+//!   unfolded into this triangle's plane, to its uv). An open border has no neighbour: a ray
+//!   that walks out through it has left the surface;
+//! - its corners' frames (normal, tangent with handedness, uv scales), interpolated as the
+//!   rasteriser interpolates them, so that the frame at any point is the one the mesh defines,
+//!   also where mirrored charts share texels.
+//!
+//! The triangle a fragment starts in reaches the shader as `Ray::extra.z`: the method draws the
+//! base mesh unindexed, three vertices a triangle, each carrying its triangle's index.
+
+use crate::contract::{BuildInputs, GpuMesh, MethodGeometry, MethodResources, Resident};
+use crate::contract::{ResourceKind, ShaderUnit};
+use crate::error::{Error, Result};
+use crate::gpu::Context;
+use crate::mesh::topology::Topology;
+use crate::mesh::{Mesh, Vertex};
+use crate::scene::{hash_bytes, Object};
+use glam::{DMat2, DVec2, DVec3};
+
+/// vec4 records per triangle (walk.wgsl's layout).
+pub const RECORDS_PER_TRIANGLE: usize = 14;
+/// GPU bytes of one triangle's walk data.
+pub const WALK_BYTES_PER_TRIANGLE: usize = RECORDS_PER_TRIANGLE * 16;
+/// The neighbour index of a side on an open border.
+pub const NO_NEIGHBOUR: f32 = -1.0;
+
+/// The walk's library module (`pomkit::walk`), imported by the methods that walk.
+pub fn walk_unit() -> ShaderUnit {
+    ShaderUnit::builtin(
+        "pomkit::walk",
+        "src/methods/walk/walk.wgsl",
+        include_str!("walk.wgsl"),
+    )
+}
+
+/// An affine map of the plane, x -> l x + o.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Affine {
+    pub l: DMat2,
+    pub o: DVec2,
+}
+
+impl Affine {
+    pub const IDENTITY: Affine = Affine {
+        l: DMat2::IDENTITY,
+        o: DVec2::ZERO,
+    };
+    pub fn apply(&self, x: DVec2) -> DVec2 {
+        self.l * x + self.o
+    }
+    /// The map taking a0, a1, a2 to b0, b1, b2; None where a0, a1, a2 are collinear.
+    fn through(a: [DVec2; 3], b: [DVec2; 3]) -> Option<Affine> {
+        let s = DMat2::from_cols(a[1] - a[0], a[2] - a[0]);
+        let det = s.determinant();
+        let scale = (a[1] - a[0]).length_squared().max((a[2] - a[0]).length_squared());
+        if !(det.abs() > 1e-12 * scale) {
+            return None;
+        }
+        let l = DMat2::from_cols(b[1] - b[0], b[2] - b[0]) * s.inverse();
+        Some(Affine {
+            l,
+            o: b[0] - l * a[0],
+        })
+    }
+}
+
+/// One triangle's walk data, in float64 (the tests read it; `records` packs it).
+#[derive(Clone, Debug)]
+pub struct WalkTriangle {
+    /// uv -> (b1, b2), the barycentrics of corners 1 and 2 (b0 = 1 - b1 - b2)
+    pub to_bary: Affine,
+    /// per side k (corners k and k+1): the triangle across it and the map of uvs into it
+    pub across: [Option<(u32, Affine)>; 3],
+}
+
+fn tri_corners(mesh: &Mesh, t: usize) -> [u32; 3] {
+    [
+        mesh.indices[3 * t],
+        mesh.indices[3 * t + 1],
+        mesh.indices[3 * t + 2],
+    ]
+}
+
+/// The map from triangle `a`'s uv to triangle `b`'s across their shared side (a's side `k`).
+fn transfer(mesh: &Mesh, topo: &Topology, a: usize, k: usize, b: usize) -> Affine {
+    let ca = tri_corners(mesh, a);
+    let cb = tri_corners(mesh, b);
+    let (a0, a1, a2) = (ca[k], ca[(k + 1) % 3], ca[(k + 2) % 3]);
+    // b's corners at a0's and a1's positions, and its far corner
+    let find = |w: u32| cb.iter().copied().find(|&v| topo.weld[v as usize] == w);
+    let (Some(b0), Some(b1)) = (
+        find(topo.weld[a0 as usize]),
+        find(topo.weld[a1 as usize]),
+    ) else {
+        return Affine::IDENTITY;
+    };
+    let Some(b2) = cb.iter().copied().find(|&v| v != b0 && v != b1) else {
+        return Affine::IDENTITY;
+    };
+    let uv = |v: u32| mesh.uv_f64(v);
+    let uva = [uv(a0), uv(a1), uv(a2)];
+    let uvb = [uv(b0), uv(b1), uv(b2)];
+    // inside a chart the uvs agree at the side's ends and the other triangle lies across the
+    // side in uv: the uvs continue as they are (a mirror axis folds the other triangle back
+    // onto this side, and takes the map below)
+    let e = uva[1] - uva[0];
+    let b_beyond = e.perp_dot(uva[2] - uva[0]).signum() != e.perp_dot(uvb[2] - uva[0]).signum();
+    if uva[0] == uvb[0] && uva[1] == uvb[1] && b_beyond {
+        return Affine::IDENTITY;
+    }
+    // b's far corner unfolded into a's plane, across the side
+    let p = |v: u32| mesh.position_f64(v);
+    let (p0, p1, p2) = (p(a0), p(a1), p(a2));
+    let e = p1 - p0;
+    let ee = e.length_squared();
+    if !(ee > 0.0) {
+        return Affine::IDENTITY;
+    }
+    let inward = {
+        let r = p2 - p0;
+        let w = r - e * (r.dot(e) / ee);
+        w.normalize_or_zero()
+    };
+    let q = p(b2) - p0;
+    let s = q.dot(e) / ee;
+    let d = (q - e * s).length();
+    let x: DVec3 = p0 + e * s - inward * d;
+    // its uv in a's (affine) parameterisation: barycentrics of x in a's plane
+    let (u, v) = (p1 - p0, p2 - p0);
+    let g = DMat2::from_cols(
+        DVec2::new(u.dot(u), u.dot(v)),
+        DVec2::new(u.dot(v), v.dot(v)),
+    );
+    if !(g.determinant().abs() > 1e-300) {
+        return Affine::IDENTITY;
+    }
+    let bc = g.inverse() * DVec2::new((x - p0).dot(u), (x - p0).dot(v));
+    let uvx = uva[0] + (uva[1] - uva[0]) * bc.x + (uva[2] - uva[0]) * bc.y;
+    Affine::through([uva[0], uva[1], uvx], uvb).unwrap_or(Affine::IDENTITY)
+}
+
+/// Every triangle's walk data.
+pub fn build(mesh: &Mesh) -> Vec<WalkTriangle> {
+    let topo = Topology::quantised(mesh);
+    let n = mesh.indices.len() / 3;
+    (0..n)
+        .map(|t| {
+            let c = tri_corners(mesh, t);
+            let uv = [mesh.uv_f64(c[0]), mesh.uv_f64(c[1]), mesh.uv_f64(c[2])];
+            // degenerate uvs: every point counts as inside (the walk stays)
+            let to_bary = Affine::through(
+                uv,
+                [DVec2::ZERO, DVec2::new(1.0, 0.0), DVec2::new(0.0, 1.0)],
+            )
+            .unwrap_or(Affine {
+                l: DMat2::ZERO,
+                o: DVec2::ZERO,
+            });
+            let across = std::array::from_fn(|k| {
+                let e = topo.tri_edges[t][k] as usize;
+                let sides = &topo.edges[e].1;
+                // the other side (on a non-manifold edge, the first other one)
+                let other = sides.iter().find(|s| s.tri as usize != t)?;
+                let b = other.tri as usize;
+                Some((b as u32, transfer(mesh, &topo, t, k, b)))
+            });
+            WalkTriangle { to_bary, across }
+        })
+        .collect()
+}
+
+/// The walk data as walk.wgsl reads it: RECORDS_PER_TRIANGLE vec4 per triangle.
+pub fn records(mesh: &Mesh, walk: &[WalkTriangle]) -> Vec<[f32; 4]> {
+    let mut out = Vec::with_capacity(walk.len() * RECORDS_PER_TRIANGLE);
+    let row = |a: &Affine, r: usize| {
+        [
+            a.l.col(0)[r] as f32,
+            a.l.col(1)[r] as f32,
+            a.o[r] as f32,
+        ]
+    };
+    for (t, w) in walk.iter().enumerate() {
+        let [a, b, c] = row(&w.to_bary, 0);
+        out.push([a, b, c, 0.0]);
+        let [a, b, c] = row(&w.to_bary, 1);
+        out.push([a, b, c, 0.0]);
+        for k in 0..3 {
+            let (nb, m) = match &w.across[k] {
+                Some((nb, m)) => (*nb as f32, *m),
+                None => (NO_NEIGHBOUR, Affine::IDENTITY),
+            };
+            let [a, b, c] = row(&m, 0);
+            out.push([a, b, c, nb]);
+            let [a, b, c] = row(&m, 1);
+            out.push([a, b, c, 0.0]);
+        }
+        for v in tri_corners(mesh, t) {
+            let v = v as usize;
+            let (n, tg, s) = (mesh.normals[v], mesh.tangents[v], mesh.uv_scale[v]);
+            let sign = if tg[3] < 0.0 { -1.0 } else { 1.0 };
+            out.push([n[0], n[1], n[2], s[0]]);
+            out.push([tg[0], tg[1], tg[2], sign * s[1]]);
+        }
+    }
+    out
+}
+
+/// The base mesh drawn unindexed, each vertex with (a, b, triangle, 0) at location 5: the
+/// quadric coefficients of curved relief (zero for NCS) and the index of its triangle. The walk
+/// data is built beside it (`GpuMesh::extra[0]`).
+#[derive(Debug, Clone, Copy)]
+pub struct WalkMesh {
+    pub quadrics: bool,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct WalkVertex {
+    vertex: Vertex,
+    extra: [f32; 4],
+}
+
+const ATTRIBUTES: [wgpu::VertexAttribute; 6] =
+    Vertex::with_location5(wgpu::VertexFormat::Float32x4);
+
+impl MethodGeometry for WalkMesh {
+    fn key(&self, object: &Object) -> u64 {
+        hash_bytes(&[
+            b"walk mesh",
+            &object.mesh.key.to_le_bytes(),
+            &[self.quadrics as u8],
+        ])
+    }
+    fn build(&self, ctx: &Context, object: &Object) -> Result<GpuMesh> {
+        let mesh = &object.mesh;
+        let ntri = mesh.indices.len() / 3;
+        if ntri as u64 >= 1 << 24 {
+            return Err(Error::limit(
+                "mesh",
+                format!("the texture-space walk indexes triangles as float32 and takes at most 2^24 of them; this mesh has {ntri}: split it into several pk.Object"),
+            ));
+        }
+        let q = if self.quadrics {
+            super::curved_relief::fit_quadrics(mesh)
+        } else {
+            vec![[0.0, 0.0]; mesh.positions.len()]
+        };
+        let vertices = mesh.vertices();
+        let verts: Vec<WalkVertex> = mesh
+            .indices
+            .iter()
+            .enumerate()
+            .map(|(i, &v)| {
+                let [a, b] = q[v as usize];
+                WalkVertex {
+                    vertex: vertices[v as usize],
+                    extra: [a, b, (i / 3) as f32, 0.0],
+                }
+            })
+            .collect();
+        let data = records(mesh, &build(mesh));
+        let bytes = std::mem::size_of_val(data.as_slice()) as u64;
+        if bytes > ctx.limits.max_storage_buffer_binding_size as u64 {
+            return Err(Error::limit(
+                "mesh",
+                format!("the walk data of {ntri} triangles takes {bytes} bytes; the device binds at most max_storage_buffer_binding_size = {} bytes: split the mesh into several pk.Object", ctx.limits.max_storage_buffer_binding_size),
+            ));
+        }
+        ctx.scoped(|| {
+            Ok(GpuMesh {
+                vbuf: ctx.upload(
+                    "walk vertices",
+                    bytemuck::cast_slice(&verts),
+                    wgpu::BufferUsages::VERTEX,
+                ),
+                ibuf: None,
+                count: verts.len() as u32,
+                extra: vec![Resident::Buffer(ctx.upload(
+                    "walk data",
+                    bytemuck::cast_slice(&data),
+                    wgpu::BufferUsages::STORAGE,
+                ))],
+            })
+        })
+    }
+    fn vertex_layout(&self) -> wgpu::VertexBufferLayout<'static> {
+        wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<WalkVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &ATTRIBUTES,
+        }
+    }
+}
+
+/// The walk data (`walk` in walk.wgsl, group 2, binding 1), made with the method's geometry.
+#[derive(Debug)]
+pub struct WalkData {
+    pub mesh: WalkMesh,
+}
+
+impl MethodResources for WalkData {
+    fn layout(&self) -> Vec<ResourceKind> {
+        vec![ResourceKind::Storage]
+    }
+    fn key(&self, object: &Object) -> u64 {
+        hash_bytes(&[b"walk data", &self.mesh.key(object).to_le_bytes()])
+    }
+    fn build(&self, inputs: &BuildInputs<'_>) -> Result<Vec<Resident>> {
+        let data = inputs
+            .mesh
+            .extra
+            .first()
+            .ok_or_else(|| Error::Gpu("the walk data was not built with the walk mesh".into()))?;
+        Ok(vec![data.clone()])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn quad(uv_right: [[f32; 2]; 2]) -> Mesh {
+        // two triangles sharing the edge x = 1; the right one's uvs are given at that edge's
+        // ends (y = 0, y = 1), its far corner at (2, 0.5)
+        let positions = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [2.0, 0.5, 0.0],
+            [1.0, 1.0, 0.0],
+        ];
+        let uvs = vec![
+            [0.0, 0.0],
+            [0.5, 0.0],
+            [0.5, 0.5],
+            uv_right[0],
+            [uv_right[0][0] + 0.5, 0.5 * (uv_right[0][1] + uv_right[1][1])],
+            uv_right[1],
+        ];
+        let normals = vec![[0.0, 0.0, 1.0]; 6];
+        Mesh::from_arrays(positions, normals, uvs, vec![0, 1, 2, 3, 4, 5], None)
+            .unwrap()
+            .0
+    }
+
+    #[test]
+    fn inside_a_chart_the_walk_keeps_the_uvs() {
+        let m = quad([[0.5, 0.0], [0.5, 0.5]]);
+        let w = build(&m);
+        let (nb, a) = w[0].across[1].unwrap();
+        assert_eq!(nb, 1);
+        assert_eq!(a, Affine::IDENTITY);
+        assert!(w[0].across[0].is_none() && w[0].across[2].is_none());
+        // corner 2 of triangle 0 at uv (0.5, 0.5): b2 = 1
+        let b = w[0].to_bary.apply(DVec2::new(0.5, 0.5));
+        assert!((b - DVec2::new(0.0, 1.0)).length() < 1e-12);
+    }
+
+    #[test]
+    fn across_a_seam_the_walk_continues_in_the_other_chart() {
+        // the right triangle's chart elsewhere in the atlas and at another scale
+        let m = quad([[0.9, 0.2], [0.9, 0.45]]);
+        let w = build(&m);
+        let (nb, a) = w[0].across[1].unwrap();
+        assert_eq!(nb, 1);
+        // the side's ends land on the other chart's uvs
+        let d = a.apply(DVec2::new(0.5, 0.0)) - DVec2::new(0.9, 0.2);
+        assert!(d.length() < 1e-6, "{d}");
+        let d = a.apply(DVec2::new(0.5, 0.5)) - DVec2::new(0.9, 0.45);
+        assert!(d.length() < 1e-6, "{d}");
+        // a point of the right triangle (world (1.5, 0.5)), continued in the left triangle's
+        // chart (uv 0.5 per world unit), lands at its uv in the right chart
+        let into = a.apply(DVec2::new(0.75, 0.25));
+        let bary = w[1].to_bary.apply(into);
+        let b = [1.0 - bary.x - bary.y, bary.x, bary.y];
+        // world (1.5, 0.5) is the midpoint between the edge's midpoint and the far corner
+        let expect = [0.25, 0.5, 0.25];
+        for k in 0..3 {
+            assert!((b[k] - expect[k]).abs() < 1e-6, "{b:?}");
+        }
+        // and back again
+        let (_, back) = w[1].across[2].unwrap();
+        let p = back.apply(into);
+        assert!((p - DVec2::new(0.75, 0.25)).length() < 1e-6);
+    }
+
+    #[test]
+    fn across_a_mirror_axis_the_walk_reflects() {
+        // the right triangle's uvs fold back onto the left one's: a mirrored chart
+        let mut m = quad([[0.5, 0.0], [0.5, 0.5]]);
+        m.uvs[4] = [0.0, 0.25];
+        let w = build(&m);
+        let (_, a) = w[0].across[1].unwrap();
+        // the axis stays, the far side reflects
+        assert!((a.apply(DVec2::new(0.5, 0.3)) - DVec2::new(0.5, 0.3)).length() < 1e-6);
+        assert!((a.apply(DVec2::new(0.75, 0.25)) - DVec2::new(0.25, 0.25)).length() < 1e-6);
+    }
+}

@@ -1,0 +1,106 @@
+// walk.wgsl: a texture-space ray walking across the base mesh (src/methods/walk/mod.rs). A walk
+// point is a triangle and a uv in that triangle's chart. A move by a uv displacement follows the
+// segment out of the triangle through the side it crosses, into the triangle across it, whose
+// chart may be another one (a seam: the rest of the move is mapped into it) or a mirrored one (a
+// mirror axis: the move reflects); through an open border the walk ends: the ray has left the
+// surface. The frame at a walk point is its triangle's corner frames interpolated, as the
+// rasteriser interpolates them for the fragment.
+#define_import_path pomkit::walk
+
+#import pomkit::cost::fetched
+#import pomkit::frame::{TangentFrame, make_frame}
+
+// the walk data (group 2, binding 1): 14 vec4 per triangle
+//   0, 1:          uv -> b1 and b2 (rows of an affine map)
+//   2 + 2k, 3 + 2k: side k (corners k, k+1): uv -> the neighbour's uv (rows), neighbour in .w of
+//                   the first row (-1 on an open border)
+//   8 + 2c, 9 + 2c: corner c's (normal, S_tangent) and (tangent, sign * S_binormal)
+@group(2) @binding(1) var<storage, read> walk_data: array<vec4<f32>>;
+
+const RECORDS: u32 = 14u;
+// sides crossed in one move at most (a move spans a few texels; triangles are larger)
+const MAX_CROSSINGS: i32 = 16;
+
+struct WalkPoint {
+    tri: u32,
+    uv: vec2<f32>,
+    // the move's direction in the chart it ended in (crossings map it)
+    dir: vec2<f32>,
+    // false when the walk left the surface through an open border
+    on: bool,
+}
+
+fn walk_row(r: vec4<f32>, p: vec2<f32>) -> f32 {
+    return r.x * p.x + r.y * p.y + r.z;
+}
+
+// (b0, b1, b2) of uv in triangle tri
+fn walk_bary(tri: u32, uv: vec2<f32>) -> vec3<f32> {
+    fetched(2u, 32u);
+    let base = tri * RECORDS;
+    let b1 = walk_row(walk_data[base], uv);
+    let b2 = walk_row(walk_data[base + 1u], uv);
+    return vec3<f32>(1.0 - b1 - b2, b1, b2);
+}
+
+// Move from (tri, uv) by dir * len (dir in tri's chart).
+fn walk_move(tri_in: u32, uv_in: vec2<f32>, dir: vec2<f32>, len: f32) -> WalkPoint {
+    var w = WalkPoint(tri_in, uv_in, dir, true);
+    var rest = dir * len;
+    for (var i = 0; i < MAX_CROSSINGS; i = i + 1) {
+        let e = w.uv + rest;
+        let be = walk_bary(w.tri, e);
+        if (all(be >= vec3<f32>(-1e-6))) {
+            w.uv = e;
+            return w;
+        }
+        // the side the segment leaves through: the first corner whose barycentric reaches 0
+        // (side (c + 1) % 3 lies opposite corner c)
+        let bs = walk_bary(w.tri, w.uv);
+        var s = 2.0;
+        var side = 0u;
+        for (var c = 0u; c < 3u; c = c + 1u) {
+            if (be[c] < -1e-6) {
+                let sc = clamp(bs[c] / max(bs[c] - be[c], 1e-30), 0.0, 1.0);
+                if (sc < s) {
+                    s = sc;
+                    side = (c + 1u) % 3u;
+                }
+            }
+        }
+        let x = w.uv + rest * s;
+        rest = rest * (1.0 - s);
+        fetched(2u, 32u);
+        let r0 = walk_data[w.tri * RECORDS + 2u + 2u * side];
+        let r1 = walk_data[w.tri * RECORDS + 3u + 2u * side];
+        if (r0.w < 0.0) {
+            w.uv = x;
+            w.on = false;
+            return w;
+        }
+        // the point and the rest of the move, in the neighbour's chart
+        w.uv = vec2<f32>(walk_row(r0, x), walk_row(r1, x));
+        rest = vec2<f32>(dot(r0.xy, rest), dot(r1.xy, rest));
+        w.dir = vec2<f32>(dot(r0.xy, w.dir), dot(r1.xy, w.dir));
+        w.tri = u32(r0.w);
+    }
+    w.uv = w.uv + rest;
+    return w;
+}
+
+// The mesh's frame at a walk point: the corners' normals, tangents and uv scales interpolated.
+fn walk_frame(tri: u32, uv: vec2<f32>) -> TangentFrame {
+    let b = clamp(walk_bary(tri, uv), vec3<f32>(0.0), vec3<f32>(1.0));
+    fetched(6u, 96u);
+    let base = tri * RECORDS + 8u;
+    let n = walk_data[base] * b.x + walk_data[base + 2u] * b.y + walk_data[base + 4u] * b.z;
+    let t = walk_data[base + 1u] * b.x + walk_data[base + 3u] * b.y + walk_data[base + 5u] * b.z;
+    // the handedness is the triangle's (its corners agree in a chart)
+    let sign = select(1.0, -1.0, walk_data[base + 1u].w < 0.0);
+    return make_frame(n.xyz, vec4<f32>(t.xyz, sign), vec2<f32>(n.w, abs(t.w)));
+}
+
+// The triangle a fragment starts in (the method's geometry carries it in Ray::extra.z).
+fn walk_start(extra: vec4<f32>) -> u32 {
+    return u32(round(extra.z));
+}
