@@ -176,7 +176,8 @@ pub fn build(mesh: &Mesh) -> Vec<WalkTriangle> {
         .collect()
 }
 
-/// The walk data as walk.wgsl reads it: RECORDS_PER_TRIANGLE vec4 per triangle.
+/// The walk data as walk.wgsl reads it: RECORDS_PER_TRIANGLE vec4 per triangle, in triangle
+/// order.
 pub fn records(mesh: &Mesh, walk: &[WalkTriangle]) -> Vec<[f32; 4]> {
     let mut out = Vec::with_capacity(walk.len() * RECORDS_PER_TRIANGLE);
     let row = |a: &Affine, r: usize| {
@@ -210,6 +211,31 @@ pub fn records(mesh: &Mesh, walk: &[WalkTriangle]) -> Vec<[f32; 4]> {
         }
     }
     out
+}
+
+/// The records as the texture walk.wgsl reads: triangle i's at (i mod per_row, i div per_row),
+/// RECORDS_PER_TRIANGLE texels each, per_row a power of two within `max_dim`; Err(the most
+/// triangles that fit) where the rows exceed it.
+pub fn texels(
+    records: &[[f32; 4]],
+    max_dim: u32,
+) -> std::result::Result<(Vec<[f32; 4]>, (u32, u32)), usize> {
+    let per = RECORDS_PER_TRIANGLE;
+    let n = (records.len() / per).max(1);
+    let fit = (max_dim / per as u32).max(1);
+    let per_row = (1u32 << (31 - fit.leading_zeros())).min((n as u32).next_power_of_two());
+    let rows = n.div_ceil(per_row as usize);
+    if rows > max_dim as usize {
+        return Err(per_row as usize * max_dim as usize);
+    }
+    let width = per_row as usize * per;
+    let mut t = vec![[0.0f32; 4]; width * rows];
+    for (i, r) in records.chunks_exact(per).enumerate() {
+        let (row, col) = (i / per_row as usize, i % per_row as usize);
+        let at = row * width + col * per;
+        t[at..at + per].copy_from_slice(r);
+    }
+    Ok((t, (width as u32, rows as u32)))
 }
 
 /// The base mesh drawn unindexed, each vertex with (a, b, triangle, 0) at location 5: the
@@ -266,14 +292,21 @@ impl MethodGeometry for WalkMesh {
             })
             .collect();
         let data = records(mesh, &build(mesh));
-        let bytes = std::mem::size_of_val(data.as_slice()) as u64;
-        if bytes > ctx.limits.max_storage_buffer_binding_size as u64 {
-            return Err(Error::limit(
+        let max_dim = ctx.limits.max_texture_dimension_2d;
+        let (texels, size) = texels(&data, max_dim).map_err(|most| {
+            Error::limit(
                 "mesh",
-                format!("the walk data of {ntri} triangles takes {bytes} bytes; the device binds at most max_storage_buffer_binding_size = {} bytes: split the mesh into several pk.Object", ctx.limits.max_storage_buffer_binding_size),
-            ));
-        }
+                format!("the walk data of {ntri} triangles takes {RECORDS_PER_TRIANGLE} texels a triangle in textures of at most {max_dim} texels a side (at most {most} triangles): split the mesh into several pk.Object"),
+            )
+        })?;
         ctx.scoped(|| {
+            let tex = ctx.texture_2d(
+                "walk data",
+                size,
+                wgpu::TextureFormat::Rgba32Float,
+                wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            );
+            crate::heightmap::write_texels(ctx, &tex, bytemuck::cast_slice(&texels), size, 16);
             Ok(GpuMesh {
                 vbuf: ctx.upload(
                     "walk vertices",
@@ -282,11 +315,7 @@ impl MethodGeometry for WalkMesh {
                 ),
                 ibuf: None,
                 count: verts.len() as u32,
-                extra: vec![Resident::Buffer(ctx.upload(
-                    "walk data",
-                    bytemuck::cast_slice(&data),
-                    wgpu::BufferUsages::STORAGE,
-                ))],
+                extra: vec![Resident::Texture(tex.create_view(&Default::default()))],
             })
         })
     }
@@ -299,7 +328,7 @@ impl MethodGeometry for WalkMesh {
     }
 }
 
-/// The walk data (`walk` in walk.wgsl, group 2, binding 1), made with the method's geometry.
+/// The walk data (`walk_tex` in walk.wgsl, group 2, binding 1), made with the method's geometry.
 #[derive(Debug)]
 pub struct WalkData {
     pub mesh: WalkMesh,
@@ -307,7 +336,7 @@ pub struct WalkData {
 
 impl MethodResources for WalkData {
     fn layout(&self) -> Vec<ResourceKind> {
-        vec![ResourceKind::Storage]
+        vec![ResourceKind::TextureFloat]
     }
     fn key(&self, object: &Object) -> u64 {
         hash_bytes(&[b"walk data", &self.mesh.key(object).to_le_bytes()])
@@ -402,5 +431,27 @@ mod tests {
         // the axis stays, the far side reflects
         assert!((a.apply(DVec2::new(0.5, 0.3)) - DVec2::new(0.5, 0.3)).length() < 1e-6);
         assert!((a.apply(DVec2::new(0.75, 0.25)) - DVec2::new(0.25, 0.25)).length() < 1e-6);
+    }
+
+    #[test]
+    fn the_texture_holds_every_triangle_where_the_shader_looks() {
+        assert!(include_str!("walk.wgsl")
+            .contains(&format!("const RECORDS: u32 = {RECORDS_PER_TRIANGLE}u;")));
+        let m = Mesh::plane(1.0, 3).unwrap();
+        let r = records(&m, &build(&m));
+        let n = m.indices.len() / 3;
+        assert_eq!(r.len(), n * RECORDS_PER_TRIANGLE);
+        // at most 4 triangles a row: 18 triangles in 5 rows
+        let (t, (w, h)) = texels(&r, 4 * RECORDS_PER_TRIANGLE as u32 + 3).unwrap();
+        assert_eq!((w, h), (4 * RECORDS_PER_TRIANGLE as u32, 5));
+        for i in 0..n {
+            let at = (i / 4) * w as usize + (i % 4) * RECORDS_PER_TRIANGLE;
+            assert_eq!(
+                t[at..at + RECORDS_PER_TRIANGLE],
+                r[i * RECORDS_PER_TRIANGLE..(i + 1) * RECORDS_PER_TRIANGLE]
+            );
+        }
+        // rows beyond the limit: an error naming how many fit
+        assert_eq!(texels(&r, RECORDS_PER_TRIANGLE as u32), Err(14));
     }
 }

@@ -10,14 +10,24 @@
 #import pomkit::cost::fetched
 #import pomkit::frame::{TangentFrame, make_frame}
 
-// the walk data (group 2, binding 1): 14 vec4 per triangle
+// the walk data (group 2, binding 1): 14 texels per triangle, triangle i's at column
+// (i mod per_row) * 14 and row i div per_row, per_row a power of two (mod.rs's `texels`). A
+// texture, not a storage buffer: on lavapipe a storage read at an index that differs across the
+// lanes of a SIMD vector is a scalar loop over them (prism.wgsl reads its prisms so too).
 //   0, 1:          uv -> b1 and b2 (rows of an affine map)
 //   2 + 2k, 3 + 2k: side k (corners k, k+1): uv -> the neighbour's uv (rows), neighbour in .w of
 //                   the first row (-1 on an open border)
 //   8 + 2c, 9 + 2c: corner c's (normal, S_tangent) and (tangent, sign * S_binormal)
-@group(2) @binding(1) var<storage, read> walk_data: array<vec4<f32>>;
+@group(2) @binding(1) var walk_tex: texture_2d<f32>;
 
 const RECORDS: u32 = 14u;
+
+// record k of triangle tri
+fn walk_rec(tri: u32, k: u32) -> vec4<f32> {
+    let per_row = textureDimensions(walk_tex).x / RECORDS;
+    let shift = countTrailingZeros(per_row);
+    return textureLoad(walk_tex, vec2<u32>((tri & (per_row - 1u)) * RECORDS + k, tri >> shift), 0);
+}
 // sides crossed in one move at most (a move spans a few texels; triangles are larger)
 const MAX_CROSSINGS: i32 = 16;
 
@@ -37,9 +47,8 @@ fn walk_row(r: vec4<f32>, p: vec2<f32>) -> f32 {
 // (b0, b1, b2) of uv in triangle tri
 fn walk_bary(tri: u32, uv: vec2<f32>) -> vec3<f32> {
     fetched(2u, 32u);
-    let base = tri * RECORDS;
-    let b1 = walk_row(walk_data[base], uv);
-    let b2 = walk_row(walk_data[base + 1u], uv);
+    let b1 = walk_row(walk_rec(tri, 0u), uv);
+    let b2 = walk_row(walk_rec(tri, 1u), uv);
     return vec3<f32>(1.0 - b1 - b2, b1, b2);
 }
 
@@ -71,8 +80,8 @@ fn walk_move(tri_in: u32, uv_in: vec2<f32>, dir: vec2<f32>, len: f32) -> WalkPoi
         let x = w.uv + rest * s;
         rest = rest * (1.0 - s);
         fetched(2u, 32u);
-        let r0 = walk_data[w.tri * RECORDS + 2u + 2u * side];
-        let r1 = walk_data[w.tri * RECORDS + 3u + 2u * side];
+        let r0 = walk_rec(w.tri, 2u + 2u * side);
+        let r1 = walk_rec(w.tri, 3u + 2u * side);
         if (r0.w < 0.0) {
             w.uv = x;
             w.on = false;
@@ -92,11 +101,11 @@ fn walk_move(tri_in: u32, uv_in: vec2<f32>, dir: vec2<f32>, len: f32) -> WalkPoi
 fn walk_frame(tri: u32, uv: vec2<f32>) -> TangentFrame {
     let b = clamp(walk_bary(tri, uv), vec3<f32>(0.0), vec3<f32>(1.0));
     fetched(6u, 96u);
-    let base = tri * RECORDS + 8u;
-    let n = walk_data[base] * b.x + walk_data[base + 2u] * b.y + walk_data[base + 4u] * b.z;
-    let t = walk_data[base + 1u] * b.x + walk_data[base + 3u] * b.y + walk_data[base + 5u] * b.z;
+    let t0 = walk_rec(tri, 9u);
+    let n = walk_rec(tri, 8u) * b.x + walk_rec(tri, 10u) * b.y + walk_rec(tri, 12u) * b.z;
+    let t = t0 * b.x + walk_rec(tri, 11u) * b.y + walk_rec(tri, 13u) * b.z;
     // the handedness is the triangle's (its corners agree in a chart)
-    let sign = select(1.0, -1.0, walk_data[base + 1u].w < 0.0);
+    let sign = select(1.0, -1.0, t0.w < 0.0);
     return make_frame(n.xyz, vec4<f32>(t.xyz, sign), vec2<f32>(n.w, abs(t.w)));
 }
 
