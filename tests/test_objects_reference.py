@@ -51,7 +51,8 @@ def _cube_through_floor(displaced=True, size=128):
 
 
 @pytest.mark.parametrize("make", [_sphere_in_floor, _cube_through_floor], ids=["sphere", "cube"])
-@pytest.mark.parametrize("method", [pk.POM(shadows="none"), pk.Exact(), pk.Prism(shadows="none")], ids=lambda m: m.name)
+@pytest.mark.parametrize("method", [pk.POM(shadows="none"), pk.Exact(), pk.Prism(shadows="none"), pk.NCS(shadows="none")],
+                         ids=lambda m: m.name)
 def test_interpenetration_follows_the_displaced_surfaces(renderer, make, method):
     """frame.object against Mitsuba's shape index: >= 98% of the pixels both cover, >= 90% of those
     within 3 pixels of the curve where the objects meet."""
