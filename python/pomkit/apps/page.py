@@ -1,5 +1,6 @@
 """The demo's page (`python -m pomkit demo` writes pomkit-out/index.html and its PNGs): every
-method on a planar and on a curved scene, framed on the surface, with the Mitsuba reference
+method on a planar and on a curved scene and the curved methods on an asset (a glTF rock with a
+UV atlas, its report from `pk.check_asset`), framed on the surface, with the Mitsuba reference
 beside them (renders shipped with the package, made by scripts/make_demo_refs.py, so the demo
 needs no Mitsuba), uv-error and FLIP heat maps, the speed/accuracy chart of the methods shown,
 a `pk.choose` answer for one built-in map, and the LOD as a false-colour overlay with its legend.
@@ -49,12 +50,29 @@ def curved_scene(size: int = 256) -> pk.Scene:
                     lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0)], ambient=0.08)
 
 
+ASSET = REFS / "rock.glb"
+ASSET_HEIGHT = REFS / "rock_height.png"
+
+
+def asset_scene(size: int = 256) -> pk.Scene:
+    """A low-poly rock as a user brings it: a glTF (1280 triangles, an xatlas atlas of several
+    charts, MikkTSpace tangents) with a height map baked over its atlas (scripts/make_demo_refs.py
+    made both from tests/zoo.py's rock)."""
+    mesh = pk.load_mesh(ASSET)
+    return pk.Scene(mesh=mesh, material=pk.Material(pk.load_height(ASSET_HEIGHT), depth=0.05),
+                    camera=pk.Camera.look_at((1.9, 1.5, 2.4), target=(0.0, 0.0, 0.0), fov_y=38, width=size, height=size),
+                    lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0)], ambient=0.08)
+
+
 PLANAR: dict[str, Callable[[], pk.Method]] = {
     "Flat": pk.Flat, "Bump": pk.Bump, "Parallax": pk.Parallax, "SteepParallax": pk.SteepParallax,
     "POM": lambda: pk.POM(shadows="soft"), "Relief": pk.Relief, "ConeStep": pk.ConeStep,
     "Exact": lambda: pk.Exact(shadows="exact", ao_directions=64, mip_filtering=False), "DistanceMapping": pk.DistanceMapping,
     "Prism": pk.Prism, "Tessellated(1)": lambda: pk.Tessellated(1.0, shadows="exact")}
 CURVED: dict[str, Callable[[], pk.Method]] = {
+    "Flat": pk.Flat, "POM": pk.POM, "NCS": pk.NCS, "CurvedRelief": pk.CurvedRelief, "Prism": pk.Prism,
+    "Prism (exact)": lambda: pk.Prism(exact=True), "Tessellated(1)": lambda: pk.Tessellated(1.0)}
+ASSET_METHODS: dict[str, Callable[[], pk.Method]] = {
     "Flat": pk.Flat, "POM": pk.POM, "NCS": pk.NCS, "CurvedRelief": pk.CurvedRelief, "Prism": pk.Prism,
     "Prism (exact)": lambda: pk.Prism(exact=True), "Tessellated(1)": lambda: pk.Tessellated(1.0)}
 
@@ -212,7 +230,8 @@ def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
     outdir.mkdir(parents=True, exist_ok=True)
     r = pk.Renderer()
     parts = [f"<h1>pomkit {pk.__version__}</h1><p>{html.escape(r.info['name'])} ({r.info['backend']}). "
-             "Every method of the field on a plane and on a torus; GPU times of this adapter.</p>"]
+             "Every method of the field on a plane and on a torus, and the curved methods on an asset; GPU times of "
+             "this adapter.</p>"]
     planar = planar_scene(size)
     oracle = pk.exact_uv(planar)
     exact = pk.reference.render_exact(planar, spp=4)
@@ -227,8 +246,14 @@ def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
         curved_ref = None
     s2, rows2 = section(r, outdir, "curved", curved, CURVED, tess, "Tessellated(0.5)", curved_ref)
     parts += [s1, s2]
+    # a user's asset: a glTF with an atlas, checked, every curved method against the mesh
+    asset = asset_scene(size)
+    report = pk.check_asset(asset.mesh, asset.material)
+    s3, rows3 = section(r, outdir, "asset", asset, ASSET_METHODS, r.render(asset, pk.Tessellated(0.5)), "Tessellated(0.5)")
+    parts.append(s3.replace("</h2>", "</h2><p><code>pk.load_mesh(\"rock.glb\")</code>, then <code>pk.check_asset(mesh, material)</code>:</p><pre>"
+                            + html.escape(str(report)) + "</pre>", 1))
     # speed against accuracy, both scenes' methods: an interactive chart, plotly.js beside the page
-    parts.append(chart(rows + rows2, outdir))
+    parts.append(chart(rows + rows2 + rows3, outdir))
     # pk.choose on one built-in map (cached after the first run)
     ch = pk.choose(heights=pk.textures.bricks(128), angles=(40.0, 75.0), resolution=96, max_uv_error=0.5, rounds=3,
                    methods=["SteepParallax", "POM", "Relief", "ConeStep", "Exact"])
