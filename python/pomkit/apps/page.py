@@ -248,7 +248,8 @@ def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
     parts += [s1, s2]
     # a user's asset: a glTF with an atlas, checked, every curved method against the mesh
     asset = asset_scene(size)
-    report = pk.check_asset(asset.mesh, asset.material)
+    obj = asset.objects[0]
+    report = pk.check_asset(obj.mesh, obj.material)
     s3, rows3 = section(r, outdir, "asset", asset, ASSET_METHODS, r.render(asset, pk.Tessellated(0.5)), "Tessellated(0.5)")
     parts.append(s3.replace("</h2>", "</h2><p><code>pk.load_mesh(\"rock.glb\")</code>, then <code>pk.check_asset(mesh, material)</code>:</p><pre>"
                             + html.escape(str(report)) + "</pre>", 1))
