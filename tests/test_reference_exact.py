@@ -64,6 +64,19 @@ def test_occlusion_darkens_the_grooves_only(tmp_path, monkeypatch):
     assert np.median(col[hh < 0.4]) < 0.45 < np.median(col[hh > 0.95])
 
 
+def test_the_oracle_refuses_a_curved_mesh():
+    """pk.exact_uv takes each triangle's plane as the base under it: on a curved mesh that is a
+    faceted shell, not the surface the methods displace (S = P + depth (h - 1) N with N
+    interpolated), so it refuses, naming the argument, the vertex and what to use instead."""
+    s = pk.Scene(mesh=pk.Mesh.torus(segments=24, tube_segments=12), material=pk.Material(pk.textures.bricks(32), depth=0.05),
+                 camera=pk.Camera.look_at((0, 1.5, 2.5), width=16, height=16))
+    with pytest.raises(ValueError, match=r"mesh: .*planar meshes only.*render_exact"):
+        pk.exact_uv(s)
+    # a cube's faces are planar (split normals): it is answered
+    c = s.replace(mesh=pk.Mesh.cube(1.0))
+    assert pk.exact_uv(c).mask.any()
+
+
 def test_a_curved_mesh_is_cast_against_with_mitsuba():
     # the oracle takes planar meshes; on a sphere render_exact says so in the frame's method and
     # returns Mitsuba's ray casts shaded by the definition: a flat map lit from the camera's side

@@ -184,8 +184,10 @@ def _frame(r: "_core._FrameTuple", method: Method) -> Frame:
 
 def exact_uv(scene: Scene, *, light_bias: float = 0.0) -> Frame:
     """CPU float64 oracle: the exact first hit of each pixel's ray against the bilinear height
-    field, for planar meshes (each triangle's plane is taken as the base surface under it).
-    Returns a Frame with float64 uv and depth, the mask, `steps` = cells visited, and
+    field, for planar meshes (each triangle's plane is taken as the base surface under it): a
+    curved mesh (a vertex normal off its triangle's) is refused with a ValueError naming the
+    vertex, since there the displaced surface follows the interpolated normals and the
+    triangles' planes would answer for a faceted shell instead. Returns a Frame with float64 uv and depth, the mask, `steps` = cells visited, and
     `visibility`: the exact visibility of the first directional light at the hit (the fraction
     of its disk, 64 directions when `angular_diameter` > 0, whose ray leaves the shell without
     passing below the field; NaN without a directional light). Self-shadowing only: the other

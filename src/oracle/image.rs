@@ -118,26 +118,6 @@ pub fn sample_directions(axis: DVec3, tan_r: f64, q: usize, n: usize) -> Vec<DVe
 /// asks first, and casts against the mesh with Mitsuba where the oracle refuses.
 pub(crate) fn exact_oracle(scene: &Scene) -> Result<Oracle<'_>> {
     let oracle = Oracle::new(scene, "render_exact")?;
-    let obj = &scene.objects[0];
-    // a curved mesh's triangles are not its surface: the oracle's planar base would be wrong
-    let m = &obj.mesh;
-    for t in m.indices.chunks_exact(3) {
-        let p = |i: u32| m.position_f64(i);
-        let n = (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0]));
-        if n.length() < 1e-14 {
-            continue;
-        }
-        let n = n.normalize();
-        for &i in t {
-            let vn = m.normal_f64(i).normalize_or_zero();
-            if vn.dot(n).abs() < 1.0 - 1e-6 {
-                return Err(Error::arg(
-                    "mesh",
-                    "the CPU oracle takes planar meshes (every vertex normal its triangle's normal: a plane, a cube, a flat mesh); for a curved mesh, pk.reference.render_exact casts against the displaced mesh with Mitsuba",
-                ));
-            }
-        }
-    }
     Ok(oracle)
 }
 

@@ -77,6 +77,7 @@ impl<'a> Oracle<'a> {
             ));
         }
         let m = &obj.mesh;
+        planar(m, what)?;
         let (p, q) = (|i: u32| m.position_f64(i), |i: u32| m.uv_f64(i));
         let mut tris = Vec::new();
         for t in m.indices.chunks_exact(3) {
@@ -144,6 +145,30 @@ impl<'a> Oracle<'a> {
         let m = self.mat;
         light_reaches(hit, l, &self.field, m.depth as f64, m.tiling as f64, bias)
     }
+}
+
+/// A curved mesh's triangles are not its surface (the surface follows the interpolated normals):
+/// the oracle, which takes each triangle's plane as the base under it, answers for planar meshes
+/// only, every vertex normal its triangle's normal (a plane, a cube, a flat mesh).
+fn planar(m: &crate::mesh::Mesh, what: &str) -> Result<()> {
+    for t in m.indices.chunks_exact(3) {
+        let p = |i: u32| m.position_f64(i);
+        let n = (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0]));
+        if n.length() < 1e-14 {
+            continue;
+        }
+        let n = n.normalize();
+        for &i in t {
+            if m.normal_f64(i).normalize_or_zero().dot(n).abs() < 1.0 - 1e-6 {
+                let p = m.positions[i as usize];
+                return Err(Error::arg(
+                    "mesh",
+                    format!("{what} answers for planar meshes only (every vertex normal its triangle's normal: a plane, a cube, a flat mesh); this mesh is curved (vertex {i} at ({}, {}, {}) has a normal off its triangle's), and there the displaced surface follows the interpolated normals, not the triangles; for a curved mesh, pk.reference.render_exact casts against the displaced mesh with Mitsuba, and pk.Tessellated renders it", p[0], p[1], p[2]),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The oracle's frame. `light_bias` (shell depths, >= 0) raises the light rays: a blocker must
