@@ -92,11 +92,21 @@ def cases():
 AOVS = ("color", "uv", "depth", "mask", "steps", "lod", "flags")
 
 
+def adapter(r) -> str:
+    """The adapter and backend a frame is rendered on, as the pins record it (`meta/adapter`):
+    bit-identical frames hold on that adapter and driver only."""
+    return f"{r.info['name']} ({r.info['backend']}; {r.info['driver']})"
+
+
 def main(only: str = "") -> None:
     """Save the golden frames; with `only`, re-pin just the frames whose key contains it (a
     method whose algorithm changed by design) and keep the others as they are."""
     r = pk.Renderer()
     arrays = dict(np.load(PATH)) if only else {}
+    here = adapter(r)
+    if only and str(arrays.get("meta/adapter")) != here:
+        sys.exit(f"the frames were pinned on {arrays.get('meta/adapter')}; this is {here}: re-pin them all there, or all here")
+    arrays["meta/adapter"] = np.array(here)
     for key, sc, m in cases():
         if only not in key:
             continue
@@ -105,7 +115,7 @@ def main(only: str = "") -> None:
             arrays[f"{key}/{a}"] = getattr(f, a)
     PATH.parent.mkdir(parents=True, exist_ok=True)
     np.savez_compressed(PATH, **arrays)
-    print(f"wrote {len(arrays) // len(AOVS)} frames to {PATH} ({PATH.stat().st_size / 1e6:.1f} MB)", file=sys.stderr)
+    print(f"wrote {(len(arrays) - 1) // len(AOVS)} frames to {PATH} ({PATH.stat().st_size / 1e6:.1f} MB)", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -2,6 +2,13 @@
 stability scenes (tests/golden.py), against frames saved from the build before the module
 refactor (issue 10).
 
+Bit-identical holds on the adapter, backend and driver the frames were pinned on (recorded with
+them, `meta/adapter`). On any other (a GPU, another driver, the GL backend, llvmpipe with other
+vector widths) each frame is held to bounds that hold anywhere (ELSEWHERE_*, measured on the GL
+backend): coverage and flags within a few pixels of the pinned frame, the uv error against the
+float64 oracle no worse than the pinned frame's beyond a stated slack, few pixels moved. Each
+such test says so in its output.
+
 Re-pinned by design: the Prism frames (issue 12: one walk per shell entry through prisms that
 share their sides, instead of one march per prism face, and level 0 by default). Against the
 previous frames the exact variant moved by at most 0.0009 texel on the planes (0.8 on the torus,
@@ -57,6 +64,7 @@ import numpy as np
 import pytest
 
 import golden
+import pomkit as pk
 
 DATA = np.load(golden.PATH)
 CASES = golden.cases()
@@ -122,9 +130,60 @@ def _tolerance(key: str):
     return None
 
 
+#: the adapter, backend and driver the frames were pinned on: bit-identical frames hold there only
+PINNED_ON = str(DATA["meta/adapter"])
+
+# On any other adapter (another GPU, driver or backend; llvmpipe with other vector widths) a frame
+# is held to what holds everywhere, with bounds measured on the GL backend of the machine the
+# frames were pinned on (Mesa GL 4.5 over the same llvmpipe: other shader compilers, other bits):
+#: pixels whose coverage or flags differ from the pinned frame (measured: at most 2, and 0)
+ELSEWHERE_PX = 8
+#: of the pixels both frames cover, the fraction whose uv moved more than 0.25 texel (measured: at
+#: most 3.0%, POM on the sphere, where a grazing ray's layer flips)
+ELSEWHERE_MOVED = 0.06
+#: on the planes, the uv error against the float64 oracle may not grow past the pinned frame's by
+#: more than this (texels) plus 10% at its median and at its p95 (measured: +0.12 and +0.37, the
+#: approximate marches at 85°)
+ELSEWHERE_P50, ELSEWHERE_P95 = 0.5, 1.5
+#: of the pixels both cover, the fraction whose colour moved more than 0.05 (measured: at most
+#: 0.6%); not checked on the frames whose pinned colour predates a redefinition (SHADOW_START,
+#: COLOUR_REDEFINED), whose colour other tests hold (test_shadows.py, test_reference_exact.py)
+ELSEWHERE_COLOUR = 0.03
+_ORACLES: dict = {}
+
+
+def _check_elsewhere(key, scene, f):
+    texels = np.array(scene.material.height.shape[::-1], np.float64) * scene.material.tiling
+    pm = DATA[f"{key}/mask"]
+    assert (f.mask != pm).sum() <= ELSEWHERE_PX, f"{key}: coverage differs at {(f.mask != pm).sum()} pixels from the frame pinned on {PINNED_ON}"
+    both = f.mask & pm
+    assert (f.flags != DATA[f"{key}/flags"])[both].sum() <= ELSEWHERE_PX, f"{key}: flags differ from {PINNED_ON}"
+    d = f.uv.astype(np.float64) - DATA[f"{key}/uv"]
+    moved = np.linalg.norm((d - np.round(d)) * texels, axis=-1)[both]
+    assert (moved > 0.25).mean() <= ELSEWHERE_MOVED, f"{key}: uv moved > 0.25 texel at {(moved > 0.25).mean():.1%} of the pixels"
+    if not key.startswith(("torus", "sphere")):
+        sk = key.rsplit("-", 1)[0]
+        if sk not in _ORACLES:
+            _ORACLES[sk] = pk.exact_uv(scene)
+        o = _ORACLES[sk]
+        for q, slack in ((50, ELSEWHERE_P50), (95, ELSEWHERE_P95)):
+            e = [np.percentile(np.linalg.norm((uv.astype(np.float64) - o.uv) * texels, axis=-1)[m & o.mask], q)
+                 for uv, m in ((DATA[f"{key}/uv"], pm), (f.uv, f.mask))]
+            assert e[1] <= 1.1 * e[0] + slack, f"{key}: uv p{q} against the oracle {e[1]:.3f} texel, pinned {e[0]:.3f}"
+    if key in SHADOW_START or any(key.endswith(k) for k in COLOUR_REDEFINED):
+        return
+    dc = np.abs(f.color - DATA[f"{key}/color"]).max(-1)[both]
+    assert (dc > 0.05).mean() <= ELSEWHERE_COLOUR, f"{key}: colour moved > 0.05 at {(dc > 0.05).mean():.1%} of the pixels"
+
+
 @pytest.mark.parametrize("key,scene,method", CASES, ids=[c[0] for c in CASES])
 def test_golden_frame(renderer, key, scene, method):
     f = renderer.render(scene, method)
+    if golden.adapter(renderer) != PINNED_ON:
+        # said in the output, not skipped: the bit-identical checks hold on the pinned adapter only
+        print(f"{key}: rendered on {golden.adapter(renderer)}, pinned on {PINNED_ON}: checked within the bounds that hold anywhere")
+        _check_elsewhere(key, scene, f)
+        return
     redefined = any(key.endswith(k) for k in COLOUR_REDEFINED)
     if key in SHADOW_START:
         _check_shadow_start(key, scene, method, f)
