@@ -7,7 +7,7 @@ VENV := .venv/bin
 # the tests that run a second time on the GL backend in `make test` (about five minutes)
 GL_TESTS := tests/test_cost.py tests/test_supersampling.py tests/test_methods.py tests/test_analytic.py tests/test_differential.py tests/test_shadows.py tests/test_throughput.py tests/test_sizes.py tests/test_reference_exact.py tests/test_assets.py tests/test_golden.py
 
-.PHONY: setup setup-test setup-bench setup-demo demo test bench wheel info clean
+.PHONY: setup setup-test setup-bench setup-demo demo test test-gl bench wheel info clean
 
 setup:
 	scripts/setup.sh
@@ -35,6 +35,12 @@ test: setup-test
 	POMKIT_BACKEND=gl $(VENV)/python -m pytest $(GL_TESTS) -q
 	@echo "== the distributions: the manylinux2014 wheel's tag (auditwheel), the sdist built by pip, each rendering a frame =="
 	scripts/check_dist.sh
+
+# the whole Python suite on the second adapter, the GL backend (about 8 minutes here): run before
+# every stop that touches shaders or tolerances (make test runs GL_TESTS there)
+test-gl: setup-test
+	POMKIT_BACKEND=gl cargo test --release --test core_render 2>&1 | grep -E "^(test result|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
+	POMKIT_BACKEND=gl $(VENV)/python -m pytest tests -q
 
 # one abi3 wheel (CPython 3.10 and later, manylinux2014: glibc 2.17 and later) in target/wheels,
 # and the sdist in target/sdist; setup reuses the wheel while the sources match
