@@ -384,7 +384,7 @@ pub struct BuildInputs<'a> {
     pub mesh: &'a GpuMesh,
 }
 
-/// The GPU data a method brings (a cone map, texture-space frame maps, per-prism data): it
+/// The GPU data a method brings (a cone map, the walk data, per-prism data): it
 /// declares the bindings its WGSL reads at group 2 from binding 1, builds them for an object (on
 /// the CPU or in compute passes of its own), and keys them by what they are built from; the
 /// renderer caches and binds them and knows nothing else of them.
@@ -394,6 +394,35 @@ pub trait MethodResources: std::fmt::Debug + Send + Sync {
     /// What one object's resources are built from, as a cache key.
     fn key(&self, object: &Object) -> u64;
     fn build(&self, inputs: &BuildInputs<'_>) -> Result<Vec<Resident>>;
+}
+
+/// A resource that a method's own geometry builds beside its vertices (`GpuMesh::extra[0]`: the
+/// prisms' data, the walk data), bound as one binding of `kind` and keyed as the geometry is, so
+/// that it is uploaded once, with the geometry.
+#[derive(Debug)]
+pub struct GeometryData<G: MethodGeometry> {
+    pub geometry: G,
+    pub kind: ResourceKind,
+    /// what it is, in its cache key and its error
+    pub what: &'static str,
+}
+
+impl<G: MethodGeometry> MethodResources for GeometryData<G> {
+    fn layout(&self) -> Vec<ResourceKind> {
+        vec![self.kind]
+    }
+    fn key(&self, object: &Object) -> u64 {
+        crate::scene::hash_bytes(&[
+            self.what.as_bytes(),
+            &self.geometry.key(object).to_le_bytes(),
+        ])
+    }
+    fn build(&self, inputs: &BuildInputs<'_>) -> Result<Vec<Resident>> {
+        let data = inputs.mesh.extra.first().ok_or_else(|| {
+            Error::Gpu(format!("the {} was not built with its geometry", self.what))
+        })?;
+        Ok(vec![data.clone()])
+    }
 }
 
 /// Builder state a method makes once per renderer (compiled compute pipelines), by name.

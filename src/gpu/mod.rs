@@ -509,3 +509,21 @@ pub fn shared(choice: Option<&str>) -> Result<Arc<Context>> {
     *g = Some((choice.map(str::to_string), ctx.clone()));
     Ok(ctx)
 }
+
+/// The rows of a texture holding `n` records of `texels` texels each, a power-of-two number of
+/// records a row (a shader finds a record with a shift and a mask) within `max_dim` texels a
+/// side, no wider than `n` needs: (records a row, rows), or Err(the most records that fit).
+pub fn record_rows(
+    n: usize,
+    texels: u32,
+    max_dim: u32,
+) -> std::result::Result<(u32, usize), usize> {
+    let n = n.max(1);
+    let fit = (max_dim / texels).max(1);
+    let per_row = (1u32 << (31 - fit.leading_zeros())).min((n as u32).next_power_of_two());
+    let rows = n.div_ceil(per_row as usize);
+    if rows > max_dim as usize {
+        return Err(per_row as usize * max_dim as usize);
+    }
+    Ok((per_row, rows))
+}

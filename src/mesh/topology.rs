@@ -32,7 +32,9 @@ pub struct Topology {
 impl Topology {
     /// Vertices welded where their positions are bit-equal (a file's split vertices).
     pub fn new(mesh: &Mesh) -> Topology {
-        Self::welded_by(mesh, |p| p.map(|x| if x == 0.0 { 0 } else { x.to_bits() as i64 }))
+        Self::welded_by(mesh, |p| {
+            p.map(|x| if x == 0.0 { 0 } else { x.to_bits() as i64 })
+        })
     }
 
     /// Vertices welded where their positions agree to a millionth of the mesh's extent: also

@@ -33,7 +33,10 @@ pub(crate) fn nd_array<'py, T: numpy::Element, D: numpy::ndarray::Dimension>(
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
-    m.add("WALK_BYTES_PER_TRIANGLE", crate::methods::WALK_BYTES_PER_TRIANGLE)?;
+    m.add(
+        "WALK_BYTES_PER_TRIANGLE",
+        crate::methods::WALK_BYTES_PER_TRIANGLE,
+    )?;
     m.add("PRISM_BYTES", crate::methods::PRISM_BYTES)?;
     m.add("PRISM_VERTEX_BYTES", crate::methods::PRISM_VERTEX_BYTES)?;
     // the contracts Python derives its checks and Literals from (one source: the core)

@@ -15,7 +15,7 @@
 #import pomkit::globals::G
 #import pomkit::march::{Ray, Hit}
 #import pomkit::height::height_at
-#import pomkit::walk::{WalkPoint, walk_move, walk_frame, walk_start}
+#import pomkit::walk::{walk_point, walk_move, walk_frame, walk_start}
 
 // the ray's height in the shell (1 at the curved base, 0 at the floor) at world distance t
 fn ray_h(q: f32, c: f32, depth: f32, t: f32) -> f32 {
@@ -53,7 +53,8 @@ fn march(r: Ray) -> Hit {
     let tiling = G.tiling;
     // the last point above the height field (lo) and the first below (hi), each a walk point
     // at world distance t along the view; dir: uv per world length in the point's chart
-    var lo = WalkPoint(walk_start(r.extra), r.uv, r.v_ts.xy / tiling, true);
+    var lo = walk_point(walk_start(r.extra), r.uv);
+    lo.dir = r.v_ts.xy / tiling;
     var hi = lo;
     var t_lo = 0.0;
     var t_hi = 0.0;
@@ -103,6 +104,6 @@ fn march(r: Ray) -> Hit {
     hit.h = clamp(ray_h(q, c, depth, t_hi), 0.0, 1.0);
     hit.len = t_hi;
     hit.steps = steps;
-    hit.f = walk_frame(hi.tri, hi.uv);
+    hit.f = walk_frame(hi);
     return hit;
 }

@@ -5,7 +5,7 @@
 //! chart, and off the surface at open borders.
 mod quadrics;
 
-use super::walk::{walk_unit, WalkData, WalkMesh};
+use super::walk::{walk_data, walk_unit, WalkMesh};
 use super::{check_range, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::contract::Geometry;
 use crate::error::Result;
@@ -40,7 +40,7 @@ impl Unit for CurvedRelief {
         s.defs.push("VERTEX_EXTRA");
         let mesh = WalkMesh { quadrics: true };
         s.geometry = Geometry::Own(Arc::new(mesh));
-        s.resources = Some(Arc::new(WalkData { mesh }));
+        s.resources = Some(Arc::new(walk_data(mesh)));
         s
     }
     fn validate(&self) -> Result<()> {

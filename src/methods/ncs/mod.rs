@@ -2,7 +2,7 @@
 //! the base mesh's triangles (the walk, src/methods/walk): the frame at each step is the mesh's
 //! own there, and seams, mirror axes and open borders are followed as the mesh defines them.
 
-use super::walk::{walk_unit, WalkData, WalkMesh};
+use super::walk::{walk_data, walk_unit, WalkMesh};
 use super::{check_range, Geometry, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::error::{Error, Result};
 use std::sync::Arc;
@@ -39,7 +39,7 @@ impl Unit for Ncs {
         let mesh = WalkMesh { quadrics: false };
         s.defs.push("VERTEX_EXTRA");
         s.geometry = Geometry::Own(Arc::new(mesh));
-        s.resources = Some(Arc::new(WalkData { mesh }));
+        s.resources = Some(Arc::new(walk_data(mesh)));
         s
     }
     fn validate(&self) -> Result<()> {

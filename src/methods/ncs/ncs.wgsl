@@ -19,7 +19,7 @@
 #import pomkit::frame::{TangentFrame, make_frame}
 #import pomkit::height::height_at
 #import pomkit::march::{Ray, Hit, pom_sample_count}
-#import pomkit::walk::{walk_move, walk_frame, walk_start}
+#import pomkit::walk::{walk_point, walk_move, walk_frame, walk_start}
 
 fn ncs_hit(r: Ray, uv: vec2<f32>, h: f32, len: f32, steps: f32, flags: u32, f: TangentFrame) -> Hit {
     var hit: Hit;
@@ -62,14 +62,14 @@ fn march(r: Ray) -> Hit {
     let dl0 = params.step_scale * G.depth / n;
     let tiling = G.tiling;
     let view = r.view;
-    var tri = walk_start(r.extra);
-    var uv = r.uv;
+    // the march's point on the base mesh (its triangle, uv and barycentrics)
+    var p = walk_point(walk_start(r.extra), r.uv);
     var h = 1.0;
     var len = 0.0;
-    var d = h - height_at(uv * tiling, r.lod);
+    var d = h - height_at(p.uv * tiling, r.lod);
     var steps = 1.0;
     if (d <= 0.0) {
-        return ncs_hit(r, uv, h, 0.0, steps, 0u, r.f);
+        return ncs_hit(r, p.uv, h, 0.0, steps, 0u, r.f);
     }
     let inv_depth = 1.0 / max(G.depth, 1e-12);
     // the first step goes along the rasterised frame
@@ -82,7 +82,7 @@ fn march(r: Ray) -> Hit {
     var exited = false;
     let ni = i32(n);
     for (var i = 0; i < ni; i = i + 1) {
-        let w = walk_move(tri, uv, st.xy, 1.0);
+        let w = walk_move(p.tri, p.uv, st.xy, 1.0);
         h1 = h + st.z;
         steps = steps + 1.0;
         if (h1 > 1.0 || !w.on) {
@@ -94,12 +94,11 @@ fn march(r: Ray) -> Hit {
             flags = 0u;
             break;
         }
-        tri = w.tri;
-        uv = w.uv;
+        p = w;
         h = h1;
         len = len + st.w;
         d = d1;
-        st = frame_step(walk_frame(tri, uv), view, n, dl0, inv_depth);
+        st = frame_step(walk_frame(p), view, n, dl0, inv_depth);
     }
     if (exited) {
         var out: Hit;
@@ -110,11 +109,9 @@ fn march(r: Ray) -> Hit {
     if (flags == 0u) {
         // the crossing between the last two points
         let t = d / max(d - d1, 1e-12);
-        let w = walk_move(tri, uv, st.xy, t);
-        tri = w.tri;
-        uv = w.uv;
+        p = walk_move(p.tri, p.uv, st.xy, t);
         h = mix(h, h1, t);
         len = len + st.w * t;
     }
-    return ncs_hit(r, uv, h, len, steps, flags, walk_frame(tri, uv));
+    return ncs_hit(r, p.uv, h, len, steps, flags, walk_frame(p));
 }

@@ -10,9 +10,7 @@ pub const PRISM_BYTES: usize = prisms::TEXELS_PER_PRISM as usize * 16;
 pub const PRISM_VERTEX_BYTES: usize = std::mem::size_of::<prisms::PrismVertex>();
 
 use super::{check_range, Geometry, Pass, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
-use crate::contract::{
-    BuildInputs, GpuMesh, MethodGeometry, MethodResources, Resident, ResourceKind,
-};
+use crate::contract::{GeometryData, GpuMesh, MethodGeometry, Resident, ResourceKind};
 use crate::error::{Error, Result};
 use crate::gpu::Context;
 use crate::scene::{hash_bytes, Object};
@@ -92,30 +90,6 @@ impl MethodGeometry for PrismShell {
     }
 }
 
-/// The per-prism data (`prisms` in prism.wgsl), made with the geometry of its shell.
-#[derive(Debug)]
-pub struct PrismData {
-    pub shell: PrismShell,
-}
-
-impl MethodResources for PrismData {
-    fn layout(&self) -> Vec<ResourceKind> {
-        vec![ResourceKind::TextureUint]
-    }
-    fn key(&self, object: &Object) -> u64 {
-        // the geometry's upload holds the buffer: no second copy, keyed as the geometry is
-        hash_bytes(&[b"prism data", &self.shell.key(object).to_le_bytes()])
-    }
-    fn build(&self, inputs: &BuildInputs<'_>) -> Result<Vec<Resident>> {
-        let data = inputs
-            .mesh
-            .extra
-            .first()
-            .ok_or_else(|| Error::Gpu("the prism data was not built with the prisms".into()))?;
-        Ok(vec![data.clone()])
-    }
-}
-
 crate::params! {
     pub struct Prism {
         pub min_steps: u32,
@@ -166,7 +140,12 @@ impl Unit for Prism {
             tight: self.tight,
         };
         s.geometry = Geometry::Own(Arc::new(shell));
-        s.resources = Some(Arc::new(PrismData { shell }));
+        // the per-prism data (`prism_tex` in prism.wgsl), made with the shell
+        s.resources = Some(Arc::new(GeometryData {
+            geometry: shell,
+            kind: ResourceKind::TextureUint,
+            what: "prism data",
+        }));
         s
     }
     fn validate(&self) -> Result<()> {

@@ -106,14 +106,7 @@ pub fn texels(
     data: &[PrismData],
     max_dim: u32,
 ) -> std::result::Result<(Vec<[u32; 4]>, (u32, u32)), usize> {
-    let n = data.len().max(1);
-    let fit = (max_dim / TEXELS_PER_PRISM).max(1);
-    // the largest power of two within the limit, no wider than the mesh needs
-    let per_row = (1u32 << (31 - fit.leading_zeros())).min((n as u32).next_power_of_two());
-    let rows = n.div_ceil(per_row as usize);
-    if rows > max_dim as usize {
-        return Err(per_row as usize * max_dim as usize);
-    }
+    let (per_row, rows) = crate::gpu::record_rows(data.len(), TEXELS_PER_PRISM, max_dim)?;
     let width = per_row * TEXELS_PER_PRISM;
     let mut t = vec![[0u32; 4]; width as usize * rows];
     let adj = |a: u32| if a == NONE { -1.0f32 } else { a as f32 };

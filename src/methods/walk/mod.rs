@@ -15,8 +15,7 @@
 //! The triangle a fragment starts in reaches the shader as `Ray::extra.z`: the method draws the
 //! base mesh unindexed, three vertices a triangle, each carrying its triangle's index.
 
-use crate::contract::{BuildInputs, GpuMesh, MethodGeometry, MethodResources, Resident};
-use crate::contract::{ResourceKind, ShaderUnit};
+use crate::contract::{GeometryData, GpuMesh, MethodGeometry, Resident, ResourceKind, ShaderUnit};
 use crate::error::{Error, Result};
 use crate::gpu::Context;
 use crate::mesh::topology::Topology;
@@ -59,7 +58,9 @@ impl Affine {
     fn through(a: [DVec2; 3], b: [DVec2; 3]) -> Option<Affine> {
         let s = DMat2::from_cols(a[1] - a[0], a[2] - a[0]);
         let det = s.determinant();
-        let scale = (a[1] - a[0]).length_squared().max((a[2] - a[0]).length_squared());
+        let scale = (a[1] - a[0])
+            .length_squared()
+            .max((a[2] - a[0]).length_squared());
         if !(det.abs() > 1e-12 * scale) {
             return None;
         }
@@ -95,10 +96,7 @@ fn transfer(mesh: &Mesh, topo: &Topology, a: usize, k: usize, b: usize) -> Affin
     let (a0, a1, a2) = (ca[k], ca[(k + 1) % 3], ca[(k + 2) % 3]);
     // b's corners at a0's and a1's positions, and its far corner
     let find = |w: u32| cb.iter().copied().find(|&v| topo.weld[v as usize] == w);
-    let (Some(b0), Some(b1)) = (
-        find(topo.weld[a0 as usize]),
-        find(topo.weld[a1 as usize]),
-    ) else {
+    let (Some(b0), Some(b1)) = (find(topo.weld[a0 as usize]), find(topo.weld[a1 as usize])) else {
         return Affine::IDENTITY;
     };
     let Some(b2) = cb.iter().copied().find(|&v| v != b0 && v != b1) else {
@@ -180,13 +178,7 @@ pub fn build(mesh: &Mesh) -> Vec<WalkTriangle> {
 /// order.
 pub fn records(mesh: &Mesh, walk: &[WalkTriangle]) -> Vec<[f32; 4]> {
     let mut out = Vec::with_capacity(walk.len() * RECORDS_PER_TRIANGLE);
-    let row = |a: &Affine, r: usize| {
-        [
-            a.l.col(0)[r] as f32,
-            a.l.col(1)[r] as f32,
-            a.o[r] as f32,
-        ]
-    };
+    let row = |a: &Affine, r: usize| [a.l.col(0)[r] as f32, a.l.col(1)[r] as f32, a.o[r] as f32];
     for (t, w) in walk.iter().enumerate() {
         let [a, b, c] = row(&w.to_bary, 0);
         out.push([a, b, c, 0.0]);
@@ -221,13 +213,7 @@ pub fn texels(
     max_dim: u32,
 ) -> std::result::Result<(Vec<[f32; 4]>, (u32, u32)), usize> {
     let per = RECORDS_PER_TRIANGLE;
-    let n = (records.len() / per).max(1);
-    let fit = (max_dim / per as u32).max(1);
-    let per_row = (1u32 << (31 - fit.leading_zeros())).min((n as u32).next_power_of_two());
-    let rows = n.div_ceil(per_row as usize);
-    if rows > max_dim as usize {
-        return Err(per_row as usize * max_dim as usize);
-    }
+    let (per_row, rows) = crate::gpu::record_rows(records.len() / per, per as u32, max_dim)?;
     let width = per_row as usize * per;
     let mut t = vec![[0.0f32; 4]; width * rows];
     for (i, r) in records.chunks_exact(per).enumerate() {
@@ -329,25 +315,11 @@ impl MethodGeometry for WalkMesh {
 }
 
 /// The walk data (`walk_tex` in walk.wgsl, group 2, binding 1), made with the method's geometry.
-#[derive(Debug)]
-pub struct WalkData {
-    pub mesh: WalkMesh,
-}
-
-impl MethodResources for WalkData {
-    fn layout(&self) -> Vec<ResourceKind> {
-        vec![ResourceKind::TextureFloat]
-    }
-    fn key(&self, object: &Object) -> u64 {
-        hash_bytes(&[b"walk data", &self.mesh.key(object).to_le_bytes()])
-    }
-    fn build(&self, inputs: &BuildInputs<'_>) -> Result<Vec<Resident>> {
-        let data = inputs
-            .mesh
-            .extra
-            .first()
-            .ok_or_else(|| Error::Gpu("the walk data was not built with the walk mesh".into()))?;
-        Ok(vec![data.clone()])
+pub fn walk_data(mesh: WalkMesh) -> GeometryData<WalkMesh> {
+    GeometryData {
+        geometry: mesh,
+        kind: ResourceKind::TextureFloat,
+        what: "walk data",
     }
 }
 
@@ -371,7 +343,10 @@ mod tests {
             [0.5, 0.0],
             [0.5, 0.5],
             uv_right[0],
-            [uv_right[0][0] + 0.5, 0.5 * (uv_right[0][1] + uv_right[1][1])],
+            [
+                uv_right[0][0] + 0.5,
+                0.5 * (uv_right[0][1] + uv_right[1][1]),
+            ],
             uv_right[1],
         ];
         let normals = vec![[0.0, 0.0, 1.0]; 6];

@@ -38,6 +38,8 @@ struct WalkPoint {
     dir: vec2<f32>,
     // false when the walk left the surface through an open border
     on: bool,
+    // (b0, b1, b2) of uv in tri (walk_frame's weights; where on)
+    b: vec3<f32>,
 }
 
 fn walk_row(r: vec4<f32>, p: vec2<f32>) -> f32 {
@@ -52,15 +54,21 @@ fn walk_bary(tri: u32, uv: vec2<f32>) -> vec3<f32> {
     return vec3<f32>(1.0 - b1 - b2, b1, b2);
 }
 
+// The walk point at uv in triangle tri (no direction yet).
+fn walk_point(tri: u32, uv: vec2<f32>) -> WalkPoint {
+    return WalkPoint(tri, uv, vec2<f32>(0.0), true, walk_bary(tri, uv));
+}
+
 // Move from (tri, uv) by dir * len (dir in tri's chart).
 fn walk_move(tri_in: u32, uv_in: vec2<f32>, dir: vec2<f32>, len: f32) -> WalkPoint {
-    var w = WalkPoint(tri_in, uv_in, dir, true);
+    var w = WalkPoint(tri_in, uv_in, dir, true, vec3<f32>(0.0));
     var rest = dir * len;
     for (var i = 0; i < MAX_CROSSINGS; i = i + 1) {
         let e = w.uv + rest;
         let be = walk_bary(w.tri, e);
         if (all(be >= vec3<f32>(-1e-6))) {
             w.uv = e;
+            w.b = be;
             return w;
         }
         // the side the segment leaves through: the first corner whose barycentric reaches 0
@@ -94,12 +102,14 @@ fn walk_move(tri_in: u32, uv_in: vec2<f32>, dir: vec2<f32>, len: f32) -> WalkPoi
         w.tri = u32(r0.w);
     }
     w.uv = w.uv + rest;
+    w.b = walk_bary(w.tri, w.uv);
     return w;
 }
 
 // The mesh's frame at a walk point: the corners' normals, tangents and uv scales interpolated.
-fn walk_frame(tri: u32, uv: vec2<f32>) -> TangentFrame {
-    let b = clamp(walk_bary(tri, uv), vec3<f32>(0.0), vec3<f32>(1.0));
+fn walk_frame(w: WalkPoint) -> TangentFrame {
+    let tri = w.tri;
+    let b = clamp(w.b, vec3<f32>(0.0), vec3<f32>(1.0));
     fetched(6u, 96u);
     let t0 = walk_rec(tri, 9u);
     let n = walk_rec(tri, 8u) * b.x + walk_rec(tri, 10u) * b.y + walk_rec(tri, 12u) * b.z;
