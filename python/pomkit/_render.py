@@ -183,19 +183,26 @@ def _frame(r: "_core._FrameTuple", method: Method) -> Frame:
 
 
 def exact_uv(scene: Scene, *, light_bias: float = 0.0) -> Frame:
-    """CPU float64 oracle: the exact first hit of each pixel's ray against the bilinear height
-    field, for planar meshes (each triangle's plane is taken as the base surface under it): a
-    curved mesh (a vertex normal off its triangle's) is refused with a ValueError naming the
-    vertex, since there the displaced surface follows the interpolated normals and the
-    triangles' planes would answer for a faceted shell instead. Returns a Frame with float64 uv and depth, the mask, `steps` = cells visited, and
-    `visibility`: the exact visibility of the first directional light at the hit (the fraction
-    of its disk, 64 directions when `angular_diameter` > 0, whose ray leaves the shell without
-    passing below the field; NaN without a directional light). Self-shadowing only: the other
-    objects' cast shadows are not traced. `light_bias` (in shell depths) raises the light rays so
-    that a blocker must rise more than it above the ray: 1e-4 is the GPU's `shadows="exact"`;
-    where the two oracles differ a blocker grazes the ray within that tolerance."""
+    """CPU float64 oracle: the exact first hit of each pixel's ray with the displaced surface
+    S = P + depth (h - 1) N, P and N interpolated over each base triangle (N normalised) as the
+    tessellator and the shaders define them, on any scene. One untransformed planar object (a
+    plane, a cube) takes the closed-form walk of each triangle's plane (extended under the hit,
+    as the per-pixel methods take it); any other scene (curved meshes, atlases, several objects,
+    transforms) the shell walk: the ray enters through the base mesh and walks prism to prism,
+    across seams, and out through open borders, exact to 1e-4 texel (docs/methods.md, "The
+    oracle on any mesh"). No mesh is built, so any map size works.
+
+    Returns a Frame with float64 uv and depth, the mask, `object` (the index hit, -1 none),
+    `steps` = cells visited, and `visibility`: the exact visibility of the first directional
+    light at the hit (the fraction of its disk, 64 directions when `angular_diameter` > 0, whose
+    ray leaves the shell without passing below the field; NaN without a directional light). On
+    a planar object, self-shadowing only; on the shell walk, every object occludes.
+    `light_bias` (in shell depths) raises the light rays so that a blocker must rise more than
+    it above the ray: 1e-4 is the GPU's `shadows="exact"`; where the two oracles differ a
+    blocker grazes the ray within that tolerance."""
     if not isinstance(scene, Scene):
         raise TypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
     d = _core.exact_uv(scene._describe(), float(light_bias))
     vis = d["visibility"].astype(np.float32)
-    return Frame(uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["cells"], visibility=vis, method="exact_uv")
+    return Frame(uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["cells"], visibility=vis, object=d["object"],
+                 method="exact_uv")

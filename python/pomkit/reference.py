@@ -51,21 +51,18 @@ def displaced_mesh(scene: Scene, resolution: float | None = None, object: int | 
     return [one(i) for i in range(len(scene.objects))]
 
 
-def render_exact(scene: Scene, spp: int = 16, shadows: bool = True, cache: bool = True,
-                 resolution: float | None = None) -> Frame:
+def render_exact(scene: Scene, spp: int = 16, shadows: bool = True, cache: bool = True) -> Frame:
     """The noise-free reference image, shaded with the reference shading of docs/conventions.md
     (the normal from central differences of the bilinear field at level 0, the albedo bilinear
     at level 0, each light times the fraction of 64 stratified directions over its disk that
     leave the shell, ambient times the fraction of 64 cosine-weighted directions that do).
 
-    Exact hits: on a planar mesh of one untransformed object (a plane, a cube), every sample's
-    hit is the float64 oracle's (`pk.exact_uv`) and every light ray is walked through the
-    bilinear field; no mesh is built, so any map size the oracle walks works. On a curved mesh,
-    several objects or a transformed object (`_core.oracle_refusal` says why), the hits and light
-    rays are Mitsuba's ray casts against the displaced mesh at `resolution` vertices per texel
-    (None: 8, the vertices on the texel-centre lattice, hits within about 0.002 texel of the
-    field; see `render_mitsuba`; this needs the `reference` extra) and the normal is the definition's at each hit: exactly
-    `render_mitsuba(integrator="cast")`.
+    Every sample's hit is the float64 oracle's (`pk.exact_uv`), with no mesh built, at any map
+    size: on one untransformed planar object (a plane, a cube) the closed-form walk of each
+    triangle's plane; on any other scene (curved meshes, atlases, several objects, transforms)
+    the shell walk, exact to 1e-4 texel, whose light rays meet every object as in the world.
+    `render_mitsuba(integrator="cast")` is the independent check: the same shading on Mitsuba's
+    ray casts against the displaced mesh.
 
     `spp` samples per pixel on the grid of `render(spp=)` (a square, 1 to 256), colour
     box-filtered (a miss is black) and `coverage` the fraction that hit; uv, depth, mask,
@@ -74,14 +71,10 @@ def render_exact(scene: Scene, spp: int = 16, shadows: bool = True, cache: bool 
     `Frame.wall_ms` is the time the render took (stored with it in the cache). `shadows=False`
     traces no light or ambient rays (every light fully visible, ao = 1): the colour of the
     displacement alone, for methods measured without shadows (the bench, choose)."""
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
     spp = _v.integer("spp", spp, 1, 256, strict=True)  # a square: the core's rule
     shadows = _v.boolean("shadows", shadows)
-    refusal = _core.oracle_refusal(scene._describe()) if isinstance(scene, Scene) else None
-    if refusal is not None:
-        f = render_mitsuba(scene, spp=spp, resolution=resolution, cache=cache, integrator="cast", shadows=shadows)
-        f.method = f"render_exact spp={spp}{'' if shadows else ' unshadowed'} by Mitsuba's ray casts " \
-                   f"({refusal.split(':')[0]}) (took {f.wall_ms:.0f} ms)"
-        return f
     # the hash reads every array of the scene: only when the cache is asked for
     key = scene_hash(scene, kind="exact", spp=spp, shadows=shadows) if cache else ""
 
@@ -90,7 +83,7 @@ def render_exact(scene: Scene, spp: int = 16, shadows: bool = True, cache: bool 
         d = _core.render_exact(scene._describe(), spp, bool(shadows))  # with the pixel centres' hits
         return dict(color=d["color"], coverage=d["coverage"], uv=d["uv"].astype(np.float32),
                     depth=d["depth"].astype(np.float32), mask=d["mask"], visibility=d["visibility"].astype(np.float32),
-                    object=np.where(d["mask"], 0, -1).astype(np.int32), ms=np.array(1e3 * (time.perf_counter() - t0)))
+                    object=d["object"], ms=np.array(1e3 * (time.perf_counter() - t0)))
 
     a = cached("exact", key, compute, use_cache=cache)
     arrays = {k: a[k] for k in ("color", "coverage", "uv", "depth", "mask", "visibility", "object")}

@@ -70,6 +70,49 @@ impl<'a> Field<'a> {
         Field { hm, levels }
     }
 
+    /// The highest texel of the cells that meet the box [x0, x1] x [y0, y1] in cell coordinates
+    /// (cell (i, j) spans [i, i+1] x [j, j+1]; the field repeats): read from the pyramid level
+    /// whose blocks the box spans at most three of, on each axis.
+    pub fn max_in(&self, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> f64 {
+        let (w, h) = (self.hm.width as i64, self.hm.height as i64);
+        let whole = || {
+            self.levels
+                .last()
+                .map(|l| l.max.iter().copied().fold(0f32, f32::max) as f64)
+                .unwrap_or_else(|| self.hm.data.iter().copied().fold(0f32, f32::max) as f64)
+        };
+        if !(x0.is_finite() && x1.is_finite() && y0.is_finite() && y1.is_finite()) {
+            return whole();
+        }
+        let (cx0, cx1) = (x0.floor() as i64, x1.floor() as i64);
+        let (cy0, cy1) = (y0.floor() as i64, y1.floor() as i64);
+        if cx1 - cx0 >= w || cy1 - cy0 >= h || self.levels.is_empty() {
+            return whole();
+        }
+        let span = (cx1 - cx0).max(cy1 - cy0).max(1) as u64;
+        // blocks of 2^k cells: the box spans at most three on each axis
+        let k = ((64 - span.leading_zeros()) as usize).clamp(1, self.levels.len());
+        let lv = &self.levels[k - 1];
+        let block = |c: i64, n: i64| {
+            let (p, l) = (c.div_euclid(n), c.rem_euclid(n));
+            let b = l >> k;
+            (b as usize, p * n + ((b + 1) << k).min(n))
+        };
+        let mut top = 0f32;
+        let mut cy = cy0;
+        while cy <= cy1 {
+            let (by, ny) = block(cy, h);
+            let mut cx = cx0;
+            while cx <= cx1 {
+                let (bx, nx) = block(cx, w);
+                top = top.max(lv.max[by * lv.w + bx]);
+                cx = nx;
+            }
+            cy = ny;
+        }
+        top as f64
+    }
+
     /// The field without its pyramid: the plain cell walk (what the pyramid must agree with).
     #[cfg(test)]
     fn cell_walk_only(hm: &'a HeightMap) -> Field<'a> {
@@ -173,7 +216,7 @@ pub fn march_height_field(f: &Field, s0: DVec2, ds: DVec2, dh: f64) -> Option<(f
 /// at which the bilinear field is at or above the ray (None if there is none: for a descending
 /// ray, the floor at lam_max is the caller's to report), and the steps taken (cells walked plus
 /// blocks skipped). A walk that reaches MAX_CELLS steps stops there and reports lam_max.
-fn walk_cells(
+pub(crate) fn walk_cells(
     f: &Field,
     s0: DVec2,
     h0: f64,

@@ -17,8 +17,8 @@
 //! that each pixel averages every direction once however many samples it has.
 
 use super::{
-    disk_directions, oracle_hits, par_rows, perpendiculars, stratified_disk, Oracle, OracleHit,
-    OracleHits,
+    disk_directions, oracle_hits, par_rows, perpendiculars, stratified_disk, Exact, Hit,
+    OracleHits, Tracer,
 };
 use crate::error::{Error, Result};
 use crate::scene::{Albedo, Light, Scene};
@@ -65,25 +65,6 @@ fn albedo_at(a: &Option<crate::scene::Shared<Albedo>>, s: DVec2) -> DVec3 {
         + (at(i, j + 1) * (1.0 - fx) + at(i + 1, j + 1) * fx) * fy
 }
 
-/// The reference shading normal at a hit (see the module's doc).
-fn shading_normal(o: &Oracle, hit: &OracleHit) -> DVec3 {
-    let hm = &o.mat.height;
-    let (depth, tiling) = (o.mat.depth as f64, o.mat.tiling as f64);
-    let (ex, ey) = (1.0 / hm.width as f64, 1.0 / hm.height as f64);
-    let s = hit.s;
-    // dh/du = tiling dh/ds, by central differences one texel apart
-    let hu = tiling * (hm.sample(s.x + ex, s.y) - hm.sample(s.x - ex, s.y)) / (2.0 * ex);
-    let hv = tiling * (hm.sample(s.x, s.y + ey) - hm.sample(s.x, s.y - ey)) / (2.0 * ey);
-    let t = hit.tri;
-    let n = (t.dpdu + t.n * (depth * hu)).cross(t.dpdv + t.n * (depth * hv));
-    let n = n.normalize_or_zero();
-    if n.dot(t.n) < 0.0 {
-        -n
-    } else {
-        n
-    }
-}
-
 /// The directions sample q of n traces from a set: those with index = q mod n (every one when
 /// n = 1; one, cycling, when n > the set's size).
 fn share(set: &[DVec3], q: usize, n: usize) -> impl Iterator<Item = &DVec3> {
@@ -113,20 +94,19 @@ pub fn sample_directions(axis: DVec3, tan_r: f64, q: usize, n: usize) -> Vec<DVe
     }
 }
 
-/// The oracle for `render_exact`, or why the scene is not one it takes: one untransformed object
-/// on a planar mesh (every vertex normal its triangle's normal). `pk.reference.render_exact`
-/// asks first, and casts against the mesh with Mitsuba where the oracle refuses.
-pub(crate) fn exact_oracle(scene: &Scene) -> Result<Oracle<'_>> {
-    let oracle = Oracle::new(scene, "render_exact")?;
-    Ok(oracle)
-}
-
-/// Why the oracle cannot render `scene` exactly (`exact_oracle`'s error), or None when it can.
+/// Why the oracle cannot render `scene` exactly, or None when it can.
 pub fn oracle_refusal(scene: &Scene) -> Option<String> {
-    exact_oracle(scene).err().map(|e| e.to_string())
+    Exact::new(scene, "render_exact")
+        .err()
+        .map(|e| e.to_string())
 }
 
-/// The exact image of a planar scene at `spp` samples per pixel (a square, 1 to 256).
+/// Which exact tracer `scene` takes: "planar" (one untransformed planar object) or "shell".
+pub fn oracle_kind(scene: &Scene) -> Result<&'static str> {
+    Ok(Exact::new(scene, "render_exact")?.kind())
+}
+
+/// The exact image of a scene at `spp` samples per pixel (a square, 1 to 256).
 /// `shadows` false leaves out the light and ambient rays (every light fully visible, ao = 1):
 /// the colour of the displacement alone, for methods measured without shadows.
 pub fn render_exact(scene: &Scene, spp: u32, shadows: bool) -> Result<ExactImage> {
@@ -137,7 +117,13 @@ pub fn render_exact(scene: &Scene, spp: u32, shadows: bool) -> Result<ExactImage
             format!("must be a square number of samples per pixel from 1 to 256, got {spp}"),
         ));
     }
-    let oracle = exact_oracle(scene)?;
+    Ok(match Exact::new(scene, "render_exact")? {
+        Exact::Planar(o) => image(scene, &o, k, shadows),
+        Exact::Shell(o) => image(scene, &o, k, shadows),
+    })
+}
+
+fn image<T: Tracer>(scene: &Scene, oracle: &T, k: u32, shadows: bool) -> ExactImage {
     let cam = &scene.camera;
     let (w, h) = (cam.width, cam.height);
     let mut fine = cam.clone();
@@ -179,7 +165,7 @@ pub fn render_exact(scene: &Scene, spp: u32, shadows: bool) -> Result<ExactImage
                     let p = basis.eye + dir * hit.dist;
                     sum += shade(
                         scene,
-                        &oracle,
+                        oracle,
                         &hit,
                         p,
                         ambient,
@@ -197,30 +183,30 @@ pub fn render_exact(scene: &Scene, spp: u32, shadows: bool) -> Result<ExactImage
         color.extend([c.x as f32, c.y as f32, c.z as f32]);
         coverage.push(cov);
     }
-    Ok(ExactImage {
+    ExactImage {
         width: w,
         height: h,
         color,
         coverage,
-        centres: oracle_hits(scene, &oracle, 0.0),
-    })
+        centres: oracle_hits(scene, oracle, 0.0),
+    }
 }
 
 /// The reference shading of one sample's hit (world point `p`): sample `q` of `n` traces its
 /// share of each direction set (none without `shadows`).
 #[allow(clippy::too_many_arguments)]
-fn shade(
+fn shade<T: Tracer>(
     scene: &Scene,
-    o: &Oracle,
-    hit: &OracleHit,
+    o: &T,
+    hit: &Hit<T::At>,
     p: DVec3,
     ambient: DVec3,
     (cosines, disks): (&[DVec3], &[Option<Vec<DVec3>>]),
     (q, n): (usize, usize),
     shadows: bool,
 ) -> DVec3 {
-    let nrm = shading_normal(o, hit);
-    let albedo = albedo_at(&o.mat.albedo, hit.s);
+    let nrm = o.normal(hit);
+    let albedo = albedo_at(&o.material(hit.object).albedo, hit.s);
     let mut direct = DVec3::ZERO;
     for (l, disk) in scene.lights.iter().zip(disks) {
         let (to_light, e, tan_r) = match l {

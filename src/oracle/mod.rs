@@ -16,6 +16,7 @@
 
 pub mod field;
 pub mod image;
+pub(crate) mod shell;
 
 pub use field::{light_ray_free, march_height_field, Field};
 
@@ -37,6 +38,36 @@ pub struct OracleHits {
     /// the first directional light's visibility at the hit (fraction of its disk unblocked by
     /// the height field), NaN where no hit or the scene has no directional light
     pub visibility: Vec<f64>,
+    /// the index of the object hit, -1 where none
+    pub object: Vec<i32>,
+}
+
+/// One exact hit: what the frame and the shading read, and the oracle's own place of it.
+pub(crate) struct Hit<A> {
+    /// mesh uv
+    pub(crate) uv: DVec2,
+    /// distance along the unit ray
+    pub(crate) dist: f64,
+    pub(crate) cells: u32,
+    pub(crate) object: usize,
+    /// texture-space point (uv * tiling) and height
+    pub(crate) s: DVec2,
+    pub(crate) h: f64,
+    pub(crate) at: A,
+}
+
+/// An exact ray caster against the displaced surface: the planar oracle (`Oracle`, one planar
+/// object) or the shell walk (`shell::Shell`, any mesh).
+pub(crate) trait Tracer: Sync {
+    type At;
+    /// The exact first hit of the ray from `eye` along the unit `dir`.
+    fn trace(&self, eye: DVec3, dir: DVec3) -> Option<Hit<Self::At>>;
+    /// Whether the ray from the hit along the world direction `l` leaves the displaced surface
+    /// unblocked (a blocker must rise more than `bias` shell depths above it).
+    fn reaches(&self, hit: &Hit<Self::At>, l: DVec3, bias: f64) -> bool;
+    /// The reference shading normal at the hit (docs/conventions.md), world space.
+    fn normal(&self, hit: &Hit<Self::At>) -> DVec3;
+    fn material(&self, object: usize) -> &crate::scene::Material;
 }
 
 pub(crate) struct Tri {
@@ -126,9 +157,12 @@ impl<'a> Oracle<'a> {
             field: Field::new(&obj.material.height),
         })
     }
+}
 
-    /// The exact first hit of the ray from `eye` along the unit `dir`.
-    pub(crate) fn trace(&self, eye: DVec3, dir: DVec3) -> Option<OracleHit<'_>> {
+impl Tracer for Oracle<'_> {
+    type At = usize;
+
+    fn trace(&self, eye: DVec3, dir: DVec3) -> Option<Hit<usize>> {
         let m = self.mat;
         trace(
             eye,
@@ -140,11 +174,68 @@ impl<'a> Oracle<'a> {
         )
     }
 
-    /// Whether the ray from the hit along the world direction `l` leaves the shell.
-    pub(crate) fn reaches(&self, hit: &OracleHit, l: DVec3, bias: f64) -> bool {
+    fn reaches(&self, hit: &Hit<usize>, l: DVec3, bias: f64) -> bool {
         let m = self.mat;
-        light_reaches(hit, l, &self.field, m.depth as f64, m.tiling as f64, bias)
+        let t = &self.tris[hit.at];
+        light_reaches(
+            hit,
+            t,
+            l,
+            &self.field,
+            m.depth as f64,
+            m.tiling as f64,
+            bias,
+        )
     }
+
+    fn normal(&self, hit: &Hit<usize>) -> DVec3 {
+        let hm = &self.mat.height;
+        let (depth, tiling) = (self.mat.depth as f64, self.mat.tiling as f64);
+        let (ex, ey) = (1.0 / hm.width as f64, 1.0 / hm.height as f64);
+        let s = hit.s;
+        // dh/du = tiling dh/ds, by central differences one texel apart
+        let hu = tiling * (hm.sample(s.x + ex, s.y) - hm.sample(s.x - ex, s.y)) / (2.0 * ex);
+        let hv = tiling * (hm.sample(s.x, s.y + ey) - hm.sample(s.x, s.y - ey)) / (2.0 * ey);
+        let t = &self.tris[hit.at];
+        let n = (t.dpdu + t.n * (depth * hu)).cross(t.dpdv + t.n * (depth * hv));
+        let n = n.normalize_or_zero();
+        if n.dot(t.n) < 0.0 {
+            -n
+        } else {
+            n
+        }
+    }
+
+    fn material(&self, _object: usize) -> &crate::scene::Material {
+        self.mat
+    }
+}
+
+/// Whether every triangle of the mesh lies in one plane with every vertex normal its normal.
+fn flat(m: &crate::mesh::Mesh) -> bool {
+    if planar(m, "").is_err() {
+        return false;
+    }
+    let mut first: Option<(DVec3, DVec3)> = None;
+    let (lo, hi) = m.bounds();
+    let tol = 1e-9 * (hi - lo).max_element().max(1e-30);
+    for t in m.indices.chunks_exact(3) {
+        let p = |i: u32| m.position_f64(i);
+        let n = (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0]));
+        if n.length() < 1e-14 {
+            continue;
+        }
+        let n = n.normalize();
+        match first {
+            None => first = Some((p(t[0]), n)),
+            Some((p0, n0)) => {
+                if n.dot(n0) < 1.0 - 1e-9 || t.iter().any(|&i| (p(i) - p0).dot(n0).abs() > tol) {
+                    return false;
+                }
+            }
+        }
+    }
+    true
 }
 
 /// A curved mesh's triangles are not its surface (the surface follows the interpolated normals):
@@ -171,6 +262,36 @@ fn planar(m: &crate::mesh::Mesh, what: &str) -> Result<()> {
     Ok(())
 }
 
+/// The exact tracer a scene takes: the planar oracle for one untransformed flat object (a
+/// plane: its plane extended under each hit, past the border too, as the per-pixel methods take
+/// it), the shell walk for everything else (curved meshes, hard edges, several objects,
+/// transforms).
+pub(crate) enum Exact<'a> {
+    Planar(Oracle<'a>),
+    Shell(shell::Shell<'a>),
+}
+
+impl<'a> Exact<'a> {
+    pub(crate) fn new(scene: &'a Scene, what: &str) -> Result<Exact<'a>> {
+        scene.validate()?;
+        let planar_one =
+            matches!(scene.objects.as_slice(), [o] if o.transform.is_identity() && flat(&o.mesh));
+        Ok(if planar_one {
+            Exact::Planar(Oracle::new(scene, what)?)
+        } else {
+            Exact::Shell(shell::Shell::new(scene)?)
+        })
+    }
+
+    /// Which tracer: "planar" or "shell".
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Exact::Planar(_) => "planar",
+            Exact::Shell(_) => "shell",
+        }
+    }
+}
+
 /// The oracle's frame. `light_bias` (shell depths, >= 0) raises the light rays: a blocker must
 /// rise more than it above the ray (0: the exact field; the GPU's exact shadows use 1e-4).
 pub fn exact_hits(scene: &Scene, light_bias: f64) -> Result<OracleHits> {
@@ -180,12 +301,14 @@ pub fn exact_hits(scene: &Scene, light_bias: f64) -> Result<OracleHits> {
             format!("must lie in [0, 0.5) shell depths, got {light_bias}"),
         ));
     }
-    let oracle = Oracle::new(scene, "the CPU oracle (exact_uv)")?;
-    Ok(oracle_hits(scene, &oracle, light_bias))
+    Ok(match Exact::new(scene, "the CPU oracle (exact_uv)")? {
+        Exact::Planar(o) => oracle_hits(scene, &o, light_bias),
+        Exact::Shell(o) => oracle_hits(scene, &o, light_bias),
+    })
 }
 
-/// `exact_hits` with the oracle built (render_exact builds it once for both).
-pub(crate) fn oracle_hits(scene: &Scene, oracle: &Oracle, light_bias: f64) -> OracleHits {
+/// `exact_hits` with the tracer built (render_exact builds it once for both).
+pub(crate) fn oracle_hits<T: Tracer>(scene: &Scene, oracle: &T, light_bias: f64) -> OracleHits {
     let cam = &scene.camera;
     let basis = cam.basis();
     let (w, h) = (cam.width, cam.height);
@@ -198,10 +321,11 @@ pub(crate) fn oracle_hits(scene: &Scene, oracle: &Oracle, light_bias: f64) -> Or
         mask: vec![false; n],
         cells: vec![0; n],
         visibility: vec![f64::NAN; n],
+        object: vec![-1; n],
     };
     let light_dirs = first_light_directions(scene);
     let light_bias = light_bias.max(0.0);
-    // per pixel of each row: (uv, distance, cells, visibility) where it hits
+    // per pixel of each row: (uv, distance, cells, visibility, object) where it hits
     let rows = par_rows(h as usize, |i| {
         (0..w)
             .map(|j| {
@@ -216,67 +340,70 @@ pub(crate) fn oracle_hits(scene: &Scene, oracle: &Oracle, light_bias: f64) -> Or
                         .count();
                     lit as f64 / light_dirs.len() as f64
                 };
-                Some((hit.uv, hit.dist, hit.cells, vis))
+                Some((hit.uv, hit.dist, hit.cells, vis, hit.object))
             })
             .collect::<Vec<_>>()
     });
     for (idx, px) in rows.into_iter().flatten().enumerate() {
-        if let Some((uv, dist, cells, vis)) = px {
+        if let Some((uv, dist, cells, vis, object)) = px {
             out.uv[idx * 2] = uv.x;
             out.uv[idx * 2 + 1] = uv.y;
             out.depth[idx] = dist;
             out.mask[idx] = true;
             out.cells[idx] = cells;
             out.visibility[idx] = vis;
+            out.object[idx] = object as i32;
         }
     }
     out
 }
 
-/// `f(row)` for every row in 0..rows, on the machine's cores (at most 8 threads, each a band
-/// of consecutive rows), in row order.
+/// `f(row)` for every row in 0..rows, on the machine's cores (at most 8 threads, each taking
+/// the next row not yet taken), in row order.
 pub(crate) fn par_rows<T: Send>(rows: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
     let threads = std::thread::available_parallelism()
         .map(|x| x.get())
         .unwrap_or(1)
-        .clamp(1, 8);
-    let per = rows.div_ceil(threads).max(1);
-    let f = &f;
-    std::thread::scope(|sc| {
-        let bands: Vec<_> = (0..rows)
-            .step_by(per)
-            .map(|r0| sc.spawn(move || (r0..(r0 + per).min(rows)).map(f).collect::<Vec<T>>()))
+        .clamp(1, 8)
+        .min(rows.max(1));
+    let next = AtomicUsize::new(0);
+    let (f, next) = (&f, &next);
+    let mut done: Vec<(usize, T)> = std::thread::scope(|sc| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                sc.spawn(move || {
+                    let mut mine = Vec::new();
+                    loop {
+                        let r = next.fetch_add(1, Ordering::Relaxed);
+                        if r >= rows {
+                            break mine;
+                        }
+                        mine.push((r, f(r)));
+                    }
+                })
+            })
             .collect();
-        bands
+        workers
             .into_iter()
-            .flat_map(|b| b.join().expect("a row band panicked"))
+            .flat_map(|b| b.join().expect("a row worker panicked"))
             .collect()
-    })
+    });
+    done.sort_by_key(|(r, _)| *r);
+    done.into_iter().map(|(_, t)| t).collect()
 }
 
-/// A pixel's exact hit: uv (mesh space), distance, cells walked, and what the light test needs
-/// (the texture-space point and height, the triangle's world-to-texture map).
-pub(crate) struct OracleHit<'a> {
-    pub(crate) uv: DVec2,
-    pub(crate) dist: f64,
-    pub(crate) cells: u32,
-    /// texture-space point (uv * tiling) and height
-    pub(crate) s: DVec2,
-    pub(crate) h: f64,
-    pub(crate) tri: &'a Tri,
-}
-
-fn trace<'a>(
+fn trace(
     eye: DVec3,
     dir: DVec3,
-    tris: &'a [Tri],
+    tris: &[Tri],
     field: &Field,
     depth: f64,
     tiling: f64,
-) -> Option<OracleHit<'a>> {
+) -> Option<Hit<usize>> {
     // nearest front-facing triangle (Moller-Trumbore)
-    let mut best: Option<(f64, &Tri, f64, f64)> = None;
-    for t in tris {
+    let mut best: Option<(f64, usize, f64, f64)> = None;
+    for (ti, t) in tris.iter().enumerate() {
         if dir.dot(t.n) >= 0.0 {
             continue;
         }
@@ -298,35 +425,38 @@ fn trace<'a>(
         }
         let d = t.e2.dot(qv) * inv;
         if d > 0.0 && best.is_none_or(|b| d < b.0) {
-            best = Some((d, t, b1, b2));
+            best = Some((d, ti, b1, b2));
         }
     }
-    let (d0, t, b1, b2) = best?;
+    let (d0, ti, b1, b2) = best?;
+    let t = &tris[ti];
     let uv0 = t.uv0 + t.d1 * b1 + t.d2 * b2;
     let c = t.to_tex * dir; // (du, dv, dn) per unit world length
     let dh = c.z / depth.max(1e-300);
     let s0 = uv0 * tiling;
     if depth <= 0.0 {
-        return Some(OracleHit {
+        return Some(Hit {
             uv: uv0,
             dist: d0,
             cells: 0,
+            object: 0,
             s: s0,
             h: 1.0,
-            tri: t,
+            at: ti,
         });
     }
     let ds = DVec2::new(c.x, c.y) * tiling;
     let (lam, cells) = march_height_field(field, s0, ds, dh)?;
     let s = s0 + ds * lam;
     let h = (1.0 + dh * lam).clamp(0.0, 1.0);
-    Some(OracleHit {
+    Some(Hit {
         uv: s / tiling,
         dist: d0 + lam,
         cells,
+        object: 0,
         s,
         h,
-        tri: t,
+        at: ti,
     })
 }
 
@@ -397,14 +527,15 @@ pub(crate) fn stratified_disk() -> Vec<DVec2> {
 /// rises from the hit's height to h = 1 without passing below the bilinear field. A light below
 /// the base tangent plane is blocked (the tiled field continues under it), as on the GPU.
 fn light_reaches(
-    hit: &OracleHit,
+    hit: &Hit<usize>,
+    tri: &Tri,
     l: DVec3,
     field: &Field,
     depth: f64,
     tiling: f64,
     bias: f64,
 ) -> bool {
-    let c = hit.tri.to_tex * l;
+    let c = tri.to_tex * l;
     if depth <= 0.0 {
         return c.z > 0.0;
     }

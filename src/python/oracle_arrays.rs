@@ -35,6 +35,7 @@ fn hits_into(d: &Bound<'_, PyDict>, o: crate::oracle::OracleHits) -> PyResult<()
     d.set_item("mask", nd_array(py, (h, w), o.mask)?)?;
     d.set_item("cells", nd_array(py, (h, w), o.cells)?)?;
     d.set_item("visibility", nd_array(py, (h, w), o.visibility)?)?;
+    d.set_item("object", nd_array(py, (h, w), o.object)?)?;
     Ok(())
 }
 

@@ -1,0 +1,125 @@
+//! A bounding volume hierarchy over a mesh's triangles (object space): the rays' candidates for
+//! entering the shell through its top.
+
+use glam::DVec3;
+
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    lo: DVec3,
+    hi: DVec3,
+    /// a leaf's first item in `order`, or an inner node's first child (the second follows)
+    first: u32,
+    /// items in a leaf; 0 for an inner node
+    count: u32,
+}
+
+/// Binary, split at the median of the longest axis of the centres, at most 4 items a leaf.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Bvh {
+    nodes: Vec<Node>,
+    order: Vec<u32>,
+}
+
+impl Bvh {
+    /// Over items given as boxes (lo, hi); None marks an item to leave out.
+    pub(crate) fn new(boxes: &[Option<(DVec3, DVec3)>]) -> Bvh {
+        let mut order: Vec<u32> = (0..boxes.len() as u32)
+            .filter(|&i| boxes[i as usize].is_some())
+            .collect();
+        let b = |i: u32| boxes[i as usize].expect("kept items have boxes");
+        let mut nodes = vec![Node {
+            lo: DVec3::ZERO,
+            hi: DVec3::ZERO,
+            first: 0,
+            count: 0,
+        }];
+        // (node, range of `order`)
+        let mut todo = vec![(0usize, 0usize, order.len())];
+        while let Some((ni, a, z)) = todo.pop() {
+            let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+            let (mut clo, mut chi) = (lo, hi);
+            for &i in &order[a..z] {
+                let (l, h) = b(i);
+                (lo, hi) = (lo.min(l), hi.max(h));
+                let c = 0.5 * (l + h);
+                (clo, chi) = (clo.min(c), chi.max(c));
+            }
+            nodes[ni].lo = lo;
+            nodes[ni].hi = hi;
+            if z - a <= 4 {
+                nodes[ni].first = a as u32;
+                nodes[ni].count = (z - a) as u32;
+                continue;
+            }
+            let ext = chi - clo;
+            let axis = if ext.x >= ext.y && ext.x >= ext.z {
+                0
+            } else if ext.y >= ext.z {
+                1
+            } else {
+                2
+            };
+            let mid = (a + z) / 2;
+            order[a..z].select_nth_unstable_by(mid - a, |&i, &j| {
+                let (ci, cj) = (b(i).0 + b(i).1, b(j).0 + b(j).1);
+                ci[axis].total_cmp(&cj[axis])
+            });
+            let first = nodes.len();
+            let blank = nodes[ni];
+            nodes.push(blank);
+            nodes.push(blank);
+            nodes[ni].first = first as u32;
+            nodes[ni].count = 0;
+            todo.push((first, a, mid));
+            todo.push((first + 1, mid, z));
+        }
+        Bvh { nodes, order }
+    }
+
+    /// Calls `f` with each item whose box the ray o + lam d meets for lam in [lam_min,
+    /// lam_max], until `f` returns false.
+    pub(crate) fn visit(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        lam_min: f64,
+        lam_max: f64,
+        mut f: impl FnMut(u32) -> bool,
+    ) {
+        if self.order.is_empty() {
+            return;
+        }
+        let inv = d.recip();
+        let meets = |n: &Node| {
+            let t0 = (n.lo - o) * inv;
+            let t1 = (n.hi - o) * inv;
+            // a zero direction component gives NaN or +-inf; NaN (origin on the slab) passes
+            let near = t0.min(t1);
+            let far = t0.max(t1);
+            let tn = near.x.max(near.y).max(near.z).max(lam_min);
+            let tf = far.x.min(far.y).min(far.z).min(lam_max);
+            !(tn > tf * (1.0 + 1e-12) + 1e-12)
+        };
+        // the tree is balanced (median splits): depth below 64
+        let mut stack = [0u32; 128];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let n = &self.nodes[stack[top] as usize];
+            if !meets(n) {
+                continue;
+            }
+            if n.count > 0 {
+                for &i in &self.order[n.first as usize..(n.first + n.count) as usize] {
+                    if !f(i) {
+                        return;
+                    }
+                }
+            } else {
+                stack[top] = n.first;
+                stack[top + 1] = n.first + 1;
+                top += 2;
+            }
+        }
+    }
+}

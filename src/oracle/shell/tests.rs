@@ -1,0 +1,151 @@
+use super::*;
+use crate::oracle::{oracle_hits, Oracle};
+use crate::scene::{shared, Camera, HeightMap, Light};
+
+fn noise(w: u32, h: u32, seed: u64) -> HeightMap {
+    let mut x = seed;
+    let data = (0..w * h)
+        .map(|_| {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (x >> 40) as f32 / (1u64 << 24) as f32
+        })
+        .collect();
+    HeightMap::new(w, h, data).unwrap()
+}
+
+fn scene(mesh: Mesh, hm: HeightMap, depth: f32, eye: [f64; 3], size: u32) -> Scene {
+    Scene::single(
+        shared(mesh).unwrap(),
+        Material {
+            height: shared(hm).unwrap(),
+            depth,
+            tiling: 1.0,
+            albedo: None,
+        },
+        Camera {
+            eye,
+            target: [0.0; 3],
+            up: [0.0, 1.0, 0.0],
+            fov_y: 30.0,
+            width: size,
+            height: size,
+            window: None,
+            samples: 1,
+        },
+        vec![Light::Directional {
+            direction: [-0.3, -1.0, -0.2],
+            irradiance: [2.0; 3],
+            angular_diameter: 0.0,
+            cast_shadows: false,
+            shadow_map_size: 2048,
+        }],
+        [0.05; 3],
+    )
+}
+
+/// On a plane, inside its border, the shell walk answers as the planar oracle's closed form.
+#[test]
+fn on_a_plane_the_shell_answers_as_the_planar_oracle() {
+    let t = 55f64.to_radians();
+    let s = scene(
+        Mesh::plane(2.0, 3).unwrap(),
+        noise(32, 32, 3),
+        0.1,
+        [0.0, 1.6 * t.cos(), 1.6 * t.sin()],
+        40,
+    );
+    let planar = oracle_hits(&s, &Oracle::new(&s, "test").unwrap(), 0.0);
+    let shell = oracle_hits(&s, &Shell::new(&s).unwrap(), 0.0);
+    // the planar oracle extends the plane past its border; compare where its hit lies inside
+    let inner = |i: usize| {
+        (0.05..0.95).contains(&planar.uv[2 * i]) && (0.05..0.95).contains(&planar.uv[2 * i + 1])
+    };
+    let n = planar.mask.len();
+    assert!((0..n).filter(|&i| planar.mask[i] && inner(i)).count() > 800);
+    assert!(
+        (0..n).all(|i| !(planar.mask[i] && inner(i)) || shell.mask[i]),
+        "the shell misses"
+    );
+    assert!(
+        (0..n).all(|i| planar.mask[i] || !shell.mask[i]),
+        "the shell hits past the plane"
+    );
+    let mut worst = 0f64;
+    for i in 0..n {
+        if planar.mask[i] && inner(i) {
+            let du = (planar.uv[2 * i] - shell.uv[2 * i]) * 32.0;
+            let dv = (planar.uv[2 * i + 1] - shell.uv[2 * i + 1]) * 32.0;
+            worst = worst.max(du.hypot(dv));
+        }
+    }
+    assert!(worst < 1e-3, "worst {worst} texel");
+    let differ = (0..planar.mask.len())
+        .filter(|&i| planar.mask[i] && inner(i) && planar.visibility[i] != shell.visibility[i])
+        .count();
+    assert!(differ <= 2, "{differ} pixels' light differs");
+}
+
+/// On the sphere with a constant map c, a hit lies on S = P + depth (c - 1) N of its triangle,
+/// and no point of the ray before it lies inside any prism below that level.
+#[test]
+fn on_a_sphere_a_constant_map_is_met_where_it_is() {
+    let c = 0.4f32;
+    let depth = 0.15;
+    let hm = HeightMap::new(8, 8, vec![c; 64]).unwrap();
+    let s = scene(
+        Mesh::sphere(1.0, 12, 8).unwrap(),
+        hm,
+        depth,
+        [0.3, 0.8, 3.2],
+        24,
+    );
+    let shell = Shell::new(&s).unwrap();
+    let ob = &shell.objects[0];
+    let cam = &s.camera;
+    let basis = cam.basis();
+    let mut hits = 0;
+    for i in 0..24 {
+        for j in 0..24 {
+            let dir = cam.ray_dir(&basis, i, j);
+            let Some(hit) = shell.trace(basis.eye, dir) else {
+                continue;
+            };
+            hits += 1;
+            let p = ob.prisms[hit.at.tri as usize].as_ref().unwrap();
+            assert!(Prism::inside(hit.at.at.b, 1e-9));
+            let x = basis.eye + dir * hit.dist;
+            let n = p.normal(hit.at.at.b);
+            let want = p.point(Local {
+                b: hit.at.at.b,
+                s: 0.0,
+            }) + n.normalize() * (depth as f64 * (c as f64 - 1.0));
+            assert!(
+                (x - want).length() < 1e-9,
+                "{} off the surface",
+                (x - want).length()
+            );
+            // before the hit: outside every prism's part below h = c
+            for k in 1..200 {
+                let y = basis.eye + dir * (hit.dist * k as f64 / 200.0 - 1e-6);
+                for q in ob.prisms.iter().flatten() {
+                    let g = Local {
+                        b: DVec2::splat(1.0 / 3.0),
+                        s: 0.0,
+                    };
+                    if let Some(a) = q.locate(y, g) {
+                        let h = 1.0 + q.offset(a) / depth as f64;
+                        let under =
+                            Prism::inside(a.b, -1e-9) && (-0.5..c as f64 - 1e-7).contains(&h);
+                        assert!(
+                            !under,
+                            "pixel ({i}, {j}) passes under the surface at h = {h}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+    assert!(hits > 150, "{hits}");
+}
