@@ -191,6 +191,7 @@ class OracleDict(TypedDict):
     mask: np.ndarray         # (H, W) bool
     cells: np.ndarray        # (H, W) uint32
     visibility: np.ndarray   # (H, W) float64
+    object: np.ndarray       # (H, W) int32, -1 where no hit
 
 
 @type_check_only
