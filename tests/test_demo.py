@@ -29,9 +29,9 @@ def test_the_page(tmp_path, monkeypatch):
     text = out.read_text()
     for name in list(page.PLANAR) + list(page.CURVED):
         assert f"<th>{name}<br>" in text, name
-    # both scenes' FLIP maps against the noise-free render_exact (the torus's by Mitsuba's ray
-    # casts, the reference extra being installed here), the shipped Mitsuba render beside them
-    assert text.count("vs render_exact (noise-free)") == 2 and "Mitsuba's ray casts" in text
+    # both scenes' FLIP maps against the noise-free render_exact (the float64 oracle on the torus
+    # too), the shipped Mitsuba render beside them
+    assert text.count("vs render_exact (noise-free)") == 2 and text.count("exact hits, exact shadows") == 2
     assert "pk.choose" in text and "lod_legend.png" in text
     # the command that opens the widget on the page's scenes is on the page, and it runs
     assert html.escape(page.EXPLORE_COMMAND) in text

@@ -184,9 +184,7 @@ def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: d
                 else "<p>(no Mitsuba reference for this scene: run scripts/make_demo_refs.py)</p>")
     if colour_ref is not None:
         _save(colour_ref.to_srgb8(), outdir / f"{name}_exact.png")
-        how = ("Mitsuba's ray casts on the displaced mesh, shaded by the reference shading" if "Mitsuba" in colour_ref.method
-               else "exact hits, exact shadows and AO, float64")
-        ref_html += (f'<p><code>pk.reference.render_exact</code> ({how}; noise-free; '
+        ref_html += (f'<p><code>pk.reference.render_exact</code> (exact hits, exact shadows and AO, float64; noise-free; '
                      f'the FLIP maps\' reference): <br><img src="{name}_exact.png"></p>')
     return f"<h2>{name}</h2>{ref_html}<table>{head}{''.join(cells)}</table>", rows
 
@@ -237,14 +235,8 @@ def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
     exact = pk.reference.render_exact(planar, spp=4)
     s1, rows = section(r, outdir, "planar", planar, PLANAR, oracle, "the float64 oracle", exact)
     curved = curved_scene(size)
-    tess = r.render(curved, pk.Tessellated(0.5))
-    try:
-        # the torus's noise-free reference: Mitsuba's ray casts shaded by the definition (the
-        # reference extra); without Mitsuba, the shipped render of the torus
-        curved_ref: Optional[pk.Frame] = pk.reference.render_exact(curved, spp=4)
-    except (ImportError, RuntimeError):  # no Mitsuba, or no JIT variant of it
-        curved_ref = None
-    s2, rows2 = section(r, outdir, "curved", curved, CURVED, tess, "Tessellated(0.5)", curved_ref)
+    curved_ref = pk.reference.render_exact(curved, spp=4)
+    s2, rows2 = section(r, outdir, "curved", curved, CURVED, pk.exact_uv(curved), "the float64 oracle", curved_ref)
     parts += [s1, s2]
     # a user's asset: a glTF with an atlas, checked, every curved method against the mesh
     asset = asset_scene(size)

@@ -217,25 +217,28 @@ def timing_table(size: int = 512, repeats: int = 7) -> str:
 
 
 def silhouettes_table(size: int = 256) -> str:
-    """POM, NCS and Tessellated against Mitsuba on the torus and the sphere (IoU, uv p95, FLIP,
-    time relative to POM), and NCS's step_scale sweep on the torus (early terminations, error)."""
+    """POM, NCS, CurvedRelief, Prism and Tessellated against Mitsuba on the torus and the sphere
+    (IoU, uv p95 against Mitsuba and against the float64 oracle, FLIP, time relative to POM), and
+    NCS's step_scale sweep on the torus (early terminations, error)."""
     from pomkit import reference as R
     from pomkit.bench import time_methods
     r = pk.Renderer()
-    rows = ["Each method at its defaults (soft shadows where it has them; issue 12's shadow-free costs are in the bench's goals.txt).", "", "| mesh | method | mask IoU | uv p95 (texels) | FLIP | time / POM | early terminations |", "|---|---|---|---|---|---|---|"]
+    rows = ["Each method at its defaults (soft shadows where it has them; issue 12's shadow-free costs are in the bench's goals.txt).", "", "| mesh | method | mask IoU | uv p95 (texels) | uv p95 vs oracle | FLIP | time / POM | early terminations |", "|---|---|---|---|---|---|---|---|"]
     sweep_rows = []
     for name, mesh in (("torus", pk.Mesh.torus(segments=48, tube_segments=24)), ("sphere", pk.Mesh.sphere(segments=48, rings=24))):
         sc = pk.scenes.cobbled(mesh, size, 1.0, 256)
         ref = R.render_mitsuba(sc, spp=16)
-        sil: list[pk.Method] = [pk.POM(), pk.NCS(), pk.Prism(), pk.Prism(exact=True), pk.Tessellated(0.5)]
+        oracle = pk.exact_uv(sc)
+        sil: list[pk.Method] = [pk.POM(), pk.NCS(), pk.CurvedRelief(), pk.Prism(), pk.Prism(exact=True), pk.Tessellated(0.5)]
         times = time_methods(r, sc, sil, min_repeats=3)
         base = times[0]["ms"]
         for m, t in zip(sil, times):
             f = r.render(sc, m)
             e = metrics.uv_error(f, ref, sc)
+            eo = metrics.uv_error(f, oracle, sc)
             early = int(((f.flags & 2) > 0).sum())
             label = m.name + (" (exact)" if getattr(m, "exact", False) else "")
-            rows.append(f"| {name} | {label} | {e['mask_iou']:.4f} | {e['p95']:.3f} | {metrics.flip(f, ref):.4f} | {t['ms'] / base:.2f} | {early} |")
+            rows.append(f"| {name} | {label} | {e['mask_iou']:.4f} | {e['p95']:.3f} | {eo['p95']:.3f} | {metrics.flip(f, ref):.4f} | {t['ms'] / base:.2f} | {early} |")
         if name == "torus":
             for c in (1.0, 1.1, 1.5, 2.0, 2.5, 3.0, 10.0):
                 f = r.render(sc, pk.NCS(step_scale=c, adaptive=False))

@@ -87,65 +87,100 @@ fn on_a_plane_the_shell_answers_as_the_planar_oracle() {
     assert!(differ <= 2, "{differ} pixels' light differs");
 }
 
-/// On the sphere with a constant map c, a hit lies on S = P + depth (c - 1) N of its triangle,
-/// and no point of the ray before it lies inside any prism below that level.
-#[test]
-fn on_a_sphere_a_constant_map_is_met_where_it_is() {
-    let c = 0.4f32;
-    let depth = 0.15;
-    let hm = HeightMap::new(8, 8, vec![c; 64]).unwrap();
-    let s = scene(
-        Mesh::sphere(1.0, 12, 8).unwrap(),
-        hm,
-        depth,
-        [0.3, 0.8, 3.2],
-        24,
-    );
-    let shell = Shell::new(&s).unwrap();
+/// A hit lies on the surface (h of its point = H(uv), the point P + depth (h - 1) N of its
+/// triangle), and no point of the ray before it lies under the surface in any prism.
+fn hits_lie_on_the_surface(s: &Scene, want_hits: usize) {
+    let shell = Shell::new(s).unwrap();
     let ob = &shell.objects[0];
+    let depth = ob.depth;
+    let hm = &ob.mat.height;
     let cam = &s.camera;
     let basis = cam.basis();
     let mut hits = 0;
-    for i in 0..24 {
-        for j in 0..24 {
+    for i in 0..cam.height {
+        for j in 0..cam.width {
             let dir = cam.ray_dir(&basis, i, j);
             let Some(hit) = shell.trace(basis.eye, dir) else {
                 continue;
             };
             hits += 1;
             let p = ob.prisms[hit.at.tri as usize].as_ref().unwrap();
-            assert!(Prism::inside(hit.at.at.b, 1e-9));
+            let b = hit.at.at.b;
+            assert!(Prism::inside(b, 1e-9));
             let x = basis.eye + dir * hit.dist;
-            let n = p.normal(hit.at.at.b);
-            let want = p.point(Local {
-                b: hit.at.at.b,
-                s: 0.0,
-            }) + n.normalize() * (depth as f64 * (c as f64 - 1.0));
+            let h = hm.sample(hit.s.x, hit.s.y);
+            let want = p.point(Local { b, s: 0.0 }) + p.normal(b).normalize() * (depth * (h - 1.0));
             assert!(
                 (x - want).length() < 1e-9,
                 "{} off the surface",
                 (x - want).length()
             );
-            // before the hit: outside every prism's part below h = c
-            for k in 1..200 {
-                let y = basis.eye + dir * (hit.dist * k as f64 / 200.0 - 1e-6);
+            // before the hit: above the surface wherever the point lies in a prism
+            for k in 1..100 {
+                let y = basis.eye + dir * (hit.dist * k as f64 / 100.0 - 1e-6);
                 for q in ob.prisms.iter().flatten() {
                     let g = Local {
                         b: DVec2::splat(1.0 / 3.0),
                         s: 0.0,
                     };
                     if let Some(a) = q.locate(y, g) {
-                        let h = 1.0 + q.offset(a) / depth as f64;
-                        let under =
-                            Prism::inside(a.b, -1e-9) && (-0.5..c as f64 - 1e-7).contains(&h);
+                        let hy = 1.0 + q.offset(a) / depth;
+                        let uv = q.uv(a.b);
+                        let under = Prism::inside(a.b, -1e-9)
+                            && (0.0..1.0).contains(&hy)
+                            && hy < hm.sample(uv.x, uv.y) - 1e-7;
                         assert!(
                             !under,
-                            "pixel ({i}, {j}) passes under the surface at h = {h}"
+                            "pixel ({i}, {j}) passes under the surface at h = {hy}"
                         );
                     }
                 }
             }
         }
     }
-    assert!(hits > 150, "{hits}");
+    assert!(hits > want_hits, "{hits}");
+}
+
+/// The sphere with a constant map: the surface is P + depth (c - 1) N in closed form.
+#[test]
+fn on_a_sphere_a_constant_map_is_met_where_it_is() {
+    let hm = HeightMap::new(8, 8, vec![0.4; 64]).unwrap();
+    let s = scene(
+        Mesh::sphere(1.0, 12, 8).unwrap(),
+        hm,
+        0.15,
+        [0.3, 0.8, 3.2],
+        24,
+    );
+    hits_lie_on_the_surface(&s, 150);
+}
+
+/// The torus with one smooth bump (a raised cosine over the map): met where it is.
+#[test]
+fn on_a_torus_one_smooth_bump_is_met_where_it_is() {
+    let n = 32u32;
+    let data = (0..n * n)
+        .map(|i| {
+            let (x, y) = (
+                (i % n) as f64 / n as f64 - 0.5,
+                (i / n) as f64 / n as f64 - 0.5,
+            );
+            let r = (x * x + y * y).sqrt() / 0.35;
+            (0.2 + 0.8
+                * if r < 1.0 {
+                    0.5 + 0.5 * (std::f64::consts::PI * r).cos()
+                } else {
+                    0.0
+                }) as f32
+        })
+        .collect();
+    let hm = HeightMap::new(n, n, data).unwrap();
+    let s = scene(
+        Mesh::torus(1.0, 0.4, 16, 8).unwrap(),
+        hm,
+        0.1,
+        [0.4, 1.8, 2.6],
+        24,
+    );
+    hits_lie_on_the_surface(&s, 150);
 }
