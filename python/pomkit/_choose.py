@@ -116,13 +116,8 @@ def _refs(scene: _scene.Scene, want_flip: bool) -> tuple[_frame.Frame, _frame.Fr
         from . import reference
         cref = None
         if want_flip:
-            # the noise-free colour reference, unshadowed as the settings measured are (a curved
-            # scene, which render_exact does not take: the mesh at half a texel)
-            try:
-                cref = reference.render_exact(scene, spp=1, shadows=False)
-            except ValueError:
-                cref = _renderer().render(scene, _methods.Tessellated(texels_per_vertex=0.5, shadows="none"),
-                                          aovs=("color", "mask"))
+            # the noise-free colour reference, unshadowed as the settings measured are
+            cref = reference.render_exact(scene, spp=1, shadows=False)
         _REFS[key] = (_render.exact_uv(scene), cref)
     return _REFS[key]
 
