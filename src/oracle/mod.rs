@@ -211,6 +211,15 @@ impl Tracer for Oracle<'_> {
     }
 }
 
+/// Each triangle with area and its unit normal (by its winding).
+fn face_normals(m: &crate::mesh::Mesh) -> impl Iterator<Item = (&[u32], DVec3)> {
+    m.indices.chunks_exact(3).filter_map(|t| {
+        let p = |i: u32| m.position_f64(i);
+        let n = (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0]));
+        (n.length() >= 1e-14).then(|| (t, n.normalize()))
+    })
+}
+
 /// Whether every triangle of the mesh lies in one plane with every vertex normal its normal.
 fn flat(m: &crate::mesh::Mesh) -> bool {
     if planar(m, "").is_err() {
@@ -219,13 +228,8 @@ fn flat(m: &crate::mesh::Mesh) -> bool {
     let mut first: Option<(DVec3, DVec3)> = None;
     let (lo, hi) = m.bounds();
     let tol = 1e-9 * (hi - lo).max_element().max(1e-30);
-    for t in m.indices.chunks_exact(3) {
-        let p = |i: u32| m.position_f64(i);
-        let n = (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0]));
-        if n.length() < 1e-14 {
-            continue;
-        }
-        let n = n.normalize();
+    let p = |i: u32| m.position_f64(i);
+    for (t, n) in face_normals(m) {
         match first {
             None => first = Some((p(t[0]), n)),
             Some((p0, n0)) => {
@@ -242,13 +246,7 @@ fn flat(m: &crate::mesh::Mesh) -> bool {
 /// the oracle, which takes each triangle's plane as the base under it, answers for planar meshes
 /// only, every vertex normal its triangle's normal (a plane, a cube, a flat mesh).
 fn planar(m: &crate::mesh::Mesh, what: &str) -> Result<()> {
-    for t in m.indices.chunks_exact(3) {
-        let p = |i: u32| m.position_f64(i);
-        let n = (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0]));
-        if n.length() < 1e-14 {
-            continue;
-        }
-        let n = n.normalize();
+    for (t, n) in face_normals(m) {
         for &i in t {
             if m.normal_f64(i).normalize_or_zero().dot(n).abs() < 1.0 - 1e-6 {
                 let p = m.positions[i as usize];
