@@ -10,9 +10,8 @@ skip the reference; references are cached per pose. Traits: `method` (a name), `
 (the PNG shown) and `stats` (a dict). Works wherever anywidget does (JupyterLab, Notebook 7,
 VS Code, Colab); the `notebooks` extra installs it.
 
-The reference: "exact" is `pk.reference.render_exact` (noise-free, planar meshes) with the
-float64 oracle for uv and shadows; on a curved mesh, or with reference="tessellated", the mesh
-itself (`Tessellated(1.0)`, the default fan: as close to the field as the two-triangle grid at
+The reference: "exact" is `pk.reference.render_exact` (noise-free, any mesh) with the float64
+oracle for uv and shadows; with reference="tessellated", the mesh itself (`Tessellated(1.0)`, the default fan: as close to the field as the two-triangle grid at
 0.5 texels per vertex, at a third of its time on a cobbled torus at 256²).
 """
 
@@ -28,7 +27,7 @@ from typing import Any, Optional, Sequence, cast
 
 import numpy as np
 
-from . import _core, _methods, metrics
+from . import _methods, metrics
 from ._heatmap import heat
 from ._frame import Frame
 from ._render import Renderer
@@ -180,7 +179,7 @@ def explore(scene: Scene, methods: Optional[Sequence[Any]] = None, reference: st
             self._scene = scene
             self._renderer = Renderer()
             self._refs: OrderedDict = OrderedDict()
-            self._exact = reference == "exact"  # until the oracle refuses the scene (a curved mesh)
+            self._exact = reference == "exact"
             self.observe(self._changed, names=["method", "view", "compare", "steps", "azimuth", "elevation",
                                                "distance", "size", "dragging"])
             self._update()
@@ -210,15 +209,13 @@ def explore(scene: Scene, methods: Optional[Sequence[Any]] = None, reference: st
             """(colour reference, geometric oracle or None), cached per pose."""
             key = (round(self.azimuth, 3), round(self.elevation, 3), round(self.distance, 5), sc.camera.width)
             if key not in self._refs:
-                refs = None
-                if self._exact and _core.oracle_refusal(sc._describe()) is None:
+                if self._exact:
                     from . import reference as R
                     ex = R.render_exact(sc, spp=1, cache=False)
-                    refs = (ex, ex)  # its uv, mask and visibility are the oracle's (pk.exact_uv)
-                else:  # the oracle takes planar meshes (render_exact casts with Mitsuba, too slow
-                    # to orbit): the mesh from here on
-                    self._exact = False
-                self._refs[key] = refs or (self._renderer.render(sc, _methods.Tessellated(1.0)), None)
+                    # its uv, mask and visibility are the oracle's (pk.exact_uv)
+                    self._refs[key] = (ex, ex)
+                else:
+                    self._refs[key] = (self._renderer.render(sc, _methods.Tessellated(1.0)), None)
                 while len(self._refs) > 16:
                     self._refs.popitem(last=False)
             return self._refs[key]

@@ -97,7 +97,7 @@ class Frame:
             return self._arrays["visibility"]
         except KeyError:
             raise AttributeError("visibility: this frame has none; take it from pk.exact_uv(scene) (the exact "
-                                 "oracle, planar meshes) or renderer.render_visibility(scene, method)") from None
+                                 "oracle) or renderer.render_visibility(scene, method)") from None
 
     @property
     def shape(self) -> tuple[int, int]:

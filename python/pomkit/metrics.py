@@ -76,7 +76,7 @@ def shadow_error(frame: Frame, ref: Frame, scene: Scene, *, uv_tol: float = 0.5,
 
     Both frames need `visibility` (the first directional light's, in [0, 1]): take the method's
     from `Renderer.render_visibility(scene, method)` and the reference's from `pk.exact_uv(scene)`
-    (the exact float64 oracle, planar meshes; 64 directions over the light's disk when its
+    (the exact float64 oracle; 64 directions over the light's disk when its
     `angular_diameter` > 0) or from `render_visibility` with `pk.Tessellated()` (its shadow map:
     an approximate reference, ~1.5 shadow-map texels at edges). Pixels are compared where both
     hit, both visibilities are defined (the light faces the shading normal) and the hits lie

@@ -119,6 +119,6 @@ def _reference(scene: Scene, kind: str = "mitsuba", **kw) -> Frame:
 @pytest.fixture
 def reference_frame():
     """A function (scene, kind="mitsuba", **settings) -> Frame, cached on disk by scene hash:
-    "render_exact" (the noise-free colour reference, planar meshes), "mitsuba", "pyrender", or
+    "render_exact" (the noise-free colour reference), "mitsuba", "pyrender", or
     "exact" (the geometric oracle `pk.exact_uv`: uv, depth, mask, visibility)."""
     return _reference

@@ -101,11 +101,6 @@ pub fn oracle_refusal(scene: &Scene) -> Option<String> {
         .map(|e| e.to_string())
 }
 
-/// Which exact tracer `scene` takes: "planar" (one untransformed planar object) or "shell".
-pub fn oracle_kind(scene: &Scene) -> Result<&'static str> {
-    Ok(Exact::new(scene, "render_exact")?.kind())
-}
-
 /// The exact image of a scene at `spp` samples per pixel (a square, 1 to 256).
 /// `shadows` false leaves out the light and ambient rays (every light fully visible, ao = 1):
 /// the colour of the displacement alone, for methods measured without shadows.

@@ -280,14 +280,6 @@ impl<'a> Exact<'a> {
             Exact::Shell(shell::Shell::new(scene)?)
         })
     }
-
-    /// Which tracer: "planar" or "shell".
-    pub fn kind(&self) -> &'static str {
-        match self {
-            Exact::Planar(_) => "planar",
-            Exact::Shell(_) => "shell",
-        }
-    }
 }
 
 /// The oracle's frame. `light_bias` (shell depths, >= 0) raises the light rays: a blocker must

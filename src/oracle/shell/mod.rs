@@ -58,6 +58,7 @@ struct Object<'a> {
     weld: Vec<u32>,
     bvh: Bvh,
     to_obj: DMat4,
+    to_world: DMat4,
     normal_to_world: DMat3,
     depth: f64,
     tiling: f64,
@@ -109,8 +110,7 @@ impl<'a> Shell<'a> {
     }
 
     /// The first hit of the ray eye + lam dir over lam > lam_min with any object's displaced
-    /// surface (the first any, with `any`), rays raised by `lift` (shell depths) in the first
-    /// walk.
+    /// surface (with `any`, the first found): object, triangle, lam, point, cells walked.
     fn first(
         &self,
         eye: DVec3,
@@ -124,9 +124,6 @@ impl<'a> Shell<'a> {
             let o = ob.to_obj.transform_point3(eye);
             let d = ob.to_obj.transform_vector3(dir);
             ob.bvh.visit(o, d, lam_min, f64::INFINITY, |t| {
-                if found.is_some() {
-                    return false;
-                }
                 let Some(p) = ob.prisms[t as usize].as_ref() else {
                     return true;
                 };
@@ -246,11 +243,9 @@ impl Tracer for Shell<'_> {
             Walk::Hit { .. } => false,
             Walk::Left { lam, .. } => {
                 // where it left, in the world: the rest of the ray meets no shell again
-                let world = ob.to_obj.inverse();
-                let eye = world.transform_point3(hit.at.x);
-                let dir = world.transform_vector3(d);
+                let eye = ob.to_world.transform_point3(hit.at.x);
                 let eps = 1e-9 * (1.0 + lam.abs());
-                self.first(eye, dir, lam + eps, true).is_none()
+                self.first(eye, l, lam + eps, true).is_none()
             }
         }
     }
@@ -354,6 +349,7 @@ impl<'a> Object<'a> {
             weld: topo.weld,
             bvh: Bvh::new(&boxes),
             to_obj: m.inverse(),
+            to_world: m,
             normal_to_world: lin.inverse().transpose(),
             depth,
             tiling: mat.tiling as f64,
@@ -429,7 +425,7 @@ impl<'a> Object<'a> {
                 }
             };
             let start = self.sample(p, lam, at, lift);
-            if let Some((l, a)) = self.chord(p, o, d, start, end, 0, &mut cells) {
+            if let Some((l, a)) = self.chord(p, o, d, (start, end), lift, 0, &mut cells) {
                 return Walk::Hit {
                     tri,
                     lam: l,
@@ -491,13 +487,12 @@ impl<'a> Object<'a> {
         p: &Prism,
         o: DVec3,
         d: DVec3,
-        a: Sample,
-        b: Sample,
+        (a, b): (Sample, Sample),
+        lift: f64,
         level: u32,
         cells: &mut u32,
     ) -> Option<(f64, Local)> {
         *cells += 1;
-        let lift = a.h - (1.0 + p.offset(a.at) / self.depth);
         let lm = 0.5 * (a.lam + b.lam);
         let guess = Local {
             b: 0.5 * (a.at.b + b.at.b),
@@ -510,7 +505,7 @@ impl<'a> Object<'a> {
             return if level >= 48 {
                 None
             } else {
-                self.chord(p, o, d, a, m, level + 1, cells)
+                self.chord(p, o, d, (a, m), lift, level + 1, cells)
             };
         };
         let m = self.sample(p, lm, located, lift);
@@ -545,8 +540,8 @@ impl<'a> Object<'a> {
             }
             return None;
         }
-        self.chord(p, o, d, a, m, level + 1, cells)
-            .or_else(|| self.chord(p, o, d, m, b, level + 1, cells))
+        self.chord(p, o, d, (a, m), lift, level + 1, cells)
+            .or_else(|| self.chord(p, o, d, (m, b), lift, level + 1, cells))
     }
 
     /// The chord's hit `(lam, at)` moved onto the path itself: bisection on the path between a
