@@ -11,6 +11,11 @@ struct Node {
     first: u32,
     /// items in a leaf; 0 for an inner node
     count: u32,
+    /// the cone of the items' facing normals: a ray along a unit d with d . axis >= sin_half
+    /// faces away from every item (2 where no such ray exists, or an item may be entered
+    /// from any side)
+    axis: DVec3,
+    sin_half: f64,
 }
 
 /// Binary, split at the median of the longest axis of the centres, at most 4 items a leaf.
@@ -21,8 +26,10 @@ pub(crate) struct Bvh {
 }
 
 impl Bvh {
-    /// Over items given as boxes (lo, hi); None marks an item to leave out.
-    pub(crate) fn new(boxes: &[Option<(DVec3, DVec3)>]) -> Bvh {
+    /// Over items given as boxes (lo, hi) and facings: a unit normal a ray entering the item
+    /// goes against, or None where a ray may enter it along any direction. None for a box
+    /// marks an item to leave out.
+    pub(crate) fn new(boxes: &[Option<(DVec3, DVec3)>], facing: &[Option<DVec3>]) -> Bvh {
         let mut order: Vec<u32> = (0..boxes.len() as u32)
             .filter(|&i| boxes[i as usize].is_some())
             .collect();
@@ -32,6 +39,8 @@ impl Bvh {
             hi: DVec3::ZERO,
             first: 0,
             count: 0,
+            axis: DVec3::ZERO,
+            sin_half: 2.0,
         }];
         // (node, range of `order`)
         let mut todo = vec![(0usize, 0usize, order.len())];
@@ -46,6 +55,16 @@ impl Bvh {
             }
             nodes[ni].lo = lo;
             nodes[ni].hi = hi;
+            let cone: Option<Vec<DVec3>> =
+                order[a..z].iter().map(|&i| facing[i as usize]).collect();
+            if let Some(ns) = cone {
+                let axis = ns.iter().copied().sum::<DVec3>().normalize_or_zero();
+                let cos = ns.iter().map(|n| n.dot(axis)).fold(1.0f64, f64::min);
+                if cos > 1e-9 && axis != DVec3::ZERO {
+                    nodes[ni].axis = axis;
+                    nodes[ni].sin_half = (1.0 - cos * cos).max(0.0).sqrt() + 1e-12;
+                }
+            }
             if z - a <= 4 {
                 nodes[ni].first = a as u32;
                 nodes[ni].count = (z - a) as u32;
@@ -65,7 +84,11 @@ impl Bvh {
                 ci[axis].total_cmp(&cj[axis])
             });
             let first = nodes.len();
-            let blank = nodes[ni];
+            let blank = Node {
+                axis: DVec3::ZERO,
+                sin_half: 2.0,
+                ..nodes[ni]
+            };
             nodes.push(blank);
             nodes.push(blank);
             nodes[ni].first = first as u32;
@@ -77,7 +100,7 @@ impl Bvh {
     }
 
     /// Calls `f` with each item whose box the ray o + lam d meets for lam in [lam_min,
-    /// lam_max], until `f` returns false.
+    /// lam_max] and which it does not face away from, until `f` returns false.
     pub(crate) fn visit(
         &self,
         o: DVec3,
@@ -90,6 +113,7 @@ impl Bvh {
             return;
         }
         let inv = d.recip();
+        let du = d.normalize_or_zero();
         let meets = |n: &Node| {
             let t0 = (n.lo - o) * inv;
             let t1 = (n.hi - o) * inv;
@@ -100,13 +124,13 @@ impl Bvh {
             let tf = far.x.min(far.y).min(far.z).min(lam_max);
             !(tn > tf * (1.0 + 1e-12) + 1e-12)
         };
-        // the tree is balanced (median splits): depth below 64
-        let mut stack = [0u32; 128];
+        // the tree is balanced (median splits): fewer than 64 nodes wait at a time
+        let mut stack = [0u32; 64];
         let mut top = 1;
         while top > 0 {
             top -= 1;
             let n = &self.nodes[stack[top] as usize];
-            if !meets(n) {
+            if du.dot(n.axis) >= n.sin_half || !meets(n) {
                 continue;
             }
             if n.count > 0 {

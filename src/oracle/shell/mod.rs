@@ -123,49 +123,55 @@ impl<'a> Shell<'a> {
         for (oi, ob) in self.objects.iter().enumerate() {
             let o = ob.to_obj.transform_point3(eye);
             let d = ob.to_obj.transform_vector3(dir);
+            // a start of the walk: walked at once for `any`, else kept in order
+            let mut start = |t: u32, lam: f64, at: Local| -> bool {
+                if !(lam > lam_min) {
+                    return true;
+                }
+                if !any {
+                    entries.push((lam, oi, t, at));
+                    return true;
+                }
+                match ob.walk(o, d, t, lam, at, 0.0) {
+                    Walk::Hit {
+                        tri,
+                        lam,
+                        at,
+                        cells,
+                    } => {
+                        found = Some((oi, tri, lam, at, cells));
+                        false
+                    }
+                    Walk::Left { .. } => true,
+                }
+            };
             ob.bvh.visit(o, d, lam_min, f64::INFINITY, |t| {
                 let Some(p) = ob.prisms[t as usize].as_ref() else {
                     return true;
                 };
-                let mut starts: [Option<(f64, Local)>; 7] = [None; 7];
-                starts[0] = p.entry(o, d).map(|(lam, b)| (lam, entry_at(b)));
-                if ob.walled[t as usize] {
-                    // through a wall, into the shell and above the surface
-                    let mut i = 1;
-                    for k in 0..3 {
-                        if ob.across[t as usize][k].is_some() {
-                            continue;
-                        }
+                if let Some((lam, b)) = p.entry(o, d) {
+                    if !start(t, lam, entry_at(b)) {
+                        return false;
+                    }
+                }
+                if !ob.walled[t as usize] {
+                    return true;
+                }
+                // through a wall, into the shell and above the surface
+                let mut walls: [Option<Crossing>; 6] = [None; 6];
+                let mut i = 0;
+                for k in 0..3 {
+                    if ob.across[t as usize][k].is_none() {
                         p.crossings(o, d, k, false, &mut |c: Crossing| {
                             let off = p.offset(c.at);
                             if off <= 0.0 && off >= -ob.depth && ob.above(p, c.at) {
-                                starts[i] = Some((c.lam, c.at));
+                                walls[i] = Some(c);
                                 i += 1;
                             }
                         });
                     }
                 }
-                for (lam, at) in starts.into_iter().flatten() {
-                    if !(lam > lam_min) {
-                        continue;
-                    }
-                    if any {
-                        // any hit will do: walk at once
-                        if let Walk::Hit {
-                            tri,
-                            lam,
-                            at,
-                            cells,
-                        } = ob.walk(o, d, t, lam, at, 0.0)
-                        {
-                            found = Some((oi, tri, lam, at, cells));
-                            return false;
-                        }
-                    } else {
-                        entries.push((lam, oi, t, at));
-                    }
-                }
-                true
+                walls.iter().flatten().all(|c| start(t, c.lam, c.at))
             });
             if found.is_some() {
                 return found;
@@ -315,7 +321,7 @@ impl<'a> Object<'a> {
                 })
             })
             .collect();
-        let walled = (0..n)
+        let walled: Vec<bool> = (0..n)
             .map(|t| prisms[t].is_some() && across[t].iter().any(Option::is_none))
             .collect();
         let (lo, hi) = mesh.bounds();
@@ -338,6 +344,10 @@ impl<'a> Object<'a> {
                 Some((lo - pad, hi + pad))
             })
             .collect();
+        // a ray enters a prism through its top against its normal; through a wall, any way
+        let facing: Vec<Option<DVec3>> = (0..n)
+            .map(|t| prisms[t].as_ref().filter(|_| !walled[t]).map(|p| p.ng))
+            .collect();
         let lin = DMat3::from_mat4(m);
         Ok(Object {
             mesh,
@@ -347,7 +357,7 @@ impl<'a> Object<'a> {
             across,
             walled,
             weld: topo.weld,
-            bvh: Bvh::new(&boxes),
+            bvh: Bvh::new(&boxes, &facing),
             to_obj: m.inverse(),
             to_world: m,
             normal_to_world: lin.inverse().transpose(),

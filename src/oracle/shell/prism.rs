@@ -7,7 +7,7 @@
 //! share (so that the shells of a smooth mesh tile space without gaps or overlaps).
 
 use crate::mesh::Mesh;
-use glam::{DMat3, DVec2, DVec3};
+use glam::{DVec2, DVec3};
 
 /// A base triangle in object space.
 #[derive(Clone, Debug)]
@@ -88,27 +88,28 @@ impl Prism {
     pub(crate) fn locate(&self, x: DVec3, guess: Local) -> Option<Local> {
         let (e1, e2) = (self.p[1] - self.p[0], self.p[2] - self.p[0]);
         let (d1, d2) = (self.n[1] - self.n[0], self.n[2] - self.n[0]);
-        let scale = e1.length().max(e2.length());
+        let tol = 1e-13 * (1.0 + e1.length().max(e2.length()) + x.length());
         let mut at = guess;
         for _ in 0..40 {
             let f = self.point(at) - x;
-            let j = DMat3::from_cols(e1 + d1 * at.s, e2 + d2 * at.s, self.normal(at.b));
-            let det = j.determinant();
+            if f.length() <= tol {
+                return Some(at);
+            }
+            // the Newton step: the Jacobian's columns c0, c1, c2 solved by Cramer's rule
+            let (c0, c1, n) = (e1 + d1 * at.s, e2 + d2 * at.s, self.normal(at.b));
+            let c12 = c1.cross(n);
+            let det = c0.dot(c12);
             if !(det.abs() > 1e-300) {
                 return None;
             }
-            let d = j.inverse() * f;
-            at.b -= DVec2::new(d.x, d.y);
-            at.s -= d.z;
+            at.b.x -= f.dot(c12) / det;
+            at.b.y -= c0.dot(f.cross(n)) / det;
+            at.s -= c0.dot(c1.cross(f)) / det;
             if !(at.b.is_finite() && at.s.is_finite()) {
                 return None;
             }
-            if d.length() <= 1e-14 * (1.0 + scale) {
-                return Some(at);
-            }
         }
-        // converged to rounding, not below it
-        ((self.point(at) - x).length() <= 1e-10 * (1.0 + scale)).then_some(at)
+        None
     }
 
     /// The ray's crossings of side k (corners k and k+1) leaving the prism (entering it, with
