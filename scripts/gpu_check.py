@@ -4,8 +4,8 @@
 written to docs/tables/gpu/<adapter>.md with its numbers as JSON beside it.
 
 It needs the installed pomkit wheel, numpy and scipy: no Rust toolchain. The rank correlation
-against llvmpipe reads docs/tables/gpu/llvmpipe.json (this script's output on llvmpipe at the same
-commit), when there is one.
+against llvmpipe reads docs/tables/gpu/llvmpipe*-vulkan.json (this script's output on llvmpipe's
+Vulkan), when there is one.
 
 Usage: python scripts/gpu_check.py [--out docs/tables/gpu] [--rounds 3]"""
 
@@ -112,10 +112,11 @@ def main() -> int:
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
     res = measure(a.rounds)
-    slug = "llvmpipe" if "llvmpipe" in res["adapter"] else re.sub(r"[^A-Za-z0-9]+", "-", res["adapter"]).strip("-")
-    base_path = out / "llvmpipe.json"
+    slug = re.sub(r"[^A-Za-z0-9]+", "-", res["adapter"]).strip("-")
     (out / f"{slug}.json").write_text(json.dumps(res, indent=1, default=float))
-    base = json.loads(base_path.read_text()) if base_path.exists() and slug != "llvmpipe" else None
+    # the CPU rasteriser's Vulkan run at this commit, the baseline of the rank correlation
+    bases = [p for p in sorted(out.glob("llvmpipe*-vulkan.json")) if p.stem != slug]
+    base = json.loads(bases[0].read_text()) if bases else None
     (out / f"{slug}.md").write_text(table(res, base) + "\n")
     print(f"[gpu_check] wrote {out / (slug + '.md')}")
     return 0
