@@ -3,7 +3,7 @@
 (bricks at 45° on a plane, cobblestones on a torus); the cost model fitted there; and a table
 written to docs/tables/gpu/<adapter>.md with its numbers as JSON beside it.
 
-It needs the installed pomkit wheel, numpy and scipy: no Rust toolchain. The rank correlation
+It needs the installed pomkit wheel, numpy and scipy (the `bench` extra): no Rust toolchain. The rank correlation
 against llvmpipe reads docs/tables/gpu/llvmpipe*-vulkan.json (this script's output on llvmpipe's
 Vulkan), when there is one.
 
