@@ -3,7 +3,7 @@
 # the adapter, the tests that hold frames to the oracle and to pinned frames, and the speed of
 # every method at 512² and 1920x1080 with the cost model fitted there, written to
 # docs/tables/gpu/<adapter>.md. Needs a Python with the pomkit wheel and the `test` and `bench`
-# extras (pytest, trimesh and xatlas for the tests; scipy for the fit); no Rust toolchain.
+# extras (pytest, trimesh, xatlas and flip-evaluator for the tests; scipy for the fit); no Rust toolchain.
 # Usage: scripts/gpu_check.sh [python]   (default: .venv/bin/python, else python3)
 set -uo pipefail
 cd "$(dirname "$0")/.."

