@@ -1,13 +1,14 @@
 # One command each, from a fresh Debian machine with Rust and Python 3.11:
 #   make demo   set up everything, then run `python -m pomkit demo` (writes ./pomkit-out/index.html)
 #   make test   set up everything, then run the tests (cargo test and pytest)
+#   make check  the fast loop before every commit, once `make test` has set up (under 3 minutes)
 SHELL := /bin/bash
 export XDG_RUNTIME_DIR ?= /tmp/pomkit-xdg-$(shell id -u)
 VENV := .venv/bin
 # the tests that run a second time on the GL backend in `make test` (about five minutes)
 GL_TESTS := tests/test_cost.py tests/test_supersampling.py tests/test_methods.py tests/test_analytic.py tests/test_differential.py tests/test_shadows.py tests/test_throughput.py tests/test_sizes.py tests/test_reference_exact.py tests/test_assets.py tests/test_golden.py tests/test_oracle_curved.py
 
-.PHONY: setup setup-test setup-bench setup-demo demo test test-gl bench wheel info clean
+.PHONY: setup setup-test setup-bench setup-demo demo check test test-gl bench tables wheel info clean
 
 setup:
 	scripts/setup.sh
@@ -23,6 +24,16 @@ setup-demo:
 
 demo: setup-demo
 	$(VENV)/python -m pomkit demo
+
+# lint, types, the Rust unit tests and the tests not marked slow, reference or browser; it builds
+# the extension in place first (`maturin develop`: seconds when only Python changed)
+check:
+	VIRTUAL_ENV=$(CURDIR)/.venv $(VENV)/maturin develop --release -q > .maturin-develop.log 2>&1 || { cat .maturin-develop.log; exit 1; }
+	$(VENV)/ruff check tools python/pomkit tests scripts
+	$(VENV)/python -m mypy
+	$(VENV)/python -m mypy.stubtest pomkit._core --mypy-config-file pyproject.toml
+	cargo test --release --lib -q 2>&1 | grep -E "^(test result|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
+	$(VENV)/python -m pytest -q -p no:cacheprovider -m "not slow and not reference and not browser" tests
 
 test: setup-test
 	cargo test --release --lib --tests 2>&1 | tee .cargo-test.log | grep -E "^(test result|running|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
@@ -51,8 +62,14 @@ wheel: setup
 info: setup
 	$(VENV)/python -m pomkit info
 
+# the bench's sweep and charts (python -m pomkit bench), then the project's goals over suites of
+# scenes (tools/goals.py): goals.txt and goals.csv beside them in pomkit-out/bench
 bench: setup-bench
-	$(VENV)/python -m pomkit bench
+	$(VENV)/python tools/goals.py
+
+# the measured tables of docs/tables (tools/tables.py; the reference tables need the test setup's Mitsuba)
+tables: setup
+	$(VENV)/python tools/tables.py
 
 clean:
 	rm -rf target .venv .venv-floor pomkit-out

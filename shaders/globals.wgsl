@@ -2,7 +2,7 @@
 #define_import_path pomkit::globals
 
 const PI: f32 = 3.14159265358979;
-// the size of the light array: src/scene.rs's MAX_LIGHTS, a shader def of this module
+// the size of the light array: src/scene/mod.rs's MAX_LIGHTS, a shader def of this module
 const MAX_LIGHTS: u32 = #{MAX_LIGHTS}u;
 
 struct Light {

@@ -167,7 +167,7 @@ fn exit_faces(st: CellPoint, node: vec2<f32>, size: f32, exit_face: vec2<f32>, i
 // inner loop only when every lane has its candidate) the patch arithmetic runs once per
 // candidate, not once per step, and the children's maxes spare the patch tests of cells the ray
 // passes above: 20-40 % fewer on rough content than reading one node's max a trip, which held
-// gravel at 70° to 1.37 x POM's march (docs/cost.md).
+// gravel at 70° to 1.37 x POM's march (docs/cost_journal_2026.md).
 fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32, max_iterations: f32) -> Traversal {
     var r: Traversal;
     r.hit = false;
@@ -193,7 +193,7 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
     // the height the ray falls (or rises) over two node widths along its faster axis: on rough
     // content a ray that only just clears a node dips below the parent's max too, and the
     // ascent and the descent back cost two trips for nothing. Either choice covers the ray with
-    // nodes and meets the same first hit (docs/cost.md).
+    // nodes and meets the same first hit (docs/cost_journal_2026.md).
     let clear_per_size = 2.0 * abs(dh) * min(abs(inv.x), abs(inv.y));
     var size = 1.0;
     // 1 / size (both powers of two: exact)

@@ -83,7 +83,7 @@ fn max_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
 // where it must, and may descend where it need not: a patch test answers exactly), and is
 // overstated by at most 1.01 / 255 of the shell. One 32-bit texel, not four float32: lavapipe
 // appears to fetch a texel one lane and one 32-bit channel at a time, and the float32 texel's
-// load was over a quarter of the walk's instructions (docs/cost.md).
+// load was over a quarter of the walk's instructions (docs/cost_journal_2026.md).
 
 struct ChildLevel {
     // the source level's origin in its texture, the destination level's in the children atlas

@@ -9,6 +9,8 @@
 //                bump mapping above lod_threshold, blended by the fractional level (POM)
 //   FLAT, BUMP   no march: the base normal, or the height field's normal, at the rasterised uv
 //   TESSELLATED  the displaced mesh itself, shaded with the height field's level-0 normal
+//   DISPLACED_DEPTH  the marched hit's depth is written as the fragment's (src/shaders.rs)
+//   VERTEX_EXTRA  the method's own vertex attribute (NCS, CurvedRelief), passed to its march
 //   SHADOWS, FILTERING  see shading.wgsl and height.wgsl
 
 #import pomkit::globals::{G, V}

@@ -2,7 +2,8 @@
 //!
 //! The core is usable without Python: build a [`scene::Scene`], pick a [`methods::Method`] (its `spec` says how it runs),
 //! and call [`render::Renderer::render`]. The `python` feature adds the pyo3 layer
-//! (`pomkit._core`), which only converts arrays and errors.
+//! (`pomkit._core`, src/python/): it converts arguments, arrays and errors, and holds the hooks
+//! that long builds report progress through.
 
 pub mod assets;
 pub mod contract;

@@ -7,6 +7,13 @@ import pytest
 os.environ.setdefault("XDG_RUNTIME_DIR", tempfile.mkdtemp(prefix="pomkit-xdg-"))
 
 import pomkit as pk  # noqa: E402
+from hypothesis import settings  # noqa: E402
+
+# Hypothesis draws the same examples on every run (CI is repeatable); POMKIT_HYPOTHESIS_RANDOM=1
+# draws fresh ones, to search further (with POMKIT_DIFF_EXAMPLES / POMKIT_FUZZ_EXAMPLES for more)
+settings.register_profile("repeatable", derandomize=True, database=None)
+settings.register_profile("random", derandomize=False)
+settings.load_profile("random" if os.environ.get("POMKIT_HYPOTHESIS_RANDOM") == "1" else "repeatable")
 
 
 @pytest.fixture(scope="session")
@@ -28,13 +35,6 @@ def raster_floor(oracle, scene) -> float:
 
 def plane_scene(height, *, depth=0.1, theta_deg=45.0, size=128, fov=30.0, tiling=1.0, lights=(), ambient=0.0,
                 albedo=None, dist=2.0):
-    """A size-2 plane seen from +Z at `theta_deg` from its normal, looking at the origin."""
-    t = np.radians(theta_deg)
-    eye = (0.0, dist * np.cos(t), dist * np.sin(t))
-    return pk.Scene(
-        mesh=pk.Mesh.plane(2.0),
-        material=pk.Material(height, depth=depth, tiling=tiling, albedo=albedo),
-        camera=pk.Camera.look_at(eye=eye, target=(0, 0, 0), up=(0, 0, -1), fov_y=fov, width=size, height=size),
-        lights=list(lights),
-        ambient=ambient,
-    )
+    """`pk.scenes.tilted_plane` with the unit tests' defaults (depth 0.1, 45°, fov 30, 2 units away)."""
+    return pk.scenes.tilted_plane(height, theta_deg, size, depth=depth, tiling=tiling, fov=fov, distance=dist,
+                                  lights=lights, ambient=ambient, albedo=albedo)

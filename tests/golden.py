@@ -30,12 +30,8 @@ ANGLES = (0.0, 60.0, 85.0)
 SHADOW_MAP = 2048
 
 def _plane(height, theta):
-    t = np.radians(theta)
-    return pk.Scene(
-        mesh=pk.Mesh.plane(2.0), material=pk.Material(height, depth=0.08),
-        camera=pk.Camera.look_at(eye=(0.0, 1.6 * np.cos(t), 1.6 * np.sin(t)), up=(0, 0, -1), fov_y=40.0,
-                                 width=SIZE, height=SIZE),
-        lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0, 2.0, shadow_map_size=SHADOW_MAP)], ambient=0.1)
+    return pk.scenes.tilted_plane(height, theta, SIZE, ambient=0.1,
+                                  lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0, 2.0, shadow_map_size=SHADOW_MAP)])
 
 
 def _curved(mesh):

@@ -45,7 +45,7 @@ def test_constant_height_shift(renderer, c, theta):
 @pytest.mark.parametrize("c", [0.0, 0.5, 1.0])
 def test_oracle_matches_analytic(c):
     scene = plane_scene(pk.textures.constant(W, c), depth=0.1, theta_deg=70.0, size=64)
-    o = pk.exact_uv(scene)
+    o = pk.oracle.hits(scene)
     uv, dist, inside = analytic_plane_hits(scene, c)
     m = inside & o.mask
     assert m.sum() > 300
@@ -185,7 +185,7 @@ def test_pom_converges_to_the_oracle_on_bricks(renderer, theta):
     # sampling level 0 (no prefiltering) with many steps, POM must approach the exact first hit;
     # the error must fall (within noise) as the step count rises.
     scene = plane_scene(pk.textures.bricks(256), depth=0.08, theta_deg=theta, size=96, dist=1.6, fov=40.0)
-    o = pk.exact_uv(scene)
+    o = pk.oracle.hits(scene)
     p99 = []
     for steps in (8, 32, 128):
         f = renderer.render(scene, pk.POM(min_steps=steps, max_steps=steps, shadows="none", lod_threshold=100, mip_filtering=False))

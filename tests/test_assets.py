@@ -126,6 +126,7 @@ def test_load_objects_keeps_each_node_s_transform(tmp_path):
     assert len(merged.positions) == 2 * len(mesh.positions)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["rock", "terrain", "mirrored_slab", "crate", "big"])
 def test_check_asset_finds_what_each_zoo_asset_has(name):
     mesh, h = zoo.ZOO[name]()

@@ -14,9 +14,8 @@ def test_pareto_front():
 
 def test_sweep_rows(tmp_path):
     methods = variants(pk.POM, max_steps=[8, 16], shadows=["none"]) + [pk.Exact()]
-    rows = sweep(methods, scenes=["pyramids"], angles=[30.0, 70.0], settings=dict(size=32), repeats=2,
+    rows = sweep(methods, maps=["pyramids"], angles=[30.0, 70.0], settings=dict(size=32), repeats=2,
                  csv_path=str(tmp_path / "t.csv"), progress=False)
-    rows = rows.to_dict("records") if hasattr(rows, "to_dict") else rows
     assert len(rows) == 6
     need = {"method", "label", "safety", "scene", "angle", "gpu_ms", "gpu_ms_p25", "gpu_ms_p75", "march_ms", "call_ms",
             "repeats", "ms_per_mpix", "mean_steps", "fetches_mean", "fetches_p99", "bytes_mean", "uv_p50", "uv_p95", "uv_p99", "mask_iou", "flip"}
@@ -57,7 +56,6 @@ def test_presets_are_valid_methods():
 
 def _deterministic(rows):
     from pomkit.bench import TIMING_COLUMNS
-    rows = rows.to_dict("records") if hasattr(rows, "to_dict") else rows
     return [{k: v for k, v in r.items() if k not in TIMING_COLUMNS} for r in rows]
 
 
@@ -70,7 +68,7 @@ def test_sweep_on_a_dask_cluster_equals_the_local_sweep():
     methods = [pk.POM(shadows="none", max_steps=16), pk.Relief(), pk.Exact(), pk.Custom(
         wgsl=(__import__("pathlib").Path(pk.__file__).parent / "wgsl" / "steep_custom.wgsl").read_text(),
         name="steep_custom", params={"steps": 16.0})]
-    kw = dict(scenes=["bricks", "spikes"], angles=[40.0, 75.0], settings=dict(size=32, flip=False), repeats=1,
+    kw = dict(maps=["bricks", "spikes"], angles=[40.0, 75.0], settings=dict(size=32, flip=False), repeats=1,
               progress=False)
     local = _deterministic(sweep(methods, **kw))
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cl, \
@@ -108,9 +106,8 @@ def test_bench_without_its_extra_names_the_extra():
 def test_sweep_shadow_columns():
     """The shadow error against the oracle's visibility is a column: NaN without shadows, the
     exact light walk's IoU near 1 with them."""
-    rows = sweep([pk.Exact(), pk.Exact(shadows="exact"), pk.POM(shadows="hard")], scenes=["cobblestones"],
+    rows = sweep([pk.Exact(), pk.Exact(shadows="exact"), pk.POM(shadows="hard")], maps=["cobblestones"],
                  angles=[60.0], settings=dict(size=64), repeats=1, progress=False)
-    rows = rows.to_dict("records") if hasattr(rows, "to_dict") else rows
     by = {x["label"]: x for x in rows}
     assert np.isnan(by["Exact()"]["shadow_iou"])
     assert by["Exact(shadows='exact')"]["shadow_iou"] > 0.95

@@ -27,7 +27,8 @@ import pytest
 sync_api = pytest.importorskip("playwright.sync_api", reason="the [browser] extra installs Playwright")
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-pytestmark = pytest.mark.skipif(CHROMIUM is None, reason="no system Chromium: scripts/setup.sh browser installs it")
+pytestmark = [pytest.mark.browser,
+              pytest.mark.skipif(CHROMIUM is None, reason="no system Chromium: scripts/setup.sh browser installs it")]
 
 
 @pytest.fixture(scope="module")

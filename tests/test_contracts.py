@@ -41,3 +41,32 @@ def test_max_lights_is_the_cores_and_the_shaders(renderer):
     assert full.mean() > fewer.mean()  # the last light in the array is lit
     with pytest.raises(ValueError, match="lights"):
         sc.replace(lights=lights + lights[:1])
+
+
+def test_the_frame_types_every_aov():
+    assert set(_frame.Frame.__annotations__) >= set(_core.AOV_NAMES)
+
+
+def test_a_misspelt_aov_fails_type_checking(tmp_path):
+    """mypy reads Frame's AOVs as typed attributes: `frame.uv` checks, `frame.uvv` does not."""
+    import subprocess
+    import sys
+    code = tmp_path / "typo.py"
+    code.write_text("import pomkit as pk\n\ndef f(frame: pk.Frame) -> None:\n    frame.uv.sum()\n    frame.uvv.sum()\n")
+    out = subprocess.run([sys.executable, "-m", "mypy", "--no-error-summary", "--cache-dir", str(tmp_path / "cache"),
+                          "--follow-imports=silent", str(code)], capture_output=True, text=True)
+    assert out.returncode == 1, out.stdout + out.stderr
+    lines = [x for x in out.stdout.splitlines() if "error" in x]
+    assert len(lines) == 1 and '"Frame" has no attribute "uvv"' in lines[0] and ":5:" in lines[0], out.stdout
+
+
+def test_each_method_declares_its_step_knob_once():
+    """choose, the bench and the explorer set a method's step count through `with_steps`, which
+    reads the method's own `steps_knob`."""
+    for cls in pk.ALL_METHODS:
+        m = cls()
+        if cls.steps_knob is None:
+            assert m.with_steps(12) is m
+        else:
+            assert getattr(m.with_steps(12), cls.steps_knob) == 12, cls
+    assert pk.POM().with_steps(32).min_steps == 8 and pk.ConeStep().with_steps(32).binary_steps == 8

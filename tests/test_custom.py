@@ -32,7 +32,7 @@ def test_engine_style_pom_converges_toward_the_oracle(renderer):
     """The engine-style loop is an approximation: with more layers its error against the exact
     hit must shrink, and it must hit where the oracle does."""
     scene = plane_scene(pk.textures.pyramids(128), theta_deg=60.0, size=64)
-    o = pk.exact_uv(scene)
+    o = pk.oracle.hits(scene)
     errs = []
     for n in (8.0, 64.0):
         f = renderer.render(scene, pk.Custom(wgsl=ENGINE, name="engine_pom", params={"min_layers": n, "max_layers": n}))

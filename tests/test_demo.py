@@ -10,6 +10,8 @@ import pytest
 import pomkit as pk
 from pomkit.apps import page
 
+pytestmark = pytest.mark.slow
+
 
 def test_the_shipped_references_are_the_demo_scenes():
     for name, make in (("planar", page.planar_scene), ("curved", page.curved_scene), ("asset", page.asset_scene)):

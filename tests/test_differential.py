@@ -1,6 +1,6 @@
 """The differential suite: every per-pixel method x every shadow mode x both filtering modes,
 on generated height maps (tests/strategies.py), planar scenes, against the CPU float64 oracle
-(`pk.exact_uv`: the exact first hit and the exact light visibility).
+(`pk.oracle.hits`: the exact first hit and the exact light visibility).
 
 On every case:
   - no NaN or infinity in colour or uv where the surface is shown, and the planar methods cover
@@ -15,8 +15,8 @@ On every case:
     the oracle with and without that bias disagree). Found by this suite: a 1-texel checker of
     odd size lit along a texel row at 8 degrees, where the ray grazes saddle ridges by 1e-5.
 
-The examples are drawn with a fixed seed (derandomize) so that CI is repeatable; for more:
-    POMKIT_DIFF_EXAMPLES=300 POMKIT_DIFF_RANDOM=1 .venv/bin/python -m pytest tests/test_differential.py
+The examples are the same on every run (conftest.py's Hypothesis profile); for more, and fresh:
+    POMKIT_DIFF_EXAMPLES=300 POMKIT_HYPOTHESIS_RANDOM=1 .venv/bin/python -m pytest tests/test_differential.py
 Failures Hypothesis found are pinned below as plain tests (test_pinned_*), with what broke.
 """
 
@@ -33,10 +33,9 @@ from scipy import ndimage
 
 import pomkit as pk
 from conftest import plane_scene
-from strategies import encode, height_maps, light_directions, make_map, tilings, view_angles
+from strategies import encode, height_maps, light_directions, tilings, view_angles
 
 EXAMPLES = int(os.environ.get("POMKIT_DIFF_EXAMPLES", "10"))
-RANDOM = os.environ.get("POMKIT_DIFF_RANDOM", "0") == "1"
 SIZE = 64
 
 # bounds, each with its reason
@@ -92,7 +91,7 @@ def _edge_distance(shadow: np.ndarray, valid: np.ndarray) -> np.ndarray:
 def check_case(renderer, scene, label: str) -> dict:
     """Run every method x shadow mode x filtering on `scene` and check it against the oracle.
     Returns counts for the closing tables (how many pixels each check looked at)."""
-    oracle = pk.exact_uv(scene)
+    oracle = pk.oracle.hits(scene)
     om = oracle.mask
     interior = _away(om, 1.0)
     texels = np.array([scene.material.height.shape[1], scene.material.height.shape[0]], np.float64) * scene.material.tiling
@@ -101,10 +100,10 @@ def check_case(renderer, scene, label: str) -> dict:
     o_dist = _edge_distance(o_shadow, np.isfinite(ov))
     # blockers within the GPU's stated light-ray bias (1e-6 of the shell) of the ray: either
     # verdict is right (the exact oracle and one with the GPU's bias disagree there)
-    grazing = np.isfinite(ov) & ((pk.exact_uv(scene, light_bias=EXACT_SHADOW_BIAS).visibility < 0.5) != o_shadow)
+    grazing = np.isfinite(ov) & ((pk.oracle.hits(scene, light_bias=EXACT_SHADOW_BIAS).visibility < 0.5) != o_shadow)
     # blockers within GPU_BIAS of the light ray: a GPU's filter and rasterizer may let the light
     # through where the oracle's exact field and pixel centres shadow
-    grazing = grazing | (np.isfinite(ov) & ((pk.exact_uv(scene, light_bias=GPU_BIAS).visibility < 0.5) != o_shadow))
+    grazing = grazing | (np.isfinite(ov) & ((pk.oracle.hits(scene, light_bias=GPU_BIAS).visibility < 0.5) != o_shadow))
     stats = {"renders": 0, "safe_shadow_px": 0, "worst_p99": 0.0, "worst_far": 0.0}
     for name, make in METHODS.items():
         for filtering in FILTERING:
@@ -154,7 +153,8 @@ def check_case(renderer, scene, label: str) -> dict:
     return stats
 
 
-@settings(max_examples=EXAMPLES, deadline=None, derandomize=not RANDOM, database=None,
+@pytest.mark.slow
+@settings(max_examples=EXAMPLES, deadline=None,
           suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 @given(hm=height_maps(), theta=view_angles(), tiling=tilings(), light=light_directions(),
        depth=st.sampled_from([0.05, 0.1, 0.2]))
@@ -186,7 +186,7 @@ def test_pinned_plateaus_at_one_are_lit(renderer, name, height, depth):
     light ray started at the top of the shell and met the plateau there). Every dark pixel of
     every exact-shadow render must be one the oracle shadows (or where N.L <= 0)."""
     scene = _scene(height, depth, 60.0, 1.0, LIGHT)
-    oracle = pk.exact_uv(scene)
+    oracle = pk.oracle.hits(scene)
     for m in (pk.Exact(shadows="exact"), pk.ConeStep(shadows="exact"), pk.Prism(exact=True, shadows="exact")):
         f = renderer.render(scene, m)
         free = renderer.render(scene, dataclasses.replace(m, shadows="none"))
@@ -217,7 +217,7 @@ def test_pinned_grazing_light_on_a_top_plateau(renderer):
     h[:, :40] = 1.0
     e = np.radians(1.0)
     scene = _scene(h, 0.1, 45.0, 1.0, (float(np.cos(e)), float(-np.sin(e)), 0.0))
-    oracle = pk.exact_uv(scene)
+    oracle = pk.oracle.hits(scene)
     f = renderer.render(scene, pk.Exact(shadows="exact"), aovs=("color", "uv", "mask"))
     top = f.mask & (np.abs(f.uv[..., 0] * 64 - 20) < 15)  # well inside the plateau
     assert top.any() and (f.color.mean(-1)[top] > 0).all()
@@ -246,7 +246,7 @@ def test_pinned_grazing_saddles_within_the_bias(renderer):
     e = np.radians(8.0)
     scene = _scene(h, 0.1, 0.0, 1.37, (-float(np.cos(e)), -float(np.sin(e)), 0.0))
     check_case(renderer, scene, "checker31x31 tiling 1.37, light along -x at 8 degrees")
-    exact = pk.exact_uv(scene).visibility
-    biased = pk.exact_uv(scene, light_bias=EXACT_SHADOW_BIAS).visibility
+    exact = pk.oracle.hits(scene).visibility
+    biased = pk.oracle.hits(scene, light_bias=EXACT_SHADOW_BIAS).visibility
     both = np.isfinite(exact)
     assert int(((exact < 0.5) != (biased < 0.5))[both].sum()) < 0.01 * both.sum()

@@ -2,7 +2,6 @@
 the oracle, and its rebuild after update_height (the volume's layout and memory: the Rust test
 in src/methods/distance_mapping/volume.rs)."""
 
-import numpy as np
 import pytest
 
 import pomkit as pk
@@ -16,7 +15,7 @@ def test_sphere_tracing_against_the_oracle(renderer, tex, theta):
     # place the hit (measured p95 0.002-0.005 texel on 256^2 maps at 30 and 60 degrees)
     sc = plane_scene(pk.textures.ALL[tex](256), depth=0.08, theta_deg=theta, size=96)
     f = renderer.render(sc, pk.DistanceMapping())
-    e = pk.metrics.uv_error(f, pk.exact_uv(sc), sc)
+    e = pk.metrics.uv_error(f, pk.oracle.hits(sc), sc)
     assert e["p95"] <= 0.05 and e["mask_iou"] == 1.0, e
 
 
@@ -26,12 +25,12 @@ def test_update_height_rebuilds_the_volume(renderer):
     renderer.render(sc, pk.DistanceMapping())
     new = renderer.update_height(sc.material, b)
     moved = renderer.render(sc.replace(material=new), pk.DistanceMapping(), aovs=("uv", "mask"))
-    e = pk.metrics.uv_error(moved, pk.exact_uv(sc.replace(material=new)), sc)
+    e = pk.metrics.uv_error(moved, pk.oracle.hits(sc.replace(material=new)), sc)
     assert e["p95"] <= 0.05, e
 
 
 def test_more_slices_never_hurt_much(renderer):
     sc = plane_scene(pk.textures.cobblestones(128), depth=0.08, theta_deg=60.0, size=64)
-    o = pk.exact_uv(sc)
+    o = pk.oracle.hits(sc)
     p95 = [pk.metrics.uv_error(renderer.render(sc, pk.DistanceMapping(slices=n)), o, sc)["p95"] for n in (4, 16, 64)]
     assert max(p95) <= 0.05, p95

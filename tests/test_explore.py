@@ -89,8 +89,8 @@ def test_configured_methods_are_explored_as_configured():
     assert w.methods == [repr(tuned), "Exact"]
     w.method = repr(tuned)
     assert w._method() == tuned
-    w.steps = 20
-    assert w._method() == pk.POM(min_steps=12, max_steps=20)
+    w.steps = 20  # POM's one rule for its knob (Method.with_steps): min_steps a quarter of max_steps
+    assert w._method() == pk.POM(min_steps=5, max_steps=20)
     assert w.image
     with pytest.raises(TypeError, match="methods"):
         pk.explore(_scene(), methods=[3])

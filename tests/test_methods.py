@@ -1,7 +1,6 @@
 """The methods of the field: analytic cases, the max-mip traversal, shadows, AO, dynamic height
 fields, and stability where methods fail (grazing angles, spikes)."""
 
-import time
 
 import numpy as np
 import pytest
@@ -70,7 +69,7 @@ def test_relief_against_pom_at_80_degrees(renderer):
     # last digit here: lavapipe filters with float weights, so Tatarchuk's 8-bit-weight
     # explanation of relief's stair-stepping cannot show on this adapter.
     scene = plane_scene(pk.textures.pyramids(256, 8), depth=0.08, theta_deg=80, size=128, dist=1.6, fov=40)
-    o = pk.exact_uv(scene)
+    o = pk.oracle.hits(scene)
     res = {}
     for filt in ("hardware", "exact"):
         for n in (16, 32):
@@ -101,7 +100,7 @@ def test_safe_methods_match_the_oracle_up_to_88_degrees(renderer, tex, method):
     for theta in (0.0, 30.0, 60.0, 80.0, 85.0, 88.0):
         scene = plane_scene(h, depth=0.08, theta_deg=theta, size=64, dist=1.6, fov=40)
         f = renderer.render(scene, method)
-        e = err_texels(f, pk.exact_uv(scene), scene)
+        e = err_texels(f, pk.oracle.hits(scene), scene)
         assert e["p99"] <= 0.1, (tex, theta, e["p99"])
         assert not (f.flags[f.mask] & 1).any()
 
@@ -171,7 +170,7 @@ def test_dynamic_height_field(renderer):
         mat = renderer.update_height(mat, bump_map(128, 0.3 + 0.04 * i))
         s = scene.replace(material=mat)
         f = renderer.render(s, pk.Exact())
-        e = err_texels(f, pk.exact_uv(s), s)
+        e = err_texels(f, pk.oracle.hits(s), s)
         assert e["p99"] < 0.1, (i, e["p99"])
     with pytest.raises(ValueError, match="height"):
         renderer.update_height(mat, np.full((4, 4), np.nan, np.float32))
@@ -193,6 +192,7 @@ def grazing_scene(h, theta):
                     lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 2.0, 1.0)], ambient=0.1)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("tex", TEXTURES)
 def test_stability_no_nan_and_full_coverage(renderer, tex):
     h = pk.textures.ALL[tex](64)
@@ -215,7 +215,7 @@ def test_stability_error_falls_as_steps_rise(renderer, tex, theta):
     # level-0 sampling isolates the search from prefiltering; "within noise": each doubling may
     # not raise p95 by more than 0.05 texel
     scene = plane_scene(pk.textures.ALL[tex](128), depth=0.08, theta_deg=theta, size=64, dist=1.6, fov=40)
-    o = pk.exact_uv(scene)
+    o = pk.oracle.hits(scene)
     for make in (lambda n: pk.POM(min_steps=n, max_steps=n, shadows="none", lod_threshold=100, mip_filtering=False),
                  lambda n: pk.SteepParallax(steps=n, mip_filtering=False),
                  lambda n: pk.Relief(linear_steps=n, binary_steps=5, mip_filtering=False)):
@@ -233,7 +233,7 @@ def test_relaxed_cones_with_binary_refinement_converge(renderer, tex):
     # texels in fixed point (8 fractional bits on D3D11-class GPUs), so its bisection need only
     # reach 0.01 texel.
     scene = plane_scene(pk.textures.ALL[tex](128), depth=0.08, theta_deg=50.0, size=64, dist=1.6, fov=40)
-    oracle = pk.exact_uv(scene)
+    oracle = pk.oracle.hits(scene)
     p50 = []
     for n in (0, 2, 4, 8, 16):
         f = renderer.render(scene, pk.ConeStep(cones="relaxed", refine="binary", binary_steps=n, filtering="exact"))
@@ -254,5 +254,5 @@ def test_cone_map_follows_update_height(renderer):
     moved = renderer.render(scene.replace(material=new), pk.ConeStep(), aovs=("uv", "mask"))
     fresh = pk.Renderer().render(plane_scene(b, depth=0.1, theta_deg=70.0, size=48), pk.ConeStep(), aovs=("uv", "mask"))
     assert np.array_equal(moved.uv, fresh.uv, equal_nan=True) and np.array_equal(moved.mask, fresh.mask)
-    e = err_texels(moved, pk.exact_uv(scene.replace(material=new)), scene)
+    e = err_texels(moved, pk.oracle.hits(scene.replace(material=new)), scene)
     assert e["p99"] <= 0.1

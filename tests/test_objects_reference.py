@@ -11,6 +11,8 @@ from pomkit.scenes import rotate, scale, translate
 pytest.importorskip("mitsuba", reason="needs the [reference] extra")
 from scipy import ndimage  # noqa: E402  (scikit-image's dependency, in the reference extra)
 
+pytestmark = pytest.mark.reference  # Mitsuba
+
 R = pytest.importorskip("pomkit.reference")
 
 

@@ -15,6 +15,8 @@ from pomkit import reference as R
 import zoo
 from conftest import raster_floor
 
+pytestmark = pytest.mark.slow
+
 RENDERER = pk.Renderer()
 LIGHT = pk.DirectionalLight((-0.4, -1, -0.3), 3.0)
 
@@ -37,7 +39,7 @@ def test_the_displaced_mesh_converges_to_the_oracle_on_assets(name):
     8, where the floor is 0.0066, 0.0080 and 0.0146)."""
     mesh, _ = zoo.ZOO[name]()
     scene = zoo.scene(name, zoo.views(mesh, 1, size=128)[0], depth=0.06)
-    ex = pk.exact_uv(scene)
+    ex = pk.oracle.hits(scene)
     snap = raster_floor(ex, scene)
     p95 = []
     for tpv in (0.25, 0.125):
@@ -56,7 +58,7 @@ def test_several_transformed_objects():
     ball = pk.Object(pk.Mesh.torus(segments=32, tube_segments=16), pk.Material(pk.textures.bricks(64), depth=0.08, tiling=2.0),
                      transform=pk.scenes.translate(0.2, 0.1, 0) @ pk.scenes.rotate((1, 0, 0), 50) @ pk.scenes.scale(0.7, 0.5, 0.7))
     s = pk.Scene(objects=[floor, ball], lights=[LIGHT], camera=pk.Camera.look_at((0.0, 1.2, 2.6), fov_y=45, width=96, height=96))
-    ex = pk.exact_uv(s)
+    ex = pk.oracle.hits(s)
     t = RENDERER.render(s, pk.Tessellated(texels_per_vertex=0.125))
     both = ex.mask & t.mask
     assert set(np.unique(ex.object[ex.mask])) == {0, 1}
@@ -69,7 +71,7 @@ def test_curved_methods_get_a_uv_error_in_texels():
     """pk.metrics.uv_error scores the curved methods against the oracle: exact Prism within 0.5
     texel p95 on the torus, NCS and CurvedRelief within a few texels, Tessellated(0.5) within 0.05."""
     s = _curved("torus")
-    ex = pk.exact_uv(s)
+    ex = pk.oracle.hits(s)
     bounds = {"Prism": 0.5, "NCS": 4.0, "CurvedRelief": 4.0, "Tessellated": 0.05}
     for m in (pk.Prism(exact=True), pk.NCS(), pk.CurvedRelief(), pk.Tessellated(0.5)):
         e = pk.metrics.uv_error(RENDERER.render(s, m), ex, s)
@@ -87,7 +89,7 @@ def test_mitsuba_at_8_vertices_a_texel_agrees(mesh):
     alike (render_mitsuba(integrator="cast")), within 0.003 interior FLIP (measured 0.0010, 0.0008)."""
     pytest.importorskip("mitsuba")
     s = _curved(mesh)
-    ex = R.render_exact(s, spp=4)
+    ex = pk.oracle.image(s, spp=4)
     mi = R.render_mitsuba(s, spp=4, resolution=8)
     e = pk.metrics.uv_error(mi, ex, s)
     assert e["p99"] <= 0.01 and e["mask_iou"] >= 0.999, e
@@ -104,7 +106,7 @@ def test_a_4096_map_on_a_curved_mesh_builds_no_mesh():
     s = _curved("sphere", size=64, depth=0.05, h=pk.textures.bricks(4096))
     with pytest.raises(ValueError):
         RENDERER.render(s, pk.Tessellated(texels_per_vertex=0.125))
-    ex = pk.exact_uv(s)
+    ex = pk.oracle.hits(s)
     assert ex.mask.sum() > 1500
     e = pk.metrics.uv_error(RENDERER.render(s, pk.Prism(exact=True)), ex, s)
     assert e["mask_iou"] >= 0.99 and e["p50"] <= 1.0, e

@@ -4,7 +4,6 @@ Every tolerance says why it is that number. Scenes are small (64-128 px) and ref
 cached on disk (POMKIT_CACHE), so a re-run costs little.
 """
 
-import os
 import sys
 
 import numpy as np
@@ -50,7 +49,7 @@ def test_exact_oracle_matches_mitsuba_uv_on_the_plane():
     # at 2 per texel it is 0.025 on these bricks' bevels), so 0.01 texel is the bound.
     scene = plane_scene(pk.textures.bricks(64), depth=0.08, theta_deg=60, size=128, dist=1.6, fov=40)
     ref = R.render_mitsuba(scene, spp=1, resolution=4)
-    o = pk.exact_uv(scene)
+    o = pk.oracle.hits(scene)
     e = metrics.uv_error(o, ref, scene)
     assert e["p99"] <= 0.01, e["p99"]
     # the oracle does not see rays entering the shell through the plane's open sides
@@ -219,7 +218,21 @@ def test_assert_close_reports_numbers_and_writes_a_diff(tmp_path, monkeypatch):
 
 def test_reference_frame_fixture(reference_frame):
     scene = plane_scene(pk.textures.sine(16, 2), size=16)
-    assert reference_frame(scene, kind="exact").mask.any()
+    hits = reference_frame(scene, kind="oracle_hits")
+    assert hits.mask.any()
+    with pytest.warns(DeprecationWarning, match="oracle_hits"):
+        old = reference_frame(scene, kind="exact")
+    np.testing.assert_array_equal(old.uv, hits.uv)
+
+
+def test_the_old_names_of_the_oracle_warn_and_answer_alike():
+    scene = plane_scene(pk.textures.sine(16, 2), size=16)
+    with pytest.warns(DeprecationWarning, match="pk.oracle.hits"):
+        old = pk.exact_uv(scene)
+    np.testing.assert_array_equal(old.uv, pk.oracle.hits(scene).uv)
+    with pytest.warns(DeprecationWarning, match="pk.oracle.image"):
+        old = pk.reference.render_exact(scene, spp=1, cache=False)
+    np.testing.assert_array_equal(old.color, pk.oracle.image(scene, spp=1, cache=False).color)
 
 
 def test_supersampling_takes_the_aliasing_out_of_the_score():
@@ -276,9 +289,8 @@ def test_assert_close_bounds_the_regions():
 
 def test_the_sweep_reports_the_aliasing_floor_beside_each_score():
     from pomkit.bench import sweep
-    rows = sweep([pk.Exact(), pk.Flat()], scenes=["bricks"], angles=[45.0], reference="mitsuba", repeats=1,
+    rows = sweep([pk.Exact(), pk.Flat()], maps=["bricks"], angles=[45.0], reference="mitsuba", repeats=1,
                  settings=dict(size=48, spp=16, frame_spp=4), progress=False)
-    rows = rows.to_dict("records") if hasattr(rows, "to_dict") else rows
     floors = {x["flip_floor"] for x in rows}
     assert len(floors) == 1 and all(x["frame_spp"] == 4 for x in rows)
     floor = floors.pop()

@@ -1,4 +1,4 @@
-"""pk.reference.render_exact: the noise-free reference image (issue 30). Its shading is the
+"""pk.oracle.image: the noise-free reference image (issue 30). Its shading is the
 definition of docs/conventions.md ("The reference shading"); these tests hold it to analytic
 cases, to pomkit's own exact method on the GPU, and to Mitsuba where the conventions must meet.
 """
@@ -11,19 +11,14 @@ import numpy as np
 import pytest
 
 import pomkit as pk
-from pomkit import reference as R
 
 RENDERER = pk.Renderer()
 
 
 def _plane(height, *, theta=45.0, size=64, light=(-0.3, -1.0, -0.2), diameter=0.0, ambient=0.0, albedo=None,
            depth=0.08, tiling=1.0):
-    t = math.radians(theta)
-    return pk.Scene(mesh=pk.Mesh.plane(2.0), material=pk.Material(height, depth=depth, albedo=albedo, tiling=tiling),
-                    camera=pk.Camera.look_at((0.0, 1.6 * math.cos(t), 1.6 * math.sin(t)), up=(0, 0, -1), fov_y=30.0,
-                                             width=size, height=size),
-                    lights=[pk.DirectionalLight(light, 3.0, angular_diameter=diameter)] if light else [],
-                    ambient=ambient)
+    return pk.scenes.tilted_plane(height, theta, size, depth=depth, tiling=tiling, albedo=albedo, fov=30.0, ambient=ambient,
+                                  lights=[pk.DirectionalLight(light, 3.0, angular_diameter=diameter)] if light else [])
 
 
 @pytest.mark.parametrize("diameter", [0.0, 4.0])
@@ -32,7 +27,7 @@ def test_a_flat_field_is_lambert_exactly(tmp_path, monkeypatch, diameter):
     ao = 1, so colour = albedo/pi E max(0, N.L) + albedo ambient, to float rounding."""
     monkeypatch.setenv("POMKIT_CACHE", str(tmp_path))
     s = _plane(np.full((16, 16), 0.6, np.float32), diameter=diameter, ambient=0.1)
-    f = R.render_exact(s, spp=4)
+    f = pk.oracle.image(s, spp=4)
     l = np.array([-0.3, -1.0, -0.2])
     ndl = max(0.0, float(-l[1] / np.linalg.norm(l)))
     want = 0.5 / math.pi * 3.0 * ndl + 0.5 * 0.1
@@ -45,8 +40,8 @@ def test_a_flat_field_is_lambert_exactly(tmp_path, monkeypatch, diameter):
 def test_deterministic_and_cached(tmp_path, monkeypatch):
     monkeypatch.setenv("POMKIT_CACHE", str(tmp_path))
     s = _plane(pk.textures.bricks(64), diameter=3.0, ambient=0.1, size=32)
-    a = R.render_exact(s, spp=4)
-    b = R.render_exact(s, spp=4, cache=False)
+    a = pk.oracle.image(s, spp=4)
+    b = pk.oracle.image(s, spp=4, cache=False)
     assert np.array_equal(a.color, b.color) and len(list(tmp_path.glob("exact-*.npz"))) == 1
 
 
@@ -56,7 +51,7 @@ def test_occlusion_darkens_the_grooves_only(tmp_path, monkeypatch):
     monkeypatch.setenv("POMKIT_CACHE", str(tmp_path))
     h = pk.textures.bricks(64)
     s = _plane(h, light=None, ambient=1.0, theta=0.0 + 1e-3, size=64, depth=0.1)
-    f = R.render_exact(s, spp=1)
+    f = pk.oracle.image(s, spp=1)
     col = f.color[..., 0][f.mask]
     uv = f.uv[f.mask]
     hh = h[np.clip((uv[:, 1] * 64).astype(int), 0, 63), np.clip((uv[:, 0] * 64).astype(int), 0, 63)]
@@ -72,12 +67,12 @@ def test_on_a_curved_mesh_the_oracle_answers_for_the_displaced_surface():
     s = pk.Scene(mesh=pk.Mesh.torus(segments=24, tube_segments=12), material=pk.Material(pk.textures.bricks(32), depth=0.05),
                  camera=pk.Camera.look_at((0, 1.5, 2.5), width=64, height=64))
     assert pk._core.oracle_refusal(s._describe()) is None
-    ex = pk.exact_uv(s)
+    ex = pk.oracle.hits(s)
     e = pk.metrics.uv_error(RENDERER.render(s, pk.Tessellated(texels_per_vertex=0.125)), ex, s)
     assert e["p95"] < 0.005 and e["mask_iou"] > 0.997, e
     assert (ex.object[ex.mask] == 0).all() and (ex.object[~ex.mask] == -1).all()
     c = s.replace(mesh=pk.Mesh.cube(1.0))
-    assert pk.exact_uv(c).mask.any()
+    assert pk.oracle.hits(c).mask.any()
 
 
 def test_a_curved_mesh_is_shaded_as_the_definition_says():
@@ -85,7 +80,7 @@ def test_a_curved_mesh_is_shaded_as_the_definition_says():
     # albedo/pi * E * n.l with n the sphere's normal, checked against the analytic sphere
     s = pk.Scene(mesh=pk.Mesh.sphere(segments=64, rings=32), material=pk.Material(np.full((8, 8), 0.5, np.float32), depth=0.0),
                  camera=pk.Camera.look_at((0, 0, 3), width=24, height=24), lights=[pk.DirectionalLight((0, 0, -1), 3.0)])
-    f = R.render_exact(s, spp=1, cache=False)
+    f = pk.oracle.image(s, spp=1, cache=False)
     assert f.noise_floor == 0.0
     eye = np.asarray(s.camera.eye, float)
     rays = s.camera.rays()
@@ -103,7 +98,7 @@ def test_a_curved_mesh_is_shaded_as_the_definition_says():
 
 
 def _suite_scene(name: str, theta: float, ambient: float, size: int = 96) -> pk.Scene:
-    """The agreement suite's scenes (scripts/reference_agreement.py): 30° with the light
+    """The agreement suite's scenes (tools/reference_agreement.py): 30° with the light
     overhead, 70° with it grazing; a 2° light."""
     h = pk.textures.real(name, 128) if name in pk.textures.REAL else getattr(pk.textures, name)(128)
     light = (-1.0, -0.35, -0.2) if theta > 45 else (-0.3, -1.0, -0.2)
@@ -133,7 +128,7 @@ def test_the_gpu_methods_that_follow_the_definition_meet_it(tmp_path, monkeypatc
       quad) left four times the chord error: 0.0274 on gravel at 70°, 0.0108 on cobblestones."""
     monkeypatch.setenv("POMKIT_CACHE", str(tmp_path))
     s = _suite_scene(name, theta, ambient)
-    ref = R.render_exact(s, spp=16)
+    ref = pk.oracle.image(s, spp=16)
     ex = pk.metrics.compare(RENDERER.render(s, pk.Exact(**EXACT_OPTS), spp=16), ref, s)["flip_interior"]
     assert ex <= 0.003, ex
     tess = pk.metrics.compare(RENDERER.render(s, pk.Tessellated(0.5, shadows="exact"), spp=16), ref, s)["flip_interior"]
@@ -152,7 +147,7 @@ def test_methods_rank_alike_by_colour_and_by_geometry(tmp_path, monkeypatch, nam
     from scipy.stats import spearmanr
     monkeypatch.setenv("POMKIT_CACHE", str(tmp_path))
     s = _suite_scene(name, theta, 0.15)
-    ref = R.render_exact(s, spp=16)
+    ref = pk.oracle.image(s, spp=16)
     methods = [pk.Flat(), pk.Parallax(**EXACT_OPTS), pk.SteepParallax(steps=8, **EXACT_OPTS),
                pk.POM(min_steps=4, max_steps=8, **EXACT_OPTS), pk.Relief(**EXACT_OPTS), pk.Exact(**EXACT_OPTS)]
     fl, uv = [], []
@@ -168,7 +163,7 @@ def test_any_map_size_without_a_mesh(tmp_path, monkeypatch):
     """render_exact builds no mesh: an 8192² map renders at the cost of its rays."""
     monkeypatch.setenv("POMKIT_CACHE", str(tmp_path))
     h = np.kron(pk.textures.bricks(256), np.ones((32, 32), np.float32))
-    f = R.render_exact(_plane(h, size=24, diameter=2.0, ambient=0.1), spp=4)
+    f = pk.oracle.image(_plane(h, size=24, diameter=2.0, ambient=0.1), spp=4)
     assert f.mask.mean() > 0.9 and np.isfinite(f.color).all()
 
 
@@ -196,8 +191,8 @@ def test_unshadowed_is_never_darker(tmp_path, monkeypatch):
     where the bricks shadow and occlude."""
     monkeypatch.setenv("POMKIT_CACHE", str(tmp_path))
     s = _suite_scene("bricks", 70.0, 0.15)
-    a = R.render_exact(s, spp=4)
-    b = R.render_exact(s, spp=4, shadows=False)
+    a = pk.oracle.image(s, spp=4)
+    b = pk.oracle.image(s, spp=4, shadows=False)
     assert np.array_equal(a.mask, b.mask) and (b.color >= a.color - 1e-7).all()
     assert (b.color - a.color).max() > 0.05
 
@@ -210,7 +205,7 @@ def test_the_fan_meets_the_field_closer_than_the_grid(name):
     against |d|/4 on a checkerboard), and the uv error follows: p95 0.24-0.25 of the grid's on
     these maps (cobblestones 0.010 against 0.040 texel, gravel 0.014 against 0.058); bound 0.3."""
     s = _suite_scene(name, 70.0, 0.0)
-    o = pk.exact_uv(s)
+    o = pk.oracle.hits(s)
     err = {p: pk.metrics.uv_error(RENDERER.render(s, pk.Tessellated(0.5, shadows="none", pattern=p)), o, s)["p95"]
            for p in ("fan", "grid")}
     assert err["fan"] <= 0.3 * err["grid"], err

@@ -8,7 +8,6 @@ render. Measured tables: docs/tables/reference_agreement.md.
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 import pytest
@@ -16,19 +15,18 @@ import pytest
 import pomkit as pk
 from pomkit import reference as R
 
+pytestmark = pytest.mark.reference  # Mitsuba
+
 RENDERER = pk.Renderer()
 
 
 def _suite_scene(name: str, theta: float, ambient: float, size: int = 96) -> pk.Scene:
-    """The agreement suite's planar scenes (scripts/reference_agreement.py): 30° with the light
+    """The agreement suite's planar scenes (tools/reference_agreement.py): 30° with the light
     overhead, 70° with it grazing (19° above the plane); a 2° light."""
     h = pk.textures.real(name, 128) if name in pk.textures.REAL else getattr(pk.textures, name)(128)
-    t = math.radians(theta)
     light = (-1.0, -0.35, -0.2) if theta > 45 else (-0.3, -1.0, -0.2)
-    return pk.Scene(mesh=pk.Mesh.plane(2.0), material=pk.Material(h, depth=0.08),
-                    camera=pk.Camera.look_at((0.0, 1.6 * math.cos(t), 1.6 * math.sin(t)), up=(0, 0, -1), fov_y=30.0,
-                                             width=size, height=size),
-                    lights=[pk.DirectionalLight(light, 3.0, angular_diameter=2.0)], ambient=ambient)
+    return pk.scenes.tilted_plane(h, theta, size, fov=30.0, ambient=ambient,
+                                  lights=[pk.DirectionalLight(light, 3.0, angular_diameter=2.0)])
 
 
 @pytest.mark.parametrize("name", ["bricks", "cobblestones", "terrain", "gravel"])
@@ -42,7 +40,7 @@ def test_matched_mitsuba_meets_render_exact_on_planes(tmp_path, monkeypatch, nam
     (the two-triangle grid left 0.0064 there and needed 16 per texel)."""
     monkeypatch.setenv("POMKIT_CACHE", str(tmp_path))
     s = _suite_scene(name, theta, ambient)
-    ref = R.render_exact(s, spp=16)
+    ref = pk.oracle.image(s, spp=16)
     mi = R.render_mitsuba(s)
     assert mi.noise_floor == 0.0
     fl = pk.metrics.compare(mi, ref, s)["flip_interior"]
@@ -74,7 +72,7 @@ def test_the_mesh_meets_the_exact_reference_on_curved_meshes(tmp_path, monkeypat
     s = pk.Scene(mesh=m, material=pk.Material(pk.textures.cobblestones(128, cells=8), depth=0.08, tiling=2.0),
                  camera=pk.Camera.look_at((0.4, 1.6, 2.8), fov_y=40, width=96, height=96),
                  lights=[pk.DirectionalLight((-0.4, -1, -0.3), 3.0, angular_diameter=2.0)], ambient=0.15)
-    ref = R.render_exact(s, spp=16, shadows=False)
+    ref = pk.oracle.image(s, spp=16, shadows=False)
     f = RENDERER.render(s, pk.Tessellated(0.5, shadows="none"), spp=16)
     c = pk.metrics.compare(f, ref, s)
     assert c["flip_interior"] <= 0.003 and c["uv_p95_interior"] < 0.02, c
@@ -86,5 +84,5 @@ def test_matched_mitsuba_traces_a_sphere_lights_disk(tmp_path, monkeypatch):
     monkeypatch.setenv("POMKIT_CACHE", str(tmp_path))
     s = _suite_scene("cobblestones", 45.0, 0.0, size=48).replace(
         lights=[pk.SphereLight((0.3, 0.5, 0.2), radius=0.05, intensity=0.8)])
-    fl = pk.metrics.compare(R.render_mitsuba(s), R.render_exact(s, spp=16), s)["flip_interior"]
+    fl = pk.metrics.compare(R.render_mitsuba(s), pk.oracle.image(s, spp=16), s)["flip_interior"]
     assert fl <= 0.005, fl

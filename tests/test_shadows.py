@@ -1,5 +1,5 @@
 """Self-shadowing against ground truth: each shadow mode's shadow-mask IoU and visibility error
-against the float64 oracle's exact visibility (`pk.exact_uv`, 64 directions over a 2-degree
+against the float64 oracle's exact visibility (`pk.oracle.hits`, 64 directions over a 2-degree
 light's disk), through `pk.metrics.shadow_error`. Bounds are the measured values (llvmpipe,
 128² frames of a 128² map at 60 degrees, light (-0.4, -0.5, -0.3)) less a margin, each with
 its reason; docs/tables/shadows.md has the full table."""
@@ -33,7 +33,7 @@ def scenes():
     out = {}
     for name in ("bricks", "cobblestones"):
         sc = plane_scene(pk.textures.ALL[name](128), depth=0.08, theta_deg=60, size=128, lights=[LIGHT])
-        out[name] = (sc, pk.exact_uv(sc))
+        out[name] = (sc, pk.oracle.hits(sc))
     return out
 
 
@@ -67,7 +67,7 @@ def test_oracle_visibility_of_a_wall_is_analytic():
     depth = 0.25  # 8 texels of a size-2 plane
     sc = plane_scene(h, depth=depth, theta_deg=0, size=128, fov=60.0,
                      lights=[pk.DirectionalLight((-1.0, -1.0, 0.0), 3.0)])
-    o = pk.exact_uv(sc)
+    o = pk.oracle.hits(sc)
     x = o.uv[..., 0] * n - 0.5  # texel-space x of each hit
     floor = o.mask & (x > 20) & (x < 39)
     # the ramp from x = 39 (h 0) to x = 40 (h 1); a 45-degree ray rises one shell depth per 8 texels

@@ -49,7 +49,7 @@ def test_prism_tight_shell_is_the_same_surface_or_closer(renderer, mesh, content
     # empty space; it must find the same displaced surface, against Mitsuba's render of the
     # displaced mesh, as the paper's full shell: coverage IoU within 1e-3 and uv error no worse
     # (its thinner prisms bend the march's straight segments less). Real content, meshes the
-    # suite does not hold. Measured at 128^2: see docs/cost.md, "The tight shell".
+    # suite does not hold. Measured at 128^2: see docs/cost_journal_2026.md, "The tight shell".
     m = pk.Mesh.torus(segments=40, tube_segments=20) if mesh == "torus" else pk.Mesh.sphere(segments=64, rings=32)
     scene = pk.Scene(mesh=m, material=pk.Material(pk.textures.real(content, 128), depth=0.1),
                      camera=pk.Camera.look_at((1.6, 1.5, 2.2), fov_y=40, width=128, height=128),

@@ -1,5 +1,5 @@
-"""Command line: `python -m pomkit demo [--out DIR]`, `bench [--quick]`, `choose HEIGHTS... --max-uv-error E`,
-`info` and `tables`."""
+"""Command line: `python -m pomkit demo [--out DIR]`, `bench [--quick]`, `choose HEIGHTS... --max-uv-error E`
+and `info`."""
 
 from __future__ import annotations
 
@@ -28,19 +28,17 @@ def main(argv=None) -> int:
     c.add_argument("--cost", choices=("gpu_ms", "fetches"), default="gpu_ms")
     c.add_argument("--methods", default=None, help="comma-separated families (default: all)")
     c.add_argument("--out", default="pomkit-out/choose")
-    t = sub.add_parser("tables", help="regenerate the measured tables in docs/tables/")
-    t.add_argument("--out", default="docs/tables")
     a = p.parse_args(argv)
     if a.cmd == "demo":
         from .apps.demo import run_demo
         run_demo(a.out, a.size)
     elif a.cmd == "bench":
-        from .apps import pareto as bench
-        missing = bench.missing_extra()
+        from .apps import pareto
+        missing = pareto.missing_extra()
         if missing:
             print(f"python -m pomkit bench needs {', '.join(missing)}: pip install pomkit[bench]", file=sys.stderr)
             return 2
-        bench.run_bench(a.out, quick=a.quick, spp=a.spp)
+        pareto.run_bench(a.out, quick=a.quick, spp=a.spp)
     elif a.cmd == "choose":
         from ._choose import choose, report, parse_angles
         try:
@@ -52,9 +50,6 @@ def main(argv=None) -> int:
         print(ch)
         report(ch, a.out)
         print(f"wrote {a.out}/choice.md, choice.png, choice.json ({ch.seconds:.1f} s)")
-    elif a.cmd == "tables":
-        from .apps.tables import run_tables
-        run_tables(a.out)
     elif a.cmd == "info":
         from ._info import format_info, info
         print(format_info(info(a.adapter)))

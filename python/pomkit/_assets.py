@@ -9,6 +9,7 @@ gets MikkTSpace ones, as the glTF specification asks.
 
 from __future__ import annotations
 
+from ._errors import ArgumentError, ArgumentTypeError, MissingExtraError
 import os
 from dataclasses import dataclass, field
 from typing import Any, Optional, Union
@@ -26,10 +27,10 @@ GLTF = (".gltf", ".glb")
 
 def _path(path: PathLike) -> str:
     if not isinstance(path, (str, os.PathLike)):
-        raise TypeError(f"path: expected a file path, got {type(path).__name__}")
+        raise ArgumentTypeError(f"path: expected a file path, got {type(path).__name__}")
     p = os.fspath(path)
     if not os.path.isfile(p):
-        raise ValueError(f"path: {p}: no such file")
+        raise ArgumentError(f"path: {p}: no such file")
     return p
 
 
@@ -76,7 +77,7 @@ def load_mesh(path: PathLike, *, tangents: Any = None) -> Mesh:
         try:
             import trimesh
         except ImportError:
-            raise ImportError(f"path: {p}: formats other than glTF load through trimesh; pip install trimesh (or pomkit[reference])") from None
+            raise MissingExtraError(f"path: {p}: formats other than glTF load through trimesh; pip install trimesh (or pomkit[reference])") from None
         tm = trimesh.load(p, force="mesh", process=False)
         return Mesh.from_trimesh(tm, tangents="mikktspace" if tangents is None else tangents)
     nodes = _nodes(p)
@@ -93,10 +94,10 @@ def load_objects(path: PathLike, material: Material) -> list[Object]:
     and the given `material`: positions, normals, uvs and tangents as the file stores them (see
     `load_mesh`). Give each object its own material with `dataclasses.replace`."""
     if not isinstance(material, Material):
-        raise TypeError(f"material: expected a pk.Material, got {type(material).__name__}")
+        raise ArgumentTypeError(f"material: expected a pk.Material, got {type(material).__name__}")
     p = _path(path)
     if not p.lower().endswith(GLTF):
-        raise ValueError(f"path: {p}: load_objects reads glTF 2.0 (.gltf, .glb); use load_mesh for other formats")
+        raise ArgumentError(f"path: {p}: load_objects reads glTF 2.0 (.gltf, .glb); use load_mesh for other formats")
     out = []
     for n in _nodes(p):
         m = np.asarray(n["transform"], np.float64).reshape(4, 4)
@@ -182,7 +183,7 @@ def check_asset(mesh: Mesh, height: Any = None) -> AssetReport:
     height: None, a height map (2-D array), or a `pk.Material` (its height, depth and tiling:
     the mismatch is then also given in world units)."""
     if not isinstance(mesh, Mesh):
-        raise TypeError(f"mesh: expected a pk.Mesh, got {type(mesh).__name__}")
+        raise ArgumentTypeError(f"mesh: expected a pk.Mesh, got {type(mesh).__name__}")
     depth, tiling, hd = None, 1.0, None
     if isinstance(height, Material):
         depth, tiling = height.depth, height.tiling

@@ -16,7 +16,7 @@ from typing import Callable
 
 import numpy as np
 
-#: the hash's format: 2 since hashes became the same on every machine (issue 31)
+#: the hash's format, part of every key: a new format leaves the old entries unread
 FORMAT = 2
 
 

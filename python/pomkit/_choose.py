@@ -15,6 +15,7 @@ machinery.
 
 from __future__ import annotations
 
+from ._errors import ArgumentError, ArgumentTypeError
 import json
 import math
 import time
@@ -24,7 +25,7 @@ from typing import Any, Callable, Iterable, Optional, Sequence
 
 import numpy as np
 
-from . import _files, _frame, _methods, _render, _scene
+from . import _files, _frame, _methods, _render, _scene, oracle
 
 __all__ = ["choose", "Choice", "FAMILIES", "report"]
 
@@ -40,11 +41,10 @@ class Family:
 
 FAMILIES: dict[str, Family] = {f.name: f for f in [
     Family("Parallax", lambda n: _methods.Parallax()),
-    Family("SteepParallax", lambda n: _methods.SteepParallax(steps=int(n or 16)), 2, 256),
-    Family("POM", lambda n: _methods.POM(min_steps=max(1, int(n or 32) // 4), max_steps=int(n or 32), shadows="none",
-                                   lod_threshold=1000.0), 2, 256),
-    Family("Relief", lambda n: _methods.Relief(linear_steps=int(n or 16)), 2, 256),
-    Family("ConeStep", lambda n: _methods.ConeStep(max_steps=int(n or 32), binary_steps=max(2, int(n or 32) // 4)), 2, 256),
+    Family("SteepParallax", lambda n: _methods.SteepParallax().with_steps(n or 16), 2, 256),
+    Family("POM", lambda n: _methods.POM(shadows="none", lod_threshold=1000.0).with_steps(n or 32), 2, 256),
+    Family("Relief", lambda n: _methods.Relief().with_steps(n or 16), 2, 256),
+    Family("ConeStep", lambda n: _methods.ConeStep().with_steps(n or 32), 2, 256),
     Family("Exact", lambda n: _methods.Exact()),
 ]}
 
@@ -113,12 +113,11 @@ def _refs(scene: _scene.Scene, want_flip: bool) -> tuple[_frame.Frame, _frame.Fr
     if key not in _REFS:
         if len(_REFS) > 64:
             _REFS.clear()
-        from . import reference
         cref = None
         if want_flip:
             # the noise-free colour reference, unshadowed as the settings measured are
-            cref = reference.render_exact(scene, spp=1, shadows=False)
-        _REFS[key] = (_render.exact_uv(scene), cref)
+            cref = oracle.image(scene, spp=1, shadows=False)
+        _REFS[key] = (oracle.hits(scene), cref)
     return _REFS[key]
 
 
@@ -150,16 +149,16 @@ def _cases(heights, scenes, angles, resolution) -> list[_scene.Scene]:
     if scenes is not None:
         out = list(scenes)
         if not out or not all(isinstance(s, _scene.Scene) for s in out):
-            raise TypeError("scenes: expected a non-empty list of pomkit.Scene")
+            raise ArgumentTypeError("scenes: expected a non-empty list of pomkit.Scene")
         return out
     if heights is None:
-        raise ValueError("heights or scenes: give the height maps (arrays or files) or the scenes to choose for")
+        raise ArgumentError("heights or scenes: give the height maps (arrays or files) or the scenes to choose for")
     hs = []
     for h in (heights if isinstance(heights, (list, tuple)) else [heights]):
         hs.append(_files.load_height(h) if isinstance(h, str) else np.asarray(h, np.float32))
     angles = list(angles)
     if not angles:
-        raise ValueError("angles: give at least one view angle in degrees, e.g. (30, 60, 80)")
+        raise ArgumentError("angles: give at least one view angle in degrees, e.g. (30, 60, 80)")
     return [plane_scene(h, float(a), int(resolution)) for h in hs for a in angles]
 
 
@@ -174,20 +173,20 @@ def choose(heights: Any = None, scenes: Optional[Sequence[_scene.Scene]] = None,
     heights: a height map (array or file path) or a list of them, seen on a plane at each of
     `angles` (degrees from the normal) at `resolution`²; or scenes: the scenes themselves.
     max_uv_error: the bound on each case's uv p95 (texels, against the float64 oracle);
-    max_flip: the bound on each case's FLIP (against `pk.reference.render_exact(scene, shadows=False)`, noise-free); at least one.
+    max_flip: the bound on each case's FLIP (against `pk.oracle.image(scene, shadows=False)`, noise-free); at least one.
     methods: family names from `FAMILIES` (default: all). cost: "gpu_ms" (this adapter) or
     "fetches" (texel fetches per pixel: a cost that carries over to a GPU).
     budget_s: stop searching after this many seconds (the answer is then the best found).
     executor: any concurrent.futures.Executor: each case of a setting is one task.
     """
     if max_uv_error is None and max_flip is None:
-        raise ValueError("max_uv_error or max_flip: give at least one bound, e.g. max_uv_error=0.5 (texels)")
+        raise ArgumentError("max_uv_error or max_flip: give at least one bound, e.g. max_uv_error=0.5 (texels)")
     if cost not in ("gpu_ms", "fetches"):
-        raise ValueError(f"cost: 'gpu_ms' or 'fetches', got {cost!r}")
+        raise ArgumentError(f"cost: 'gpu_ms' or 'fetches', got {cost!r}")
     names = list(methods) if methods is not None else list(FAMILIES)
     for n in names:
         if n not in FAMILIES:
-            raise ValueError(f"methods: unknown family {n!r}; one of {', '.join(FAMILIES)}")
+            raise ArgumentError(f"methods: unknown family {n!r}; one of {', '.join(FAMILIES)}")
     cases = _cases(heights, scenes, angles, resolution)
     want_flip = max_flip is not None
     t0 = time.perf_counter()
@@ -259,7 +258,7 @@ def parse_angles(text: str) -> list[float]:
             return [float(x) for x in np.linspace(parts[0], parts[1], n)]
         return [float(x) for x in text.split(",")]
     except (ValueError, IndexError):
-        raise ValueError(f"angles: 'a:b', 'a:b:n' or 'a,b,c' in degrees, got {text!r}") from None
+        raise ArgumentError(f"angles: 'a:b', 'a:b:n' or 'a,b,c' in degrees, got {text!r}") from None
 
 
 def report(choice: Choice, out) -> None:

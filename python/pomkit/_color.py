@@ -2,7 +2,7 @@
 
 numpy dispatches `power` by CPU: with AVX-512 it runs SVML's vectorised pow, without it another
 kernel, and the two differ in the last bits. An albedo decoded with `x ** 2.4` therefore had other
-float32 bytes, and its scene another hash, on a CPU without AVX-512 (issue 31). Here only exactly
+float32 bytes, and its scene another hash, on a CPU without AVX-512. Here only exactly
 rounded IEEE operations are used (+, -, *, /, sqrt, frexp/ldexp): the powers are Newton
 iterations for a root, with a fixed count, from a start made exactly by frexp, in float64, then
 rounded once to float32. 8- and 16-bit inputs go through a table made the same way.

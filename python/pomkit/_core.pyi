@@ -8,8 +8,8 @@ import numpy as np
 
 from ._methods import Method
 
-__all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "COST_AOV_NAMES", "CONE_KINDS", "DeviceLostError", "FILTERING_KINDS", "GpuError", "HeightData", "MAX_LIGHTS",
-           "MAX_STEPS_LIMIT", "MeshData", "NoAdapterError", "PATTERN_KINDS", "PRISM_BYTES", "PRISM_VERTEX_BYTES", "REFINE_KINDS", "Renderer", "SHADOW_KINDS", "WALK_BYTES_PER_TRIANGLE",
+__all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "COST_AOV_NAMES", "CONE_KINDS", "FILTERING_KINDS", "HeightData", "MAX_LIGHTS",
+           "MAX_STEPS_LIMIT", "MeshData", "PATTERN_KINDS", "PRISM_BYTES", "PRISM_VERTEX_BYTES", "REFINE_KINDS", "Renderer", "SHADOW_KINDS", "WALK_BYTES_PER_TRIANGLE",
            "__version__", "adapters", "bounding_sphere", "check_asset", "exact_uv", "load_gltf", "load_image", "mesh_from_arrays", "mesh_generate", "oracle_refusal", "reference_directions", "reference_normals", "render_exact", "set_cache_dir", "set_progress_hook", "tessellate"]
 __version__: str
 #: GPU bytes of one triangle's walk data (NCS and curved relief)
@@ -28,9 +28,6 @@ PATTERN_KINDS: list[str]
 MAX_STEPS_LIMIT: int
 AOV_DOCS: dict[str, str]
 
-class GpuError(RuntimeError): ...
-class DeviceLostError(GpuError): ...
-class NoAdapterError(RuntimeError): ...
 
 @final
 class MeshData:

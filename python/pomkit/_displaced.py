@@ -3,6 +3,7 @@ the references that render it as a mesh (Mitsuba, pyrender, trimesh)."""
 
 from __future__ import annotations
 
+from ._errors import ArgumentTypeError, MissingExtraError
 from typing import Final
 
 import numpy as np
@@ -23,7 +24,7 @@ def require(module: str):
     try:
         return __import__(module)
     except ImportError as e:
-        raise ImportError(f"{module} is needed for references: {_EXTRA} ({e})") from None
+        raise MissingExtraError(f"{module} is needed for references: {_EXTRA} ({e})") from None
 
 
 def displaced_arrays(scene: Scene, resolution: float = 2.0, object: int = 0) -> dict:
@@ -32,7 +33,7 @@ def displaced_arrays(scene: Scene, resolution: float = 2.0, object: int = 0) -> 
     the base frame each vertex was displaced from, in object space (base_normals, tangents,
     uv_scale: what `_core.reference_normals` takes)."""
     if not isinstance(scene, Scene):
-        raise TypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
+        raise ArgumentTypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
     resolution = _v.number("resolution", resolution, 1 / 1024, 64)  # vertices per texel
     object = _v.integer("object", object, 0, len(scene.objects) - 1, strict=True)
     t = _core.tessellate(scene._describe(), 1.0 / float(resolution), int(object), MESH)

@@ -10,24 +10,24 @@ skip the reference; references are cached per pose. Traits: `method` (a name), `
 (the PNG shown) and `stats` (a dict). Works wherever anywidget does (JupyterLab, Notebook 7,
 VS Code, Colab); the `notebooks` extra installs it.
 
-The reference: "exact" is `pk.reference.render_exact` (noise-free, any mesh) with the float64
+The reference: "oracle" is `pk.oracle.image` (noise-free, any mesh) with the float64
 oracle for uv and shadows; with reference="tessellated", the mesh itself (`Tessellated(1.0)`, the default fan: as close to the field as the two-triangle grid at
 0.5 texels per vertex, at a third of its time on a cobbled torus at 256²).
 """
 
 from __future__ import annotations
 
-import dataclasses
+from ._errors import ArgumentError, ArgumentTypeError
 
 import io
 import math
 import time
 from collections import OrderedDict
-from typing import Any, Optional, Sequence, cast
+from typing import Any, Optional, Sequence
 
 import numpy as np
 
-from . import _methods, metrics
+from . import _methods, metrics, oracle
 from ._heatmap import heat
 from ._frame import Frame
 from ._render import Renderer
@@ -37,12 +37,8 @@ __all__ = ["explore", "VIEWS", "METHOD_STEPS"]
 
 #: what the frame shows
 VIEWS: tuple[str, ...] = ("color", "reference", "uv_error", "flip", "steps", "fetches", "lod", "shadow_error")
-#: each method's main parameter: the field the `steps` trait sets
-METHOD_STEPS: dict[str, Optional[str]] = {
-    "Flat": None, "Bump": None, "Parallax": None, "SteepParallax": "steps", "POM": "max_steps",
-    "Relief": "linear_steps", "Exact": None, "ConeStep": "max_steps", "NCS": "max_steps", "Prism": None,
-    "CurvedRelief": "max_steps", "DistanceMapping": "max_steps", "Tessellated": None,
-}
+#: each method's main parameter, the field the `steps` trait sets: the method's own `steps_knob`
+METHOD_STEPS: dict[str, Optional[str]] = {c.__name__: c.steps_knob for c in _methods.ALL_METHODS}
 
 _ESM = r"""
 function render({ model, el }) {
@@ -132,31 +128,36 @@ def _configured(methods: Optional[Sequence[Any]]) -> dict[str, _methods.Method]:
     for m in items:
         if isinstance(m, str):
             if m not in METHOD_STEPS:
-                raise ValueError(f"methods: {m!r} is not a pomkit method; one of {', '.join(METHOD_STEPS)}, or a configured method such as pk.POM(min_steps=12)")
+                raise ArgumentError(f"methods: {m!r} is not a pomkit method; one of {', '.join(METHOD_STEPS)}, or a configured method such as pk.POM(min_steps=12)")
             out[m] = getattr(_methods, m)()
         elif isinstance(m, _methods.Method):
             out[repr(m)] = m
         else:
-            raise TypeError(f"methods: expected method names or pomkit methods, got {type(m).__name__}")
+            raise ArgumentTypeError(f"methods: expected method names or pomkit methods, got {type(m).__name__}")
     if not out:
-        raise ValueError("methods: give at least one method")
+        raise ArgumentError("methods: give at least one method")
     return out
 
 
-def explore(scene: Scene, methods: Optional[Sequence[Any]] = None, reference: str = "exact", size: int = 256) -> Any:
+def explore(scene: Scene, methods: Optional[Sequence[Any]] = None, reference: str = "oracle", size: int = 256) -> Any:
     """A widget that orbits `scene` live with any of `methods` (names of pomkit methods, or
     configured methods such as `pk.POM(min_steps=12)`, listed by their repr; default: every method
-    by name) against `reference` ("exact" or "tessellated"). The steps slider, when set, replaces
+    by name) against `reference` ("oracle" or "tessellated"; "exact" is the old name of "oracle"). The steps slider, when set, replaces
     the method's main step count (METHOD_STEPS). See the module's doc."""
     import anywidget
     import traitlets as t
 
     configured = _configured(methods)
     names = list(configured)
-    if reference not in ("exact", "tessellated"):
-        raise ValueError(f"reference: 'exact' or 'tessellated', got {reference!r}")
+    if reference == "exact":
+        import warnings
+        warnings.warn("explore(reference='exact') is now reference='oracle'; the old name goes in the next release",
+                      DeprecationWarning, stacklevel=2)
+        reference = "oracle"
+    if reference not in ("oracle", "tessellated"):
+        raise ArgumentError(f"reference: 'oracle' or 'tessellated', got {reference!r}")
     if not isinstance(scene, Scene):
-        raise TypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
+        raise ArgumentTypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
 
     class Explorer(anywidget.AnyWidget):
         _esm = _ESM
@@ -179,7 +180,7 @@ def explore(scene: Scene, methods: Optional[Sequence[Any]] = None, reference: st
             self._scene = scene
             self._renderer = Renderer()
             self._refs: OrderedDict = OrderedDict()
-            self._exact = reference == "exact"
+            self._exact = reference == "oracle"
             self.observe(self._changed, names=["method", "view", "compare", "steps", "azimuth", "elevation",
                                                "distance", "size", "dragging"])
             self._update()
@@ -196,23 +197,17 @@ def explore(scene: Scene, methods: Optional[Sequence[Any]] = None, reference: st
 
         def _method(self) -> _methods.Method:
             if self.method not in names:
-                raise ValueError(f"method: one of {', '.join(names)}, got {self.method!r}")
+                raise ArgumentError(f"method: one of {', '.join(names)}, got {self.method!r}")
             base = configured[self.method]
-            kind = type(base).__name__
-            field = METHOD_STEPS.get(kind)
-            kw: dict[str, Any] = {field: int(self.steps)} if (field and self.steps > 0) else {}
-            if kind == "POM" and kw:
-                kw["min_steps"] = min(getattr(base, "min_steps"), kw["max_steps"])
-            return dataclasses.replace(cast(Any, base), **kw) if kw else base
+            return base.with_steps(int(self.steps)) if self.steps > 0 else base
 
         def _reference(self, sc: Scene) -> tuple[Frame, Optional[Frame]]:
             """(colour reference, geometric oracle or None), cached per pose."""
             key = (round(self.azimuth, 3), round(self.elevation, 3), round(self.distance, 5), sc.camera.width)
             if key not in self._refs:
                 if self._exact:
-                    from . import reference as R
-                    ex = R.render_exact(sc, spp=1, cache=False)
-                    # its uv, mask and visibility are the oracle's (pk.exact_uv)
+                    ex = oracle.image(sc, spp=1, cache=False)
+                    # its uv, mask and visibility are the oracle's (pk.oracle.hits)
                     self._refs[key] = (ex, ex)
                 else:
                     self._refs[key] = (self._renderer.render(sc, _methods.Tessellated(1.0)), None)
@@ -238,10 +233,10 @@ def explore(scene: Scene, methods: Optional[Sequence[Any]] = None, reference: st
                 e = metrics.uv_error(f, geo, sc)
                 stats["uv_p95"] = round(float(e["p95"]), 4)
                 try:
-                    fl, emap = metrics.flip(f, ref, image=True)
+                    fl, _ = metrics.flip(f, ref, image=True)
                     stats["flip"] = round(float(fl), 4)
                 except ImportError:
-                    fl, emap = float("nan"), None
+                    fl = float("nan")
             img = self._view(f, ref, oracle, sc, m)
             if self.compare != "off" and ref is not None:
                 r8 = ref.to_srgb8()
@@ -263,7 +258,7 @@ def explore(scene: Scene, methods: Optional[Sequence[Any]] = None, reference: st
         def _view(self, f: Frame, ref: Optional[Frame], oracle: Optional[Frame], sc: Scene, m) -> np.ndarray:
             v = self.view
             if v not in VIEWS:
-                raise ValueError(f"view: one of {', '.join(VIEWS)}, got {v!r}")
+                raise ArgumentError(f"view: one of {', '.join(VIEWS)}, got {v!r}")
             if v == "color" or ref is None and v in ("reference", "uv_error", "flip", "shadow_error"):
                 return f.to_srgb8()
             assert ref is not None or v in ("steps", "fetches", "lod")

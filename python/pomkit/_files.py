@@ -3,6 +3,7 @@ and TIFF at 8 or 16 bits, float TIFF, and OpenEXR."""
 
 from __future__ import annotations
 
+from ._errors import ArgumentTypeError
 import os
 from typing import Union
 
@@ -18,7 +19,7 @@ PathLike = Union[str, "os.PathLike[str]"]
 
 def _path(path: PathLike) -> str:
     if not isinstance(path, (str, os.PathLike)):
-        raise TypeError(f"path: expected a file path, got {type(path).__name__}")
+        raise ArgumentTypeError(f"path: expected a file path, got {type(path).__name__}")
     return os.fspath(path)
 
 

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from ._errors import ArgumentTypeError
 from pathlib import Path
-from typing import Literal, Optional, get_args
+from typing import TYPE_CHECKING, Literal, Optional
 
 import numpy as np
 
@@ -19,7 +20,7 @@ AOV_NAMES: tuple[str, ...] = tuple(_core.AOV_NAMES)
 #: the cost counters: counted only when named in `aovs=` (not in "all")
 COST_AOVS: tuple[str, ...] = tuple(_core.COST_AOV_NAMES)
 #: arrays a Frame may also hold that no render target writes: `visibility` comes from the CPU
-#: oracle (`exact_uv`) or from `Renderer.render_visibility` (a shadowed and an unshadowed render)
+#: oracle (`pk.oracle.hits`) or from `Renderer.render_visibility` (a shadowed and an unshadowed render)
 DERIVED_NAMES: tuple[str, ...] = ("visibility",)
 
 
@@ -30,14 +31,14 @@ class Frame:
     {aov_docs}
     visibility: (H, W) float32, the first directional light's visibility at the hit (1 lit,
            0 shadowed, between in a penumbra), NaN where there is no hit or the light is behind
-           the shading normal. Not a render target: `pk.exact_uv` (the exact oracle) and
+           the shading normal. Not a render target: `pk.oracle.hits` (the exact oracle) and
            `Renderer.render_visibility` fill it.
     gpu_ms: GPU time of the render pass from timestamp queries, None where the adapter has none
     wall_ms: wall time of submit-and-wait (always measured)
     timing: "gpu" when gpu_ms holds a timestamp measurement, "wall" when only wall_ms exists;
             `time_ms` gives whichever is there.
     noise_floor: a reference's own FLIP noise, the floor under any score against it: 0.0 for
-            `pk.reference.render_exact` and the matched `render_mitsuba()` (deterministic),
+            `pk.oracle.image` and the matched `render_mitsuba()` (deterministic),
             None where it is unknown (a rendered frame, Mitsuba's Monte Carlo
             `integrator="direct"`: measure its seed against seed).
 
@@ -45,11 +46,27 @@ class Frame:
     AttributeError that names the `aovs=` argument of `Renderer.render`.
     """
 
+    # the AOVs, typed for mypy (a misspelt one fails type checking); at run time __getattr__
+    # reads them from the arrays the frame holds (tests/test_contracts.py holds these names equal
+    # to AOV_NAMES)
+    color: np.ndarray
+    uv: np.ndarray
+    depth: np.ndarray
+    mask: np.ndarray
+    coverage: np.ndarray
+    steps: np.ndarray
+    lod: np.ndarray
+    flags: np.ndarray
+    object: np.ndarray
+    fetches: np.ndarray
+    bytes: np.ndarray
+    fragments: np.ndarray
+
     def __init__(self, *, method: str = "", gpu_ms: Optional[float] = None, wall_ms: Optional[float] = None,
                  timing: Optional[str] = None, noise_floor: Optional[float] = None, **arrays: Optional[np.ndarray]):
         unknown = set(arrays) - set(AOV_NAMES) - set(DERIVED_NAMES)
         if unknown:
-            raise TypeError(f"Frame: unknown AOVs {sorted(unknown)}; known: {AOV_NAMES + DERIVED_NAMES}")
+            raise ArgumentTypeError(f"Frame: unknown AOVs {sorted(unknown)}; known: {AOV_NAMES + DERIVED_NAMES}")
         self._arrays: dict[str, np.ndarray] = {k: v for k, v in arrays.items() if v is not None}
         self.method = method
         self.gpu_ms = gpu_ms
@@ -64,7 +81,7 @@ class Frame:
         f = cls(method=method, gpu_ms=gpu_ms, wall_ms=wall_ms)
         unknown = set(arrays) - set(AOV_NAMES)
         if unknown:
-            raise TypeError(f"Frame: unknown AOVs {sorted(unknown)}; known: {AOV_NAMES}")
+            raise ArgumentTypeError(f"Frame: unknown AOVs {sorted(unknown)}; known: {AOV_NAMES}")
         f._arrays = {k: v for k, v in arrays.items() if v is not None}
         return f
 
@@ -84,11 +101,12 @@ class Frame:
                 f"{name}: this frame holds only {', '.join(self.aovs) or 'no AOVs'}; "
                 f"render with aovs=(..., {name!r}) (or aovs='all') to get it") from None
 
-    def __getattr__(self, name: str) -> np.ndarray:
-        # the AOVs, by the core's table (attributes set in __init__ are found before this)
-        if name in AOV_NAMES:
-            return self._get(name)
-        raise AttributeError(f"'Frame' object has no attribute {name!r}")
+    if not TYPE_CHECKING:
+        def __getattr__(self, name: str) -> np.ndarray:
+            # the AOVs, by the core's table (attributes set in __init__ are found before this)
+            if name in AOV_NAMES:
+                return self._get(name)
+            raise AttributeError(f"'Frame' object has no attribute {name!r}")
 
     @property
     def visibility(self) -> np.ndarray:
@@ -96,7 +114,7 @@ class Frame:
         try:
             return self._arrays["visibility"]
         except KeyError:
-            raise AttributeError("visibility: this frame has none; take it from pk.exact_uv(scene) (the exact "
+            raise AttributeError("visibility: this frame has none; take it from pk.oracle.hits(scene) (the exact "
                                  "oracle) or renderer.render_visibility(scene, method)") from None
 
     @property

@@ -23,8 +23,10 @@ DistanceMapping, Custom) also takes, by keyword:
 
 from __future__ import annotations
 
+from ._errors import ArgumentError, ArgumentTypeError
+import dataclasses
 from dataclasses import dataclass, field
-from typing import Any, ClassVar, Literal, get_args
+from typing import Any, ClassVar, Literal
 
 from . import _core
 from . import _validate as _v
@@ -75,6 +77,19 @@ class Method:
     """Base of all methods. `_kind` names the core implementation."""
 
     _kind = ""
+    #: the field of the method's main quality knob, its step count (None: it has none). The one
+    #: place `pk.choose`, the bench and the explorer read it from, through `with_steps`.
+    steps_knob: ClassVar[str | None] = None
+
+    def with_steps(self, n: int) -> "Method":
+        """This method at `n` steps on its main knob (`steps_knob`), the fields that follow it
+        set by the method's one rule; the method itself where it has no knob."""
+        if self.steps_knob is None:
+            return self
+        return dataclasses.replace(self, **self._knob(max(1, int(n))))  # type: ignore[type-var]
+
+    def _knob(self, n: int) -> dict[str, int]:
+        return {str(self.steps_knob): n}
 
     @property
     def name(self) -> str:
@@ -156,12 +171,17 @@ class POM(_PerPixel):
     lod_threshold: float = 4.0
     adaptive: bool = True
     _kind = "POM"
+    steps_knob = "max_steps"
+
+    def _knob(self, n: int) -> dict[str, int]:
+        # head-on a quarter of the grazing count
+        return {"max_steps": n, "min_steps": max(1, n // 4)}
 
     def _validate(self):
         _int_field(self, "min_steps")
         _int_field(self, "max_steps")
         if self.min_steps > self.max_steps:
-            raise ValueError(f"min_steps: must not exceed max_steps ({self.min_steps} > {self.max_steps})")
+            raise ArgumentError(f"min_steps: must not exceed max_steps ({self.min_steps} > {self.max_steps})")
         _real_field(self, "lod_threshold")
         _bool_field(self, "adaptive")
 
@@ -192,6 +212,7 @@ class SteepParallax(_PerPixel):
     steps: int = 32
     mip_filtering: bool = _level0()
     _kind = "SteepParallax"
+    steps_knob = "steps"
 
     def _validate(self):
         _int_field(self, "steps")
@@ -208,6 +229,7 @@ class Relief(_PerPixel):
     depth_bias: bool = False
     mip_filtering: bool = _level0()
     _kind = "Relief"
+    steps_knob = "linear_steps"
 
     def _validate(self):
         _int_field(self, "linear_steps")
@@ -262,6 +284,11 @@ class ConeStep(_PerPixel):
     binary_steps: int = 8
     max_iterations: int = 4096
     _kind = "ConeStep"
+    steps_knob = "max_steps"
+
+    def _knob(self, n: int) -> dict[str, int]:
+        # a bisection step for every four cone steps
+        return {"max_steps": n, "binary_steps": max(2, n // 4)}
 
     def _validate(self):
         _choice(self, "cones", tuple(_core.CONE_KINDS))
@@ -296,6 +323,7 @@ class NCS(_PerPixel):
     # level 0, as POM and Prism
     mip_filtering: bool = _level0()
     _kind = "NCS"
+    steps_knob = "max_steps"
 
     def _validate(self):
         _real_field(self, "step_scale", 1e-6, 1000)
@@ -319,7 +347,7 @@ class Prism(_PerPixel):
     height of the field under the prisms beside it (never below 1/256 of the depth), so that a
     ray crosses no empty shell above the field: neighbours share the edge, so the shell stays
     closed, and every prism's top stays above its field. Thinner prisms also bend the march's
-    straight segments less (docs/cost.md, "The tight shell"). `tight=False` is the paper's
+    straight segments less (docs/cost_journal_2026.md, "The tight shell"). `tight=False` is the paper's
     shell, every top at the full depth. `exact=True` marches each segment with the max-mip
     traversal (exact patch intersection) instead of POM's search. Level 0 by default (`mip_filtering=False`, as POM).
     Shadows: "hard", "soft" (default) or "horizon", and `ao_directions`."""
@@ -346,7 +374,7 @@ class Prism(_PerPixel):
         _int_field(self, "min_steps")
         _int_field(self, "max_steps")
         if self.min_steps > self.max_steps:
-            raise ValueError(f"min_steps: must not exceed max_steps ({self.min_steps} > {self.max_steps})")
+            raise ArgumentError(f"min_steps: must not exceed max_steps ({self.min_steps} > {self.max_steps})")
         _bool_field(self, "outward")
         _bool_field(self, "tight")
 
@@ -367,6 +395,7 @@ class CurvedRelief(_PerPixel):
     binary_steps: int = 6
     mip_filtering: bool = _level0()
     _kind = "CurvedRelief"
+    steps_knob = "linear_steps"
 
     def _validate(self):
         _int_field(self, "linear_steps")
@@ -392,6 +421,7 @@ class DistanceMapping(_PerPixel):
     slices: int = 16
     mip_filtering: bool = _level0()
     _kind = "DistanceMapping"
+    steps_knob = "max_steps"
 
     def _validate(self):
         _int_field(self, "max_steps")
@@ -421,7 +451,7 @@ class Tessellated(Method):
     penumbra; other lights unshadowed; no ambient occlusion); "exact" gives the mesh the
     reference's exact self-shadows and AO (docs/conventions.md, "The reference shading": every
     light's disk and the ambient by exact max-mip walks from each fragment's point of the field),
-    so that against `pk.reference.render_exact` a shadow difference is the method's, not the
+    so that against `pk.oracle.image` a shadow difference is the method's, not the
     shadow map's; "none" turns shadows off."""
 
     texels_per_vertex: float = 1.0
@@ -454,14 +484,14 @@ class Custom(_PerPixel):
 
     def _validate(self):
         if not isinstance(self.wgsl, str) or "fn march" not in self.wgsl:
-            raise ValueError("wgsl: must be WGSL source defining `fn march(r: Ray) -> Hit` (see docs/custom_methods.md)")
+            raise ArgumentError("wgsl: must be WGSL source defining `fn march(r: Ray) -> Hit` (see docs/custom_methods.md)")
         if not isinstance(self.name, str) or not self.name.isidentifier() or self.name.startswith("__") or not self.name.isascii():
-            raise ValueError(f"name: must be an identifier (letters, digits, _), got {self.name!r}")
+            raise ArgumentError(f"name: must be an identifier (letters, digits, _), got {self.name!r}")
         if not isinstance(self.params, dict):
-            raise TypeError(f"params: expected a dict of name -> number, got {type(self.params).__name__}")
+            raise ArgumentTypeError(f"params: expected a dict of name -> number, got {type(self.params).__name__}")
         for k, v in self.params.items():
             if not isinstance(k, str) or not k.isidentifier() or not k.isascii() or k[-1].isdigit() or k.startswith("_"):
-                raise ValueError(f"params: names must be identifiers that neither start with _ nor end in a digit (WGSL naming rules of the composer), got {k!r}")
+                raise ArgumentError(f"params: names must be identifiers that neither start with _ nor end in a digit (WGSL naming rules of the composer), got {k!r}")
             _v.number(f"params[{k!r}]", v)
         _set(self, "params", {k: float(v) for k, v in self.params.items()})
 

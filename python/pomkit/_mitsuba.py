@@ -1,4 +1,4 @@
-"""Mitsuba 3 for the references (`pk.reference.render_mitsuba`, and `render_exact` on curved or
+"""Mitsuba 3 for the references (`pk.reference.render_mitsuba`, and `pk.oracle.image` on curved or
 several-object scenes): its variant, the displaced meshes as Mitsuba shapes, and two renders.
 
 - `cast_render`: Mitsuba as the ray caster. Every sample's hit is Mitsuba's intersection with the
@@ -13,6 +13,7 @@ several-object scenes): its variant, the displaced meshes as Mitsuba shapes, and
 
 from __future__ import annotations
 
+from ._errors import ReferenceRendererError
 from typing import Any
 
 import glob
@@ -60,7 +61,7 @@ def mitsuba_variant(variant: str | None = None) -> str:
             return v
         except Exception as e:  # pragma: no cover - depends on the machine
             errors.append(f"{v}: {e}")
-    raise RuntimeError("no usable Mitsuba variant: " + "; ".join(errors))
+    raise ReferenceRendererError("no usable Mitsuba variant: " + "; ".join(errors))
 
 
 def _mi_mesh(mi, arrays: dict, bsdf, name: str = "displaced", object: int | None = None):
@@ -377,7 +378,7 @@ def cast_render(scene: Scene, spp: int, variant: str | None, resolution: float |
     visibility. See the module's doc."""
     v = mitsuba_variant(variant)
     if not v.startswith(("llvm", "cuda")):
-        raise RuntimeError(f"the matched render casts rays in batches, which needs a JIT variant of Mitsuba (llvm_ad_rgb: "
+        raise ReferenceRendererError(f"the matched render casts rays in batches, which needs a JIT variant of Mitsuba (llvm_ad_rgb: "
                            f"Debian's libllvm19), not {v}; or use integrator='direct'")
     mi = require("mitsuba")
     resolution = auto_resolution(scene, resolution)

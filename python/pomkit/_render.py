@@ -3,8 +3,7 @@ GPU works."""
 
 from __future__ import annotations
 
-import os
-import threading
+from ._errors import ArgumentError, ArgumentTypeError
 from typing import Any, Iterable, Literal, Optional, Sequence, Union
 
 import numpy as np
@@ -34,7 +33,7 @@ class Renderer:
 
     def __init__(self, adapter: Optional[str | int] = None):
         if adapter is not None and not isinstance(adapter, (str, int)):
-            raise TypeError(f"adapter: expected a name or an index, got {type(adapter).__name__}")
+            raise ArgumentTypeError(f"adapter: expected a name or an index, got {type(adapter).__name__}")
         self._r = _core.Renderer(None if adapter is None else str(adapter))
         self.info: _core.RendererInfo = self._r.info()
         _progress.install()
@@ -105,7 +104,7 @@ class Renderer:
         uploads on the next render. Normals need no update: they are computed per pixel from the
         height field."""
         if not isinstance(material, Material):
-            raise TypeError(f"material: expected a pomkit.Material, got {type(material).__name__}")
+            raise ArgumentTypeError(f"material: expected a pomkit.Material, got {type(material).__name__}")
         new = Material(height, depth=material.depth, albedo=material.albedo, tiling=material.tiling)
         if new.height.shape == material.height.shape:
             self._r.update_height(material._height_data(), new._height_data())
@@ -119,16 +118,16 @@ def _aovs(aovs: Aovs) -> Optional[Any]:
     if isinstance(aovs, str):
         if aovs == "all":
             return None
-        raise ValueError(f"aovs: expected 'all' or a sequence of AOV names such as ('color', 'uv'), got {aovs!r}")
+        raise ArgumentError(f"aovs: expected 'all' or a sequence of AOV names such as ('color', 'uv'), got {aovs!r}")
     try:
         names = tuple(aovs)
     except TypeError:
-        raise TypeError(f"aovs: expected 'all' or a sequence of AOV names such as ('color', 'uv'), got {aovs!r}") from None
+        raise ArgumentTypeError(f"aovs: expected 'all' or a sequence of AOV names such as ('color', 'uv'), got {aovs!r}") from None
     for n in names:
         if n not in AOV_NAMES:
-            raise ValueError(f"aovs: unknown AOV {n!r}; the AOVs are {', '.join(AOV_NAMES)}")
+            raise ArgumentError(f"aovs: unknown AOV {n!r}; the AOVs are {', '.join(AOV_NAMES)}")
     if not names:
-        raise ValueError("aovs: name at least one AOV, e.g. aovs=('color',)")
+        raise ArgumentError("aovs: name at least one AOV, e.g. aovs=('color',)")
     return names
 
 
@@ -143,7 +142,7 @@ def _first_directional(scene: Scene):
     for l in scene.lights:
         if isinstance(l, DirectionalLight):
             return l
-    raise ValueError("scene: visibility is that of the first directional light, and this scene has none; "
+    raise ArgumentError("scene: visibility is that of the first directional light, and this scene has none; "
                      "add a pk.DirectionalLight to scene.lights")
 
 
@@ -172,9 +171,9 @@ def _unshadowed(method: Method) -> Method:
 
 def _check(scene: Any, method: Any) -> None:
     if not isinstance(scene, Scene):
-        raise TypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
+        raise ArgumentTypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
     if not isinstance(method, Method):
-        raise TypeError(f"method: expected a pomkit method such as pomkit.POM(), got {type(method).__name__}")
+        raise ArgumentTypeError(f"method: expected a pomkit method such as pomkit.POM(), got {type(method).__name__}")
 
 
 def _frame(r: "_core._FrameTuple", method: Method) -> Frame:
@@ -183,26 +182,9 @@ def _frame(r: "_core._FrameTuple", method: Method) -> Frame:
 
 
 def exact_uv(scene: Scene, *, light_bias: float = 0.0) -> Frame:
-    """CPU float64 oracle: the exact first hit of each pixel's ray with the displaced surface
-    S = P + depth (h - 1) N, P and N interpolated over each base triangle (N normalised) as the
-    tessellator and the shaders define them, on any scene. One untransformed planar object (a
-    plane, a cube) takes the closed-form walk of each triangle's plane (extended under the hit,
-    as the per-pixel methods take it); any other scene (curved meshes, atlases, several objects,
-    transforms) the shell walk: the ray enters through the base mesh and walks prism to prism,
-    across seams, and out through open borders, exact to 1e-4 texel (docs/methods.md, "The
-    oracle on any mesh"). No mesh is built, so any map size works.
+    """Deprecated: `pk.oracle.hits(scene, light_bias=...)`, the same frame."""
+    import warnings
 
-    Returns a Frame with float64 uv and depth, the mask, `object` (the index hit, -1 none),
-    `steps` = cells visited, and `visibility`: the exact visibility of the first directional
-    light at the hit (the fraction of its disk, 64 directions when `angular_diameter` > 0, whose
-    ray leaves the shell without passing below the field; NaN without a directional light). On
-    a planar object, self-shadowing only; on the shell walk, every object occludes.
-    `light_bias` (in shell depths) raises the light rays so that a blocker must rise more than
-    it above the ray: 1e-4 is the GPU's `shadows="exact"`; where the two oracles differ a
-    blocker grazes the ray within that tolerance."""
-    if not isinstance(scene, Scene):
-        raise TypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
-    d = _core.exact_uv(scene._describe(), float(light_bias))
-    vis = d["visibility"].astype(np.float32)
-    return Frame(uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["cells"], visibility=vis, object=d["object"],
-                 method="exact_uv")
+    from . import oracle
+    warnings.warn("pk.exact_uv is now pk.oracle.hits; the old name goes in the next release", DeprecationWarning, stacklevel=2)
+    return oracle.hits(scene, light_bias=light_bias)

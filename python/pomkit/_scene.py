@@ -8,6 +8,7 @@ pixel centre; a directional light's `direction` is the way the light travels.
 
 from __future__ import annotations
 
+from ._errors import ArgumentError, ArgumentTypeError
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -17,7 +18,7 @@ import numpy as np
 
 from . import _core
 from . import _validate as _v
-from ._color import linear_to_srgb, srgb_to_linear
+from ._color import srgb_to_linear
 
 __all__ = ["Mesh", "Material", "Camera", "DirectionalLight", "SphereLight", "Object", "Scene"]
 
@@ -136,19 +137,19 @@ class Mesh:
         try:
             idx = np.asarray(indices)
         except Exception:
-            raise TypeError("indices: expected an integer array") from None
+            raise ArgumentTypeError("indices: expected an integer array") from None
         if idx.dtype.kind not in "iu":
-            raise TypeError(f"indices: expected an integer array, got dtype {idx.dtype}")
+            raise ArgumentTypeError(f"indices: expected an integer array, got dtype {idx.dtype}")
         idx = idx.reshape(-1)
         if idx.size and (idx.min() < 0):
-            raise ValueError(f"indices: index {int(idx.min())} is negative")
+            raise ArgumentError(f"indices: index {int(idx.min())} is negative")
         if idx.size and idx.max() >= len(p):
-            raise ValueError(f"indices: index {int(idx.max())} is out of range for {len(p)} vertices")
+            raise ArgumentError(f"indices: index {int(idx.max())} is out of range for {len(p)} vertices")
         idx = np.ascontiguousarray(idx, dtype=np.uint32)
         if tangents is None or isinstance(tangents, str):
             frames = "pomkit" if tangents is None else tangents
             if frames not in ("pomkit", "mikktspace"):
-                raise ValueError(f'tangents: expected "pomkit", "mikktspace" or an (n, 4) array, got {frames!r}')
+                raise ArgumentError(f'tangents: expected "pomkit", "mikktspace" or an (n, 4) array, got {frames!r}')
             out = _core.mesh_from_arrays(p, n, uv, idx, None, "mikktspace" if frames == "mikktspace" else "pomkit")
         else:
             out = _core.mesh_from_arrays(p, n, uv, idx, _float_array("tangents", tangents, 4))
@@ -173,7 +174,7 @@ class Mesh:
         tangents: as in `from_arrays`; MikkTSpace by default, as for a loaded asset."""
         uv = getattr(getattr(mesh, "visual", None), "uv", None)
         if uv is None:
-            raise ValueError("mesh: the trimesh has no uvs (mesh.visual.uv); give it a parameterisation")
+            raise ArgumentError("mesh: the trimesh has no uvs (mesh.visual.uv); give it a parameterisation")
         uv = np.asarray(uv, dtype=np.float64)
         uv = np.stack([uv[:, 0], 1.0 - uv[:, 1]], axis=1)
         return cls.from_arrays(mesh.vertices, mesh.vertex_normals, uv, mesh.faces, tangents=tangents)
@@ -207,7 +208,7 @@ def _normalize_height(h: Any) -> np.ndarray:
         try:
             arr = np.asarray(h)
         except Exception:
-            raise TypeError("height: expected a 2-D numpy array") from None
+            raise ArgumentTypeError("height: expected a 2-D numpy array") from None
     if arr.dtype == np.uint8:
         out = arr.astype(np.float32) / 255.0
     elif arr.dtype == np.uint16:
@@ -215,17 +216,17 @@ def _normalize_height(h: Any) -> np.ndarray:
     elif arr.dtype in (np.float32, np.float64, np.float16):
         out = arr.astype(np.float32)
     else:
-        raise TypeError(f"height: dtype {arr.dtype} is not supported; pass float32 in [0, 1], uint8 or uint16")
+        raise ArgumentTypeError(f"height: dtype {arr.dtype} is not supported; pass float32 in [0, 1], uint8 or uint16")
     if out.ndim != 2:
-        raise ValueError(f"height: expected a 2-D array (H, W), got shape {arr.shape}")
+        raise ArgumentError(f"height: expected a 2-D array (H, W), got shape {arr.shape}")
     if out.size == 0:
-        raise ValueError(f"height: the array is empty (shape {arr.shape})")
+        raise ArgumentError(f"height: the array is empty (shape {arr.shape})")
     if not np.all(np.isfinite(out)):
         bad = np.argwhere(~np.isfinite(out))[0]
-        raise ValueError(f"height: contains NaN or Inf (first at row {bad[0]}, column {bad[1]}); clean it, e.g. np.nan_to_num")
+        raise ArgumentError(f"height: contains NaN or Inf (first at row {bad[0]}, column {bad[1]}); clean it, e.g. np.nan_to_num")
     lo, hi = float(out.min()), float(out.max())
     if lo < 0.0 or hi > 1.0:
-        raise ValueError(f"height: float values must lie in [0, 1], found [{lo}, {hi}]; normalise the map")
+        raise ArgumentError(f"height: float values must lie in [0, 1], found [{lo}, {hi}]; normalise the map")
     return _readonly(np.ascontiguousarray(out))
 
 
@@ -234,20 +235,20 @@ def _normalize_albedo(a: Any) -> np.ndarray | None:
         return None
     arr = np.asarray(a)
     if arr.ndim != 3 or arr.shape[2] not in (3, 4):
-        raise ValueError(f"albedo: expected shape (H, W, 3), got {arr.shape}")
+        raise ArgumentError(f"albedo: expected shape (H, W, 3), got {arr.shape}")
     if arr.size == 0:
-        raise ValueError("albedo: the array is empty")
+        raise ArgumentError("albedo: the array is empty")
     arr = arr[..., :3]
     if arr.dtype == np.uint8:
         out = srgb_to_linear(arr)  # by table: the same bits on every CPU (_color.py)
     elif arr.dtype.kind == "f":
         out = arr.astype(np.float32)
         if not np.all(np.isfinite(out)):
-            raise ValueError("albedo: contains NaN or Inf")
+            raise ArgumentError("albedo: contains NaN or Inf")
         if out.min() < 0:
-            raise ValueError("albedo: linear values must be >= 0")
+            raise ArgumentError("albedo: linear values must be >= 0")
     else:
-        raise TypeError(f"albedo: dtype {arr.dtype} is not supported; pass sRGB uint8 or linear float32")
+        raise ArgumentTypeError(f"albedo: dtype {arr.dtype} is not supported; pass sRGB uint8 or linear float32")
     return _readonly(np.ascontiguousarray(out))
 
 
@@ -307,10 +308,10 @@ class Camera:
         fov = _v.number("fov_y", self.fov_y, 0.0, 179.999, lo_open=True)
         f = np.subtract(target, eye)
         if np.linalg.norm(f) < 1e-9:
-            raise ValueError("eye: eye and target coincide; move the eye away from the target")
+            raise ArgumentError("eye: eye and target coincide; move the eye away from the target")
         u = np.asarray(up)
         if np.linalg.norm(u) < 1e-12 or np.linalg.norm(np.cross(f / np.linalg.norm(f), u / np.linalg.norm(u))) < 1e-6:
-            raise ValueError("up: up is zero or parallel to the view direction; pass another up vector")
+            raise ArgumentError("up: up is zero or parallel to the view direction; pass another up vector")
         object.__setattr__(self, "eye", eye)
         object.__setattr__(self, "target", target)
         object.__setattr__(self, "up", up)
@@ -363,7 +364,7 @@ class DirectionalLight:
         object.__setattr__(self, "cast_shadows", _v.boolean("cast_shadows", self.cast_shadows))
         d = _vec3("direction", self.direction)
         if np.linalg.norm(d) < 1e-12:
-            raise ValueError("direction: must be a non-zero vector")
+            raise ArgumentError("direction: must be a non-zero vector")
         object.__setattr__(self, "direction", d)
         object.__setattr__(self, "irradiance", _rgb("irradiance", self.irradiance))
         object.__setattr__(self, "angular_diameter", _v.number("angular_diameter", self.angular_diameter, 0.0, 179.999))
@@ -404,17 +405,17 @@ def _transform(t: Any) -> Optional[np.ndarray]:
     try:
         m = np.array(t, dtype=np.float64)
     except (TypeError, ValueError):
-        raise TypeError(f"transform: expected a 4x4 numpy array, got {type(t).__name__}") from None
+        raise ArgumentTypeError(f"transform: expected a 4x4 numpy array, got {type(t).__name__}") from None
     if m.shape != (4, 4):
-        raise ValueError(f"transform: expected a 4x4 matrix, got shape {m.shape}")
+        raise ArgumentError(f"transform: expected a 4x4 matrix, got shape {m.shape}")
     if not np.all(np.isfinite(m)):
-        raise ValueError("transform: contains NaN or Inf; give a finite 4x4 matrix")
+        raise ArgumentError("transform: contains NaN or Inf; give a finite 4x4 matrix")
     if not np.array_equal(m[3], [0.0, 0.0, 0.0, 1.0]):
-        raise ValueError(f"transform: must be affine, with last row [0, 0, 0, 1]; got {m[3].tolist()}")
+        raise ArgumentError(f"transform: must be affine, with last row [0, 0, 0, 1]; got {m[3].tolist()}")
     lin = m[:3, :3]
     scale = float(np.abs(lin).max())
     if scale == 0.0 or abs(np.linalg.det(lin)) <= 1e-12 * scale ** 3:
-        raise ValueError("transform: the matrix is singular (it flattens the object); give an invertible one")
+        raise ArgumentError("transform: the matrix is singular (it flattens the object); give an invertible one")
     if np.array_equal(m, np.eye(4)):
         return None
     return _readonly(m)
@@ -438,9 +439,9 @@ class Object:
 
     def __post_init__(self):
         if not isinstance(self.mesh, Mesh):
-            raise TypeError(f"mesh: expected a pomkit.Mesh, got {type(self.mesh).__name__}")
+            raise ArgumentTypeError(f"mesh: expected a pomkit.Mesh, got {type(self.mesh).__name__}")
         if not isinstance(self.material, Material):
-            raise TypeError(f"material: expected a pomkit.Material, got {type(self.material).__name__}")
+            raise ArgumentTypeError(f"material: expected a pomkit.Material, got {type(self.material).__name__}")
         m = _transform(self.transform)
         object.__setattr__(self, "transform", _readonly(np.eye(4)) if m is None else m)
 
@@ -486,35 +487,35 @@ class Scene:
             if isinstance(objects, Object):
                 objects = (objects,)
             if not isinstance(objects, (list, tuple)):
-                raise TypeError(f"objects: expected a list of pomkit.Object, got {type(objects).__name__}")
+                raise ArgumentTypeError(f"objects: expected a list of pomkit.Object, got {type(objects).__name__}")
             objects = tuple(objects)
             if not objects:
-                raise ValueError("objects: the list is empty; give at least one pomkit.Object")
+                raise ArgumentError("objects: the list is empty; give at least one pomkit.Object")
             for o in objects:
                 if not isinstance(o, Object):
-                    raise TypeError(f"objects: expected pomkit.Object items, got {type(o).__name__}")
+                    raise ArgumentTypeError(f"objects: expected pomkit.Object items, got {type(o).__name__}")
             if given:
-                raise ValueError("objects: give either mesh= and material= (one object) or objects=, not both "
+                raise ArgumentError("objects: give either mesh= and material= (one object) or objects=, not both "
                                  "(to copy a scene with changes, use scene.replace(...))")
         else:
             if not isinstance(self.mesh, Mesh):
-                raise TypeError(f"mesh: expected a pomkit.Mesh, got {type(self.mesh).__name__}; "
+                raise ArgumentTypeError(f"mesh: expected a pomkit.Mesh, got {type(self.mesh).__name__}; "
                                 "or give objects=[pomkit.Object(mesh, material)]")
             if not isinstance(self.material, Material):
-                raise TypeError(f"material: expected a pomkit.Material, got {type(self.material).__name__}")
+                raise ArgumentTypeError(f"material: expected a pomkit.Material, got {type(self.material).__name__}")
             objects = (Object(self.mesh, self.material),)
         object.__setattr__(self, "objects", objects)
         single = objects[0] if len(objects) == 1 else None
         object.__setattr__(self, "mesh", single.mesh if single else None)
         object.__setattr__(self, "material", single.material if single else None)
         if not isinstance(self.camera, Camera):
-            raise TypeError(f"camera: expected a pomkit.Camera, got {type(self.camera).__name__}")
+            raise ArgumentTypeError(f"camera: expected a pomkit.Camera, got {type(self.camera).__name__}")
         lights = tuple(self.lights) if isinstance(self.lights, (list, tuple)) else (self.lights,)
         for l in lights:
             if not isinstance(l, (DirectionalLight, SphereLight)):
-                raise TypeError(f"lights: expected DirectionalLight or SphereLight, got {type(l).__name__}")
+                raise ArgumentTypeError(f"lights: expected DirectionalLight or SphereLight, got {type(l).__name__}")
         if len(lights) > MAX_LIGHTS:
-            raise ValueError(f"lights: at most {MAX_LIGHTS} lights are supported, got {len(lights)}")
+            raise ArgumentError(f"lights: at most {MAX_LIGHTS} lights are supported, got {len(lights)}")
         object.__setattr__(self, "lights", lights)
         object.__setattr__(self, "ambient", _rgb("ambient", self.ambient))
 
@@ -522,7 +523,7 @@ class Scene:
     def single(self) -> Object:
         """The scene's only object; a ValueError for scenes of several objects."""
         if len(self.objects) != 1:
-            raise ValueError(f"scene: this takes a scene of one object, got {len(self.objects)}")
+            raise ArgumentError(f"scene: this takes a scene of one object, got {len(self.objects)}")
         return self.objects[0]
 
     def replace(self, **changes) -> "Scene":

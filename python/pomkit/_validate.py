@@ -7,6 +7,7 @@ accepted wherever a Python number or bool is.
 
 from __future__ import annotations
 
+from ._errors import ArgumentError, ArgumentTypeError
 import math
 from typing import Any, Sequence
 
@@ -26,37 +27,37 @@ def is_number(v: Any) -> bool:
 def integer(name: str, v: Any, lo: int = 1, hi: int = _core.MAX_STEPS_LIMIT, *, strict: bool = False) -> int:
     """An integer in [lo, hi]. Integer-valued floats (``32.0``) are accepted, unless ``strict``."""
     if isinstance(v, (bool, np.bool_)) or not isinstance(v, _REALS) or (strict and not isinstance(v, _INTS)):
-        raise TypeError(f"{name}: expected an integer, got {v!r}" if strict else f"{name}: expected an integer, got {type(v).__name__}")
+        raise ArgumentTypeError(f"{name}: expected an integer, got {v!r}" if strict else f"{name}: expected an integer, got {type(v).__name__}")
     if not isinstance(v, _INTS):
         if not (math.isfinite(float(v)) and float(v).is_integer()):
-            raise TypeError(f"{name}: expected an integer, got {v!r}")
+            raise ArgumentTypeError(f"{name}: expected an integer, got {v!r}")
     i = int(v)
     if not lo <= i <= hi:
-        raise ValueError(f"{name}: must lie in [{lo}, {hi}], got {i}")
+        raise ArgumentError(f"{name}: must lie in [{lo}, {hi}], got {i}")
     return i
 
 
 def number(name: str, v: Any, lo: float = -math.inf, hi: float = math.inf, *, lo_open: bool = False) -> float:
     """A finite real number in [lo, hi] (or (lo, hi] with ``lo_open``)."""
     if not is_number(v):
-        raise TypeError(f"{name}: expected a number, got {type(v).__name__}")
+        raise ArgumentTypeError(f"{name}: expected a number, got {type(v).__name__}")
     x = float(v)
     low_ok = x > lo if lo_open else x >= lo
     if not (math.isfinite(x) and low_ok and x <= hi):
         interval = f"{'(' if lo_open else '['}{lo:g}, {hi:g}]"
-        raise ValueError(f"{name}: must be a finite number in {interval}, got {v!r}")
+        raise ArgumentError(f"{name}: must be a finite number in {interval}, got {v!r}")
     return x
 
 
 def boolean(name: str, v: Any) -> bool:
     if not isinstance(v, (bool, np.bool_)):
-        raise TypeError(f"{name}: expected a bool, got {type(v).__name__}")
+        raise ArgumentTypeError(f"{name}: expected a bool, got {type(v).__name__}")
     return bool(v)
 
 
 def choice(name: str, v: Any, options: Sequence[str]) -> str:
     if not isinstance(v, str) or v not in options:
-        raise ValueError(f"{name}: must be one of {', '.join(repr(o) for o in options)}, got {v!r}")
+        raise ArgumentError(f"{name}: must be one of {', '.join(repr(o) for o in options)}, got {v!r}")
     return v
 
 
@@ -65,11 +66,11 @@ def vec3(name: str, v: Any) -> tuple[float, float, float]:
     try:
         a = np.asarray(v, dtype=np.float64).reshape(-1)
     except (TypeError, ValueError):
-        raise TypeError(f"{name}: expected three numbers, got {v!r}") from None
+        raise ArgumentTypeError(f"{name}: expected three numbers, got {v!r}") from None
     if a.shape != (3,):
-        raise ValueError(f"{name}: expected three numbers, got {a.size}")
+        raise ArgumentError(f"{name}: expected three numbers, got {a.size}")
     if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name}: must be finite, got {tuple(a)}")
+        raise ArgumentError(f"{name}: must be finite, got {tuple(a)}")
     return (float(a[0]), float(a[1]), float(a[2]))
 
 
@@ -79,7 +80,7 @@ def rgb(name: str, v: Any) -> tuple[float, float, float]:
         v = (v, v, v)
     c = vec3(name, v)
     if min(c) < 0:
-        raise ValueError(f"{name}: must be >= 0, got {c}")
+        raise ArgumentError(f"{name}: must be >= 0, got {c}")
     return c
 
 
@@ -88,12 +89,12 @@ def float_array(name: str, a: Any, ncols: int, dtype: Any = np.float32) -> np.nd
     try:
         arr = np.asarray(a)
     except Exception:
-        raise TypeError(f"{name}: expected an array") from None
+        raise ArgumentTypeError(f"{name}: expected an array") from None
     if arr.dtype.kind not in "fiu":
-        raise TypeError(f"{name}: expected a numeric array, got dtype {arr.dtype}")
+        raise ArgumentTypeError(f"{name}: expected a numeric array, got dtype {arr.dtype}")
     if arr.ndim != 2 or arr.shape[1] != ncols:
-        raise ValueError(f"{name}: expected shape (n, {ncols}), got {arr.shape}")
+        raise ArgumentError(f"{name}: expected shape (n, {ncols}), got {arr.shape}")
     arr = np.ascontiguousarray(arr, dtype=dtype)
     if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name}: contains NaN or Inf")
+        raise ArgumentError(f"{name}: contains NaN or Inf")
     return arr

@@ -8,6 +8,7 @@ them, else wall time) and measures them against a reference; `python -m pomkit b
 
 from __future__ import annotations
 
+from ._errors import ArgumentError, ArgumentTypeError
 import csv
 import math
 import time
@@ -17,8 +18,9 @@ from typing import Iterable, Optional
 
 import numpy as np
 
-from . import _frame, _info, _methods, _render, _scene, textures
-from . import metrics
+from . import _frame, _methods, _render, _scene, textures
+from . import metrics, oracle
+from ._quads import GROUP, group_total, primitives, quad_count, quads, rasterised, triangle_counts  # noqa: F401 (pk.bench's API)
 
 __all__ = ["sweep", "variants", "plane_scene", "time_method", "time_methods", "swimming", "pareto_front", "label",
            "method_name", "write_csv", "TIMING_COLUMNS"]
@@ -26,15 +28,10 @@ __all__ = ["sweep", "variants", "plane_scene", "time_method", "time_methods", "s
 
 def plane_scene(height, theta_deg: float, size: int, depth: float = 0.08, tiling: float = 1.0,
                 lights=None) -> _scene.Scene:
-    """A size-2 plane seen at `theta_deg` from its normal from 1.6 units away (the bench scene)."""
-    t = np.radians(theta_deg)
-    return _scene.Scene(
-        mesh=_scene.Mesh.plane(2.0),
-        material=_scene.Material(height, depth=depth, tiling=tiling),
-        camera=_scene.Camera.look_at(eye=(0.0, 1.6 * np.cos(t), 1.6 * np.sin(t)), target=(0, 0, 0), up=(0, 0, -1),
-                                 fov_y=40.0, width=size, height=size),
-        lights=[_scene.DirectionalLight((-0.4, -1.0, -0.3), 3.0, 2.0)] if lights is None else lights,
-    )
+    """The bench scene: `pk.scenes.tilted_plane` with a 2° light from the side by default."""
+    from .scenes import tilted_plane
+    return tilted_plane(height, theta_deg, size, depth=depth, tiling=tiling,
+                        lights=[_scene.DirectionalLight((-0.4, -1.0, -0.3), 3.0, 2.0)] if lights is None else lights)
 
 
 def _stats(xs: list[float]) -> dict:
@@ -60,7 +57,7 @@ def time_methods(r: _render.Renderer, scene: _scene.Scene, methods: list, aovs: 
     ms = list(methods) + ([_methods.Flat()] if baseline else [])
     per = list(method_aovs) if method_aovs is not None else [aovs] * len(methods)
     if len(per) != len(methods):
-        raise ValueError("method_aovs: one entry per method")
+        raise ArgumentError("method_aovs: one entry per method")
     per += [aovs] * (len(ms) - len(per))
     for m, a in zip(ms, per):
         r.render(scene, m, aovs=a)
@@ -151,14 +148,14 @@ def _sweep_scene(job: tuple) -> list[dict]:
     flip = cfg["flip"]
     fspp = cfg["frame_spp"]
     floor: dict = {}
-    if reference == "exact":
-        ref = _render.exact_uv(scene)
+    if reference == "oracle":
+        ref = oracle.hits(scene)
         cref = None
         if flip:
             # the noise-free colour reference at the frames' spp (its floor is 0: a score is the
             # method's error), shadowed for the methods that cast shadows, else not
             from . import reference as R
-            crefs = {sh: R.render_exact(scene, spp=fspp, shadows=sh) for sh in (False, True)}
+            crefs = {sh: oracle.image(scene, spp=fspp, shadows=sh) for sh in (False, True)}
             cref = crefs[False]
             floor = dict(flip_floor=0.0)
     elif reference == "tessellated":
@@ -187,7 +184,7 @@ def _sweep_scene(job: tuple) -> list[dict]:
         fl = fl_in = fl_sil = float("nan")
         if flip and cref is not None:
             try:
-                cr = crefs[getattr(m, "shadows", "none") != "none"] if reference == "exact" else cref
+                cr = crefs[getattr(m, "shadows", "none") != "none"] if reference == "oracle" else cref
                 c = metrics.compare(f, cr, scene)
                 fl, fl_in, fl_sil = c["flip"], c["flip_interior"], c["flip_silhouette"]
             except ImportError:
@@ -195,7 +192,7 @@ def _sweep_scene(job: tuple) -> list[dict]:
         steps = float(f.steps[f.mask].mean()) if f.mask.any() else 0.0
         fetches = f.fetches[f.mask] if f.mask.any() else np.zeros(1)
         nbytes = f.bytes[f.mask] if f.mask.any() else np.zeros(1)
-        shadow = _shadow_columns(r, scene, m, ref if reference == "exact" else None)
+        shadow = _shadow_columns(r, scene, m, ref if reference == "oracle" else None)
         rows.append(dict(method=method_name(m), label=label(m), safety=m.safety, scene=sname, angle=angle,
                          size=cfg["size"], gpu_ms=t["ms"], gpu_ms_p25=t["ms_p25"], gpu_ms_p75=t["ms_p75"],
                          march_ms=t["march_ms"], call_ms=t["call_ms"], repeats=t["repeats"], timing=t["timing"],
@@ -222,18 +219,21 @@ def _shadow_columns(r: _render.Renderer, scene: _scene.Scene, method, oracle) ->
 TIMING_COLUMNS = ("gpu_ms", "gpu_ms_p25", "gpu_ms_p75", "march_ms", "call_ms", "repeats", "ms_per_mpix", "timing")
 
 
-def sweep(methods: Iterable, scenes: Iterable = ("bricks",), angles: Iterable[float] = (60.0,),
-          settings: Optional[dict] = None, reference: str = "exact", repeats: int = 5,
-          csv_path: Optional[str] = None, progress: bool = True, executor: Optional[Executor] = None):
-    """Render, time and measure every (method, scene, angle).
+def sweep(methods: Iterable, maps: Iterable = ("bricks",), angles: Iterable[float] = (60.0,),
+          settings: Optional[dict] = None, reference: str = "oracle", repeats: int = 5,
+          csv_path: Optional[str] = None, progress: bool = True, executor: Optional[Executor] = None,
+          scenes: Optional[Iterable] = None) -> list[dict]:
+    """Render, time and measure every (method, map, angle) on the tilted plane.
 
-    methods: Method instances (see `variants` and `pomkit.presets`); scenes: texture names from
-    `pk.textures.ALL`, "sineF" for a sine of frequency F, or (name, height array) pairs;
+    methods: Method instances (see `variants` and `pomkit.presets`); maps: texture names from
+    `pk.textures.ALL`, "sineF" for a sine of frequency F, or (name, height array) pairs, each on
+    a plane (a (name, Scene) pair is taken as it is); `scenes=` is the old name of `maps=`;
     settings: size (256), depth (0.08), tiling (1.0), spp (64, Mitsuba's), frame_spp (1: the
-    frames' samples per pixel, `Renderer.render(spp=)`; the colour reference of "exact" and
+    frames' samples per pixel, `Renderer.render(spp=)`; the colour reference of "oracle" and
     "tessellated" takes the same), flip (True: FLIP against the colour reference);
-    reference: "exact" (the CPU oracle; FLIP then against `pk.reference.render_exact`, noise-free,
-    unshadowed for the methods without shadows), "tessellated" or "mitsuba" (cached on disk);
+    reference: "oracle" (`pk.oracle.hits` for the geometry, FLIP against `pk.oracle.image`,
+    noise-free, unshadowed for the methods without shadows; "exact" is its old name),
+    "tessellated" or "mitsuba" (cached on disk);
     repeats: the least number of interleaved timing rounds (see `time_methods`);
     executor: any `concurrent.futures.Executor` (a process pool, Dask's `client.get_executor()`,
     Ray's): each (scene, angle) is one task, rendered, timed and measured where it is sent; each
@@ -246,17 +246,26 @@ def sweep(methods: Iterable, scenes: Iterable = ("bricks",), angles: Iterable[fl
     mask IoU, FLIP over the frame, its interior and its silhouette band (`metrics.compare`),
     frame_spp, and with reference="mitsuba" the aliasing floor beside them: flip_floor,
     flip_floor_interior, flip_floor_silhouette (Tessellated(0.5), the exact geometry, against
-    Mitsuba at the same frame_spp). Returns a pandas DataFrame when pandas is installed, else a list of dicts; writes CSV
-    to `csv_path` when given."""
-    if reference not in ("exact", "tessellated", "mitsuba"):
-        raise ValueError(f"reference: must be 'exact', 'tessellated' or 'mitsuba', got {reference!r}")
+    Mitsuba at the same frame_spp). Returns the rows, a list of dicts (`pandas.DataFrame(rows)`
+    makes a table of them); writes CSV to `csv_path` when given."""
+    import warnings
+    if scenes is not None:
+        warnings.warn("sweep(scenes=...) is now sweep(maps=...); the old name goes in the next release",
+                      DeprecationWarning, stacklevel=2)
+        maps = scenes
+    if reference == "exact":
+        warnings.warn("sweep(reference='exact') is now reference='oracle'; the old name goes in the next release",
+                      DeprecationWarning, stacklevel=2)
+        reference = "oracle"
+    if reference not in ("oracle", "tessellated", "mitsuba"):
+        raise ArgumentError(f"reference: must be 'oracle', 'tessellated' or 'mitsuba', got {reference!r}")
     cfg: dict = dict(size=256, depth=0.08, tiling=1.0, spp=64, frame_spp=1, flip=True)
     cfg.update(settings or {})
     methods = list(methods)
     for m in methods:
         if not isinstance(m, _methods.Method):
-            raise TypeError(f"methods: expected pomkit methods such as pomkit.POM(), got {type(m).__name__}")
-    jobs = [(s, a, methods, cfg, reference, repeats) for s in scenes for a in angles]
+            raise ArgumentTypeError(f"methods: expected pomkit methods such as pomkit.POM(), got {type(m).__name__}")
+    jobs = [(s, a, methods, cfg, reference, repeats) for s in maps for a in angles]
     bar = None
     if progress:
         try:
@@ -277,11 +286,7 @@ def sweep(methods: Iterable, scenes: Iterable = ("bricks",), angles: Iterable[fl
         bar.close()
     if csv_path:
         write_csv(rows, csv_path)
-    try:
-        import pandas as pd
-        return pd.DataFrame(rows)
-    except ImportError:
-        return rows
+    return rows
 
 
 def write_csv(rows: list[dict], path) -> None:
@@ -311,7 +316,7 @@ def swimming(method, scene_height, frames: int = 16, step_deg: float = 0.5, star
     for k in range(frames):
         sc = plane_scene(scene_height, start_deg + step_deg * k, size)
         f = r.render(sc, method, aovs=("uv", "mask"))
-        o = _render.exact_uv(sc)
+        o = oracle.hits(sc)
         if prev is not None:
             pf, po = prev
             m = f.mask & o.mask & pf.mask & po.mask
@@ -355,147 +360,6 @@ def pareto_front(points):
 #: the quads a triangle touches are counted, the triangles themselves earned no cost of their own
 #: (a non-negative coefficient of 0)
 COST_TERMS = ("fetches", "bytes", "fragments", "quads")
-
-#: the pixel block that runs in lock step (a SIMD group: 8 x 4 = 32 lanes, a warp)
-GROUP = (4, 8)
-
-
-def group_total(a: np.ndarray, block: tuple[int, int] = GROUP) -> float:
-    """The work of a per-pixel count `a` (H, W) when the pixels of each `block` run in lock
-    step: every lane waits for the block's longest, so each block costs its maximum times its
-    size. Summed over the frame (the blocks tile it from the top-left; the edges' partial blocks
-    count their own pixels)."""
-    h, w = a.shape
-    bh, bw = block
-    ph, pw = -h % bh, -w % bw
-    x = np.pad(a.astype(np.float64), ((0, ph), (0, pw)), constant_values=-np.inf)
-    m = x.reshape((h + ph) // bh, bh, (w + pw) // bw, bw).max(axis=(1, 3))
-    n = np.isfinite(x).reshape((h + ph) // bh, bh, (w + pw) // bw, bw).sum(axis=(1, 3))
-    return float(np.sum(np.where(n > 0, m, 0.0) * n))
-
-
-def _facing(positions: np.ndarray, faces: np.ndarray, transform: np.ndarray, eye: np.ndarray) -> np.ndarray:
-    """Which triangles (counter-clockwise front faces, as the passes draw them) face `eye`."""
-    p = positions @ transform[:3, :3].T + transform[:3, 3]
-    a, b, c = p[faces[:, 0]], p[faces[:, 1]], p[faces[:, 2]]
-    n = np.cross(b - a, c - a)
-    return np.einsum("ij,ij->i", n, eye - a) > 0.0
-
-
-def _to_pixels(camera: _scene.Camera, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """World points (N, 3) -> pixel coordinates (N, 2; x right, y down, the image's corners at
-    (0, 0) and (width, height)) and their depth along the view direction."""
-    f, r, u = camera.basis()
-    d = p - np.asarray(camera.eye, np.float64)
-    z = d @ f
-    t = math.tan(math.radians(camera.fov_y) / 2)
-    zs = np.where(z > 1e-9, z, 1e-9)
-    x = (d @ r) / zs / (t * camera.width / camera.height)
-    y = (d @ u) / zs / t
-    return np.stack([(x + 1) / 2 * camera.width, (1 - y) / 2 * camera.height], -1), z
-
-
-def _clipped(tri: np.ndarray, width: float, height: float) -> tuple[float, float]:
-    """Area and bounding-box extent w + h of one triangle (3, 2) clipped to the image
-    (Sutherland-Hodgman)."""
-    poly = [tuple(v) for v in tri]
-    for axis, bound, keep_below in ((0, 0.0, False), (0, width, True), (1, 0.0, False), (1, height, True)):
-        out = []
-        for k in range(len(poly)):
-            a, b = poly[k], poly[(k + 1) % len(poly)]
-            ina = a[axis] <= bound if keep_below else a[axis] >= bound
-            inb = b[axis] <= bound if keep_below else b[axis] >= bound
-            if ina:
-                out.append(a)
-            if ina != inb:
-                w = (bound - a[axis]) / (b[axis] - a[axis])
-                out.append((a[0] + w * (b[0] - a[0]), a[1] + w * (b[1] - a[1])))
-        poly = out
-        if not poly:
-            return 0.0, 0.0
-    xs, ys = np.array([v[0] for v in poly]), np.array([v[1] for v in poly])
-    area = 0.5 * abs(float(np.dot(xs, np.roll(ys, -1)) - np.dot(ys, np.roll(xs, -1))))
-    return area, float(np.ptp(xs) + np.ptp(ys))
-
-
-def quad_count(xy: np.ndarray, width: int, height: int) -> float:
-    """The 2 x 2 pixel quads that triangles `xy` (N, 3, 2, in pixels) touch on a `width` x
-    `height` image, summed: a GPU shades a triangle's fragments in whole quads, so a triangle of a
-    pixel or less costs a quad (four lanes) and a long sliver a quad per two pixels of its length.
-    Per triangle, the expected count over its placement within a pixel: the area of the triangle
-    grown by the quad (its Minkowski sum with a 2 x 2 square) over the quad's area,
-    (A + 2 (w + h) + 4) / 4, A its area and w x h its bounding box on the image (both clipped to
-    the image; triangles wholly off it count none)."""
-    if len(xy) == 0:
-        return 0.0
-    lo, hi = xy.min(1), xy.max(1)
-    size = np.array([width, height], np.float64)
-    on = ((np.clip(hi, 0, size) - np.clip(lo, 0, size)) > 0).all(1)
-    e1, e2 = xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 0]
-    area = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
-    extent = (hi - lo).sum(1)
-    inside = (lo >= 0).all(1) & (hi <= size).all(1)
-    for k in np.flatnonzero(on & ~inside):
-        area[k], extent[k] = _clipped(xy[k], float(width), float(height))
-    keep = on & (area > 0)
-    return float(((area + 2.0 * extent + 4.0) / 4.0)[keep].sum())
-
-
-def triangle_counts(scene: _scene.Scene, method) -> tuple[int, int, float]:
-    """(`primitives`, `rasterised`, `quads`) of a frame, from one pass over its objects
-    (Tessellated's displaced mesh built once). `quads` (`quad_count`) over the rasterised
-    triangles that lie in front of the eye; for Prism over the base triangles, one shell face
-    each (the shell's offset is left out)."""
-    from . import _core
-    eye = np.asarray(scene.camera.eye, dtype=np.float64)
-    submitted = facing = 0
-    quads = 0.0
-    for i, o in enumerate(scene.objects):
-        tr = np.asarray(o.transform, dtype=np.float64)
-        if isinstance(method, _methods.Tessellated):
-            t = _core.tessellate(scene._describe(), float(method.texels_per_vertex), i, method.pattern)
-            pos, faces = np.asarray(t["positions"], np.float64), np.asarray(t["faces"])
-        else:
-            pos, faces = np.asarray(o.mesh.positions, np.float64), np.asarray(o.mesh.indices).reshape(-1, 3)
-        f = _facing(pos, faces, tr, eye)
-        if isinstance(method, _methods.Prism):
-            submitted += 2 * len(f)
-            facing += len(f)
-            drawn = np.ones_like(f)
-        else:
-            submitted += len(f)
-            facing += int(f.sum())
-            drawn = f
-        xy, z = _to_pixels(scene.camera, pos @ tr[:3, :3].T + tr[:3, 3])
-        tris = faces[drawn]
-        front = (z[tris] > 1e-6).all(1)
-        quads += quad_count(xy[tris[front]], scene.camera.width, scene.camera.height)
-    return submitted, facing, quads
-
-
-def primitives(scene: _scene.Scene, method) -> int:
-    """The triangles a frame submits to the rasteriser for `method`: the base meshes' for the
-    per-pixel methods, the displaced mesh's for Tessellated (its lattice at `texels_per_vertex`),
-    and for Prism the shell's boundary (a top and a bottom per base triangle; the unshared sides
-    of an open mesh's border are left out, a few per cent). What a user counts on their own
-    scene to estimate the cost with the model's coefficients."""
-    return triangle_counts(scene, method)[0]
-
-
-def rasterised(scene: _scene.Scene, method) -> int:
-    """The triangles of `primitives` that reach the rasteriser: the passes cull back faces, so
-    those that face the camera. A closed mesh sends about half of what it submits. Prism: its
-    tops where the base triangle faces the camera, and its bottoms (the base triangles turned
-    inward) where it faces away; counted on the base mesh (the shell's offset is left out)."""
-    return triangle_counts(scene, method)[1]
-
-
-def quads(scene: _scene.Scene, method) -> float:
-    """The 2 x 2 pixel quads the frame's rasterised triangles touch (`quad_count`): what the
-    cost model charges the rasteriser and the fragment shader's partial quads, a term that grows
-    with the triangles as they shrink below a few pixels (Tessellated's fine lattices)."""
-    return triangle_counts(scene, method)[2]
-
 
 def cost_rows(r: _render.Renderer, scenes: dict, methods: list, min_repeats: int = 3,
               max_repeats: int = 9) -> list[dict]:

@@ -8,10 +8,12 @@ dict always holds one under "image").
 
 from __future__ import annotations
 
+from ._errors import ArgumentError, ArgumentTypeError, MissingExtraError
 import numpy as np
 
 from ._frame import Frame
-from ._scene import Scene, linear_to_srgb
+from ._color import linear_to_srgb
+from ._scene import Scene
 
 __all__ = ["uv_error", "depth_error", "mask_iou", "shadow_error", "flip", "psnr", "ssim", "regions", "compare"]
 
@@ -19,9 +21,9 @@ __all__ = ["uv_error", "depth_error", "mask_iou", "shadow_error", "flip", "psnr"
 def _check(frame, ref):
     for name, f in (("frame", frame), ("ref", ref)):
         if not isinstance(f, Frame):
-            raise TypeError(f"{name}: expected a pomkit.Frame, got {type(f).__name__}")
+            raise ArgumentTypeError(f"{name}: expected a pomkit.Frame, got {type(f).__name__}")
     if frame.shape != ref.shape:
-        raise ValueError(f"ref: frame is {frame.shape} but ref is {ref.shape}; render both at one size")
+        raise ArgumentError(f"ref: frame is {frame.shape} but ref is {ref.shape}; render both at one size")
 
 
 def mask_iou(frame: Frame, ref: Frame) -> float:
@@ -75,7 +77,7 @@ def shadow_error(frame: Frame, ref: Frame, scene: Scene, *, uv_tol: float = 0.5,
     """Self-shadowing against a reference, where both frames show the same surface point.
 
     Both frames need `visibility` (the first directional light's, in [0, 1]): take the method's
-    from `Renderer.render_visibility(scene, method)` and the reference's from `pk.exact_uv(scene)`
+    from `Renderer.render_visibility(scene, method)` and the reference's from `pk.oracle.hits(scene)`
     (the exact float64 oracle; 64 directions over the light's disk when its
     `angular_diameter` > 0) or from `render_visibility` with `pk.Tessellated()` (its shadow map:
     an approximate reference, ~1.5 shadow-map texels at edges). Pixels are compared where both
@@ -91,8 +93,8 @@ def shadow_error(frame: Frame, ref: Frame, scene: Scene, *, uv_tol: float = 0.5,
     _check(frame, ref)
     for name, f in (("frame", frame), ("ref", ref)):
         if not f.has("visibility"):
-            raise ValueError(f"{name}: has no visibility; use renderer.render_visibility(scene, method) or, for the "
-                             "reference, pk.exact_uv(scene)")
+            raise ArgumentError(f"{name}: has no visibility; use renderer.render_visibility(scene, method) or, for the "
+                             "reference, pk.oracle.hits(scene)")
     va = np.asarray(frame.visibility, np.float64)
     vb = np.asarray(ref.visibility, np.float64)
     both = frame.mask & ref.mask & np.isfinite(va) & np.isfinite(vb)
@@ -131,7 +133,7 @@ def depth_error(frame: Frame, ref: Frame, relative: bool = True) -> dict:
 
 def _ldr(f: Frame) -> np.ndarray:
     if not f.has("color"):
-        raise ValueError("frame: has no colour to compare (render with 'color' in aovs=)")
+        raise ArgumentError("frame: has no colour to compare (render with 'color' in aovs=)")
     return linear_to_srgb(f.color).astype(np.float32)
 
 
@@ -142,7 +144,7 @@ def flip(frame: Frame, ref: Frame, image: bool = False, ppd: float = 67.0):
     try:
         import flip_evaluator
     except ImportError:
-        raise ImportError("flip needs flip-evaluator: pip install pomkit[reference]") from None
+        raise MissingExtraError("flip needs flip-evaluator: pip install pomkit[reference]") from None
     emap, mean, _ = flip_evaluator.evaluate(_ldr(ref), _ldr(frame), "LDR", inputsRGB=True, applyMagma=False,
                                             parameters={"ppd": ppd})
     mean = float(mean)
@@ -165,7 +167,7 @@ def ssim(frame: Frame, ref: Frame, image: bool = False):
     try:
         from skimage.metrics import structural_similarity
     except ImportError:
-        raise ImportError("ssim needs scikit-image: pip install pomkit[reference]") from None
+        raise MissingExtraError("ssim needs scikit-image: pip install pomkit[reference]") from None
     v, full = structural_similarity(_ldr(ref), _ldr(frame), channel_axis=-1, data_range=1.0, full=True)
     return (float(v), full.mean(-1)) if image else float(v)
 
@@ -206,13 +208,13 @@ def compare(frame: Frame, reference: Frame, scene: Scene, *, band: int = 4, visi
       from either outline (`regions`);
     - `silhouette`: FLIP over the band around the outlines, and the mask IoU;
     - `shadows` (when `visibility` is the method's `Renderer.render_visibility` frame and
-      `oracle` is `pk.exact_uv(scene)`): `shadow_error`'s IoU, visibility error and fractions;
+      `oracle` is `pk.oracle.hits(scene)`): `shadow_error`'s IoU, visibility error and fractions;
     - `whole`: FLIP over the whole frame.
 
     FLIP needs colour in both frames (flip-evaluator: the `reference` extra); uv needs uv in both.
     Returns a flat dict: flip, flip_interior, flip_silhouette, uv_p50_interior, uv_p95_interior,
     uv_p99_interior, uv_p95_silhouette, mask_iou, interior_px, silhouette_px, flip_floor (the
-    reference's `noise_floor`: 0 for `render_exact`, NaN when unknown), and shadow_iou,
+    reference's `noise_floor`: 0 for `pk.oracle.image`, NaN when unknown), and shadow_iou,
     shadow_vis_error, shadow_false_shadow, shadow_false_light when given."""
     reg = regions(frame, reference, band)
     out: dict = dict(mask_iou=mask_iou(frame, reference), interior_px=int(reg["interior"].sum()),

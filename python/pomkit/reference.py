@@ -6,13 +6,13 @@ flip-evaluator, scikit-image, pyrender). Results are cached on disk (see `pomkit
 
 from __future__ import annotations
 
+from ._errors import ArgumentError, ReferenceRendererError
 import math
 import os
 import time
 
 import numpy as np
 
-from . import _core
 from . import _validate as _v
 from ._cache import cached, scene_hash
 from ._displaced import displaced_arrays, require as _require
@@ -52,43 +52,13 @@ def displaced_mesh(scene: Scene, resolution: float | None = None, object: int | 
 
 
 def render_exact(scene: Scene, spp: int = 16, shadows: bool = True, cache: bool = True) -> Frame:
-    """The noise-free reference image, shaded with the reference shading of docs/conventions.md
-    (the normal from central differences of the bilinear field at level 0, the albedo bilinear
-    at level 0, each light times the fraction of 64 stratified directions over its disk that
-    leave the shell, ambient times the fraction of 64 cosine-weighted directions that do).
+    """Deprecated: `pk.oracle.image(scene, spp, shadows, cache)`, the same frame."""
+    import warnings
 
-    Every sample's hit is the float64 oracle's (`pk.exact_uv`), with no mesh built, at any map
-    size: on one untransformed planar object (a plane, a cube) the closed-form walk of each
-    triangle's plane; on any other scene (curved meshes, atlases, several objects, transforms)
-    the shell walk, exact to 1e-4 texel, whose light rays meet every object as in the world.
-    `render_mitsuba(integrator="cast")` is the independent check: the same shading on Mitsuba's
-    ray casts against the displaced mesh.
-
-    `spp` samples per pixel on the grid of `render(spp=)` (a square, 1 to 256), colour
-    box-filtered (a miss is black) and `coverage` the fraction that hit; uv, depth, mask,
-    visibility (the first directional light's, at the pixel centre) and object are at the pixel
-    centre. Deterministic, so `noise_floor` is 0.0. Cached on disk by the scene's hash.
-    `Frame.wall_ms` is the time the render took (stored with it in the cache). `shadows=False`
-    traces no light or ambient rays (every light fully visible, ao = 1): the colour of the
-    displacement alone, for methods measured without shadows (the bench, choose)."""
-    if not isinstance(scene, Scene):
-        raise TypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
-    spp = _v.integer("spp", spp, 1, 256, strict=True)  # a square: the core's rule
-    shadows = _v.boolean("shadows", shadows)
-    # the hash reads every array of the scene: only when the cache is asked for
-    key = scene_hash(scene, kind="exact", spp=spp, shadows=shadows) if cache else ""
-
-    def compute():
-        t0 = time.perf_counter()
-        d = _core.render_exact(scene._describe(), spp, bool(shadows))  # with the pixel centres' hits
-        return dict(color=d["color"], coverage=d["coverage"], uv=d["uv"].astype(np.float32),
-                    depth=d["depth"].astype(np.float32), mask=d["mask"], visibility=d["visibility"].astype(np.float32),
-                    object=d["object"], ms=np.array(1e3 * (time.perf_counter() - t0)))
-
-    a = cached("exact", key, compute, use_cache=cache)
-    arrays = {k: a[k] for k in ("color", "coverage", "uv", "depth", "mask", "visibility", "object")}
-    return Frame(method=f"render_exact spp={spp}{'' if shadows else ' unshadowed'} (took {float(a['ms']):.0f} ms)", wall_ms=float(a["ms"]), timing="wall",
-                 noise_floor=0.0, **arrays)
+    from . import oracle
+    warnings.warn("pk.reference.render_exact is now pk.oracle.image; the old name goes in the next release",
+                  DeprecationWarning, stacklevel=2)
+    return oracle.image(scene, spp=spp, shadows=shadows, cache=cache)
 
 
 def render_mitsuba(scene: Scene, spp: int | None = None, seed: int = 0, variant: str | None = None,
@@ -121,10 +91,10 @@ def render_mitsuba(scene: Scene, spp: int | None = None, seed: int = 0, variant:
         spp = 16 if integrator == "cast" else 64
     spp = _v.integer("spp", spp, 1, 256 if integrator == "cast" else 1 << 20, strict=True)
     if integrator == "cast" and math.isqrt(spp) ** 2 != spp:
-        raise ValueError(f"spp: integrator='cast' takes a square number of samples per pixel (1, 4, 9, 16, ...), got {spp}")
+        raise ArgumentError(f"spp: integrator='cast' takes a square number of samples per pixel (1, 4, 9, 16, ...), got {spp}")
     seed = _v.integer("seed", seed, 0, 2 ** 31 - 1, strict=True)
     if integrator == "cast" and seed != 0:
-        raise ValueError("seed: integrator='cast' is deterministic (the sample grid of render(spp=) and render_exact's "
+        raise ArgumentError("seed: integrator='cast' is deterministic (the sample grid of render(spp=) and render_exact's "
                          "direction sets), so it takes seed=0; seeds apply to integrator='direct'")
     resolution = _mitsuba.auto_resolution(scene, resolution)
     shadows = _v.boolean("shadows", shadows)
@@ -137,7 +107,7 @@ def render_mitsuba(scene: Scene, spp: int | None = None, seed: int = 0, variant:
             out = cast_render(scene, spp, variant, resolution, shadows)
         else:
             if not shadows:
-                raise ValueError("shadows: integrator='direct' always traces shadows; use integrator='cast' for shadows=False")
+                raise ArgumentError("shadows: integrator='direct' always traces shadows; use integrator='cast' for shadows=False")
             out = direct_render(scene, spp, seed, variant, resolution)
         return {**out, "ms": np.array((time.perf_counter() - t0) * 1e3)}
 
@@ -178,7 +148,7 @@ def render_pyrender(scene: Scene, resolution: float = 2.0, cache: bool = True) -
             if os.environ.get("PYOPENGL_PLATFORM") == "egl":
                 # retry with OSMesa in a clean interpreter state is not possible once OpenGL is
                 # imported; report both remedies
-                raise RuntimeError(
+                raise ReferenceRendererError(
                     f"pyrender could not render headless with EGL ({first}). Install "
                     "`libegl1 libegl-mesa0 libgl1-mesa-dri` (EGL) or `libosmesa6` and set "
                     "PYOPENGL_PLATFORM=osmesa before importing pomkit.reference") from first

@@ -38,6 +38,20 @@ def rotate(axis, degrees: float) -> np.ndarray:
     return m
 
 
+def tilted_plane(height, theta: float = 60.0, size: int = 128, *, depth: float = 0.08, tiling: float = 1.0,
+                 fov: float = 40.0, distance: float = 1.6, lights=(), ambient: float = 0.0, albedo=None) -> Scene:
+    """The test and bench scene: `pk.Mesh.plane(2.0)` under `height`, seen from `distance` at
+    `theta` degrees from its normal, looking at the origin with the image's top towards -z (the
+    far side at grazing angles), fov `fov`, `size` x `size` pixels. The one source of every tilted
+    plane in the tests, the bench and the tables, each naming what it sets apart from these
+    defaults."""
+    t = np.radians(theta)
+    return Scene(mesh=Mesh.plane(2.0), material=Material(height, depth=depth, tiling=tiling, albedo=albedo),
+                 camera=Camera.look_at(eye=(0.0, distance * np.cos(t), distance * np.sin(t)), target=(0, 0, 0),
+                                       up=(0, 0, -1), fov_y=fov, width=size, height=size),
+                 lights=list(lights), ambient=ambient)
+
+
 def cobbled(mesh: Mesh, size: int, tiles: float, map_size: int = 512) -> Scene:
     """Cobblestones (`map_size`², 8 cells) `tiles` times over a curved `mesh`, seen from above
     its rim at `size`², one light: the bench's and the tables' curved scene."""
@@ -48,7 +62,7 @@ def cobbled(mesh: Mesh, size: int, tiles: float, map_size: int = 512) -> Scene:
 
 def sunk_sphere(size: int = 256, *, sink: float = 0.3, floor_map: int = 128, sphere_map: int = 64,
                 displaced: bool = True, cast_shadows: bool = True, with_sphere: bool = True) -> Scene:
-    """Issue 13's scene: a displaced sphere (radius 0.5, cobblestones) sunk `sink` into a displaced
+    """Two objects: a displaced sphere (radius 0.5, cobblestones) sunk `sink` into a displaced
     brick floor, lit from the side so that the sphere casts its shadow onto the bricks.
     `displaced=False` sets both depths to 0 (the base meshes); `with_sphere=False` leaves the
     floor alone (the same light and camera)."""

@@ -1,18 +1,19 @@
 """pytest helpers for your own test suite (registered as the `pomkit` pytest plugin).
 
     def test_my_method(reference_frame):
-        ref = reference_frame(scene, kind="render_exact", spp=16)   # noise-free, cached on disk
+        ref = reference_frame(scene, kind="oracle_image", spp=16)   # noise-free, cached on disk
         frame = pk.Renderer().render(scene, pk.POM(), spp=16)
         pk.testing.assert_close(frame, ref, scene=scene, uv_p95=0.5, flip_interior=0.02)
 
 `assert_close` fails with the measured numbers and writes a side-by-side image (frame | ref |
 error) to $POMKIT_DIFF_DIR (default ./pomkit-out/diffs), named after the test that failed.
-A FLIP tolerance below the reference's own noise (`Frame.noise_floor`: 0 for `render_exact`,
+A FLIP tolerance below the reference's own noise (`Frame.noise_floor`: 0 for `pk.oracle.image`,
 the seed-against-seed FLIP for Mitsuba when measured) is refused: it could only pass by luck.
 """
 
 from __future__ import annotations
 
+from ._errors import ArgumentError
 import os
 from pathlib import Path
 from typing import Optional
@@ -59,16 +60,16 @@ def assert_close(frame: Frame, ref: Frame, scene: Optional[Scene] = None, *, uv_
     floor = getattr(ref, "noise_floor", None)
     for k, tol in (("flip", flip), ("flip_interior", flip_interior), ("flip_silhouette", flip_silhouette)):
         if tol is not None and floor is not None and tol < floor:
-            raise ValueError(f"{k}: a tolerance of {tol} is below the reference's own noise (noise_floor "
+            raise ArgumentError(f"{k}: a tolerance of {tol} is below the reference's own noise (noise_floor "
                              f"{floor:.4f}, its FLIP against itself at another seed): it would pass or fail by "
-                             f"chance; use a tolerance above it, or the noise-free pk.reference.render_exact")
+                             f"chance; use a tolerance above it, or the noise-free pk.oracle.image")
     got: dict = {"mask_iou": metrics.mask_iou(frame, ref)}
     if floor is not None:
         got["flip_floor"] = float(floor)
     fails = []
     if uv_p95 is not None or uv_p99 is not None:
         if scene is None:
-            raise ValueError("scene: uv tolerances need the scene (for the map size and tiling)")
+            raise ArgumentError("scene: uv tolerances need the scene (for the map size and tiling)")
         e = metrics.uv_error(frame, ref, scene)
         got.update(uv_p50=e["p50"], uv_p95=e["p95"], uv_p99=e["p99"], uv_max=e["max"])
         if uv_p95 is not None and not e["p95"] <= uv_p95:
@@ -82,7 +83,7 @@ def assert_close(frame: Frame, ref: Frame, scene: Optional[Scene] = None, *, uv_
     if flip_interior is not None or flip_silhouette is not None:
         c = metrics.compare(frame, ref, scene) if scene is not None else None
         if c is None:
-            raise ValueError("scene: region tolerances need the scene")
+            raise ArgumentError("scene: region tolerances need the scene")
         got.update(flip_interior=c["flip_interior"], flip_silhouette=c["flip_silhouette"])
         if flip_interior is not None and not c["flip_interior"] <= flip_interior:
             fails.append(f"FLIP interior {c['flip_interior']:.4f} > {flip_interior}")
@@ -102,23 +103,30 @@ def assert_close(frame: Frame, ref: Frame, scene: Optional[Scene] = None, *, uv_
     return got
 
 
+_OLD_KINDS = {"render_exact": "oracle_image", "exact": "oracle_hits"}
+
+
 def _reference(scene: Scene, kind: str = "mitsuba", **kw) -> Frame:
-    from . import reference
+    from . import oracle, reference
+    if kind in _OLD_KINDS:
+        import warnings
+        warnings.warn(f"reference_frame(kind={kind!r}) is now kind={_OLD_KINDS[kind]!r}; the old name goes in the next release",
+                      DeprecationWarning, stacklevel=2)
+        kind = _OLD_KINDS[kind]
     if kind == "mitsuba":
         return reference.render_mitsuba(scene, **kw)
     if kind == "pyrender":
         return reference.render_pyrender(scene, **kw)
-    if kind == "render_exact":
-        return reference.render_exact(scene, **kw)
-    if kind == "exact":
-        from ._render import exact_uv
-        return exact_uv(scene)
-    raise ValueError(f"kind: must be 'render_exact', 'mitsuba', 'pyrender' or 'exact' (the geometric oracle), got {kind!r}")
+    if kind == "oracle_image":
+        return oracle.image(scene, **kw)
+    if kind == "oracle_hits":
+        return oracle.hits(scene)
+    raise ArgumentError(f"kind: must be 'oracle_image', 'oracle_hits', 'mitsuba' or 'pyrender', got {kind!r}")
 
 
 @pytest.fixture
 def reference_frame():
     """A function (scene, kind="mitsuba", **settings) -> Frame, cached on disk by scene hash:
-    "render_exact" (the noise-free colour reference), "mitsuba", "pyrender", or
-    "exact" (the geometric oracle `pk.exact_uv`: uv, depth, mask, visibility)."""
+    "oracle_image" (`pk.oracle.image`, the noise-free colour reference), "oracle_hits"
+    (`pk.oracle.hits`: uv, depth, mask, visibility), "mitsuba" or "pyrender"."""
     return _reference

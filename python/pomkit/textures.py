@@ -13,6 +13,7 @@ where AVX-512 is present) and between C libraries; `sine` evaluates its sine as 
 
 from __future__ import annotations
 
+from ._errors import ArgumentError, ArgumentTypeError, MissingExtraError
 from typing import Callable, Optional
 
 import numpy as np
@@ -213,7 +214,7 @@ def _real_source(name: str) -> np.ndarray:
         try:
             from matplotlib.cbook import get_sample_data
         except ImportError:
-            raise ImportError(f"name: the {name!r} map is an elevation model that matplotlib ships; "
+            raise MissingExtraError(f"name: the {name!r} map is an elevation model that matplotlib ships; "
                               "pip install matplotlib (or pomkit[bench])") from None
         fname, key = ("jacksboro_fault_dem.npz", "elevation") if name == "terrain" else ("topobathy.npz", "topo")
         with np.load(get_sample_data(fname, asfileobj=False)) as z:
@@ -221,7 +222,7 @@ def _real_source(name: str) -> np.ndarray:
     try:
         import skimage.data
     except ImportError:
-        raise ImportError(f"name: the {name!r} map is a photograph that scikit-image ships; "
+        raise MissingExtraError(f"name: the {name!r} map is a photograph that scikit-image ships; "
                           "pip install scikit-image (or pomkit[reference])") from None
     return np.asarray(getattr(skimage.data, name)(), np.float64)
 
@@ -240,7 +241,7 @@ def real(name: str, size: Optional[int] = 128) -> np.ndarray:
     square, resampled to `size`² by area averaging (None: kept at its own size and shape), and
     normalised as users normalise their maps: min to exactly 0, max to exactly 1."""
     if name not in REAL:
-        raise ValueError(f"name: one of {', '.join(REAL)}, got {name!r}")
+        raise ArgumentError(f"name: one of {', '.join(REAL)}, got {name!r}")
     return fit(_real_source(name), size)
 
 
@@ -266,7 +267,7 @@ def fit(a, size: Optional[int] = 128) -> np.ndarray:
     shape), and normalised as users normalise their maps: min to exactly 0, max to exactly 1."""
     a = np.asarray(a, np.float64)
     if a.ndim != 2:
-        raise ValueError(f"a: expected a 2-D array, got shape {a.shape}")
+        raise ArgumentError(f"a: expected a 2-D array, got shape {a.shape}")
     if size is not None:
         size = _check_size(size)
         n = min(a.shape)
@@ -291,7 +292,7 @@ def bake(mesh, f: Callable[[np.ndarray], np.ndarray], size: int = 512, gutter: i
     size = _check_size(size)
     gutter = _v.integer("gutter", gutter, 0, 4096)
     if not callable(f):
-        raise TypeError(f"f: expected a function of (k, 3) positions, got {type(f).__name__}")
+        raise ArgumentTypeError(f"f: expected a function of (k, 3) positions, got {type(f).__name__}")
     pos = np.asarray(mesh.positions, np.float64)
     uv = np.asarray(mesh.uvs, np.float64) * size
     tri = np.asarray(mesh.indices, np.int64).reshape(-1, 3)
@@ -336,11 +337,11 @@ def bake(mesh, f: Callable[[np.ndarray], np.ndarray], size: int = 512, gutter: i
         points[r, cc] = w[take] @ pos[t]
     filled = np.isfinite(best)
     if not (best == 0).any() and not filled.any():
-        raise ValueError("mesh: no texel lies on or near any uv triangle; the uvs cover no texel of a map this size")
+        raise ArgumentError("mesh: no texel lies on or near any uv triangle; the uvs cover no texel of a map this size")
     h = np.zeros((size, size))
     vals = np.asarray(f(points[filled]), np.float64).reshape(-1)
     if vals.shape[0] != int(filled.sum()) or not np.all(np.isfinite(vals)):
-        raise ValueError("f: must return one finite height per point")
+        raise ArgumentError("f: must return one finite height per point")
     h[filled] = vals
     h[~filled] = h[filled].mean()
     return np.clip(h, 0.0, 1.0).astype(np.float32)

@@ -15,6 +15,7 @@ pub struct AdapterDesc {
 }
 
 mod caps;
+pub mod texels;
 pub use caps::{Capabilities, STORAGE_BUFFERS_PER_STAGE, WGPU_VERSION};
 mod table;
 pub use table::{TableOut, TablePass, TableTarget, TABLE_BAND_CELLS};

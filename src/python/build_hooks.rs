@@ -1,5 +1,5 @@
 //! Long builds across the boundary: the hook that reports their progress (to Python's
-//! `pomkit._progress.report`, a tqdm bar) and the directory they are kept in (`build_hooks.rs`).
+//! `pomkit._progress.report`, a tqdm bar) and the directory their results are cached in.
 
 use pyo3::prelude::*;
 use std::path::PathBuf;

@@ -4,7 +4,6 @@
 use super::nd_array;
 use crate::render::aovs::{AovData, AOVS};
 use crate::render::{Aovs, Frame};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
@@ -22,7 +21,7 @@ pub fn aovs_from_py(aovs: Option<&Bound<'_, PyAny>>) -> PyResult<Aovs> {
         };
     }
     let names: Vec<String> = a.extract().map_err(|_| {
-        PyValueError::new_err(
+        crate::python::errors::argument_error(
             "aovs: expected 'all' or a sequence of AOV names, e.g. (\"color\", \"uv\")",
         )
     })?;

@@ -2,7 +2,6 @@
 
 use super::nd_array;
 use crate::imageio::{load_albedo, load_height, Pixels};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use std::path::PathBuf;
 
@@ -18,7 +17,7 @@ pub fn load_image<'py>(
         "height" => load_height,
         "albedo" => load_albedo,
         o => {
-            return Err(PyValueError::new_err(format!(
+            return Err(crate::python::errors::argument_error(format!(
                 "kind: 'height' or 'albedo', got {o:?}"
             )))
         }

@@ -5,7 +5,6 @@
 use crate::contract::Fields;
 use crate::error::{Error, Result};
 use crate::methods::{from_fields, Method};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -68,12 +67,12 @@ impl<'a, 'py> FromPyObject<'a, 'py> for Method {
         let kind: String = ob
             .getattr("_kind")
             .map_err(|_| {
-                PyValueError::new_err("method: expected a pomkit method such as pomkit.POM()")
+                crate::python::errors::argument_error("method: expected a pomkit method such as pomkit.POM()")
             })?
             .extract()?;
         match from_fields(&kind, &PyFields(ob)) {
             Some(m) => Ok(m?),
-            None => Err(PyValueError::new_err(format!(
+            None => Err(crate::python::errors::argument_error(format!(
                 "method: unknown method kind {kind:?}"
             ))),
         }

@@ -15,7 +15,6 @@ mod scene_args;
 
 use numpy::ndarray::Array;
 use numpy::IntoPyArray;
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use scene_args::{PyAlbedoData, PyHeightData, PyMeshData};
@@ -26,7 +25,7 @@ pub(crate) fn nd_array<'py, T: numpy::Element, D: numpy::ndarray::Dimension>(
     shape: impl numpy::ndarray::IntoDimension<Dim = D>,
     v: Vec<T>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let a = Array::from_shape_vec(shape, v).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let a = Array::from_shape_vec(shape, v).map_err(|e| crate::python::errors::argument_error(e.to_string()))?;
     Ok(a.into_pyarray(py).into_any())
 }
 
@@ -83,14 +82,5 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(io::load_image, m)?)?;
     m.add_function(wrap_pyfunction!(build_hooks::set_progress_hook, m)?)?;
     m.add_function(wrap_pyfunction!(build_hooks::set_cache_dir, m)?)?;
-    m.add("GpuError", m.py().get_type::<errors::GpuError>())?;
-    m.add(
-        "DeviceLostError",
-        m.py().get_type::<errors::DeviceLostError>(),
-    )?;
-    m.add(
-        "NoAdapterError",
-        m.py().get_type::<errors::NoAdapterError>(),
-    )?;
     Ok(())
 }

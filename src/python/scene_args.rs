@@ -9,14 +9,13 @@ use crate::scene::{
     shared, Albedo, Camera, HeightMap, Light, Material, Object, Scene, Shared, Transform,
 };
 use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 fn rows<const N: usize>(a: &PyReadonlyArray2<'_, f32>, name: &str) -> PyResult<Vec<[f32; N]>> {
     let v = a.as_array();
     if v.shape()[1] != N {
-        return Err(PyValueError::new_err(format!(
+        return Err(crate::python::errors::argument_error(format!(
             "{name}: expected shape (n, {N}), got {:?}",
             v.shape()
         )));
@@ -111,7 +110,7 @@ pub fn mesh_generate<'py>(
 
 fn item<'py>(d: &Bound<'py, PyDict>, k: &str) -> PyResult<Bound<'py, PyAny>> {
     d.get_item(k)?
-        .ok_or_else(|| PyValueError::new_err(format!("scene description lacks {k:?}")))
+        .ok_or_else(|| crate::python::errors::argument_error(format!("scene description lacks {k:?}")))
 }
 
 fn v3(x: &Bound<'_, PyAny>) -> PyResult<[f64; 3]> {
@@ -137,7 +136,7 @@ impl PyMeshData {
     ) -> PyResult<Self> {
         let c = charts.as_array();
         if !c.is_empty() && c.shape()[1] != 3 {
-            return Err(PyValueError::new_err("charts: expected shape (k, 3)"));
+            return Err(crate::python::errors::argument_error("charts: expected shape (k, 3)"));
         }
         let mesh = Mesh {
             positions: rows::<3>(&positions, "positions")?,
@@ -189,7 +188,7 @@ impl PyAlbedoData {
     fn new(albedo: PyReadonlyArray3<'_, f32>) -> PyResult<Self> {
         let av = albedo.as_array();
         if av.shape()[2] != 3 {
-            return Err(PyValueError::new_err("albedo: expected shape (H, W, 3)"));
+            return Err(crate::python::errors::argument_error("albedo: expected shape (H, W, 3)"));
         }
         let data = av
             .outer_iter()
@@ -281,7 +280,7 @@ pub fn scene_from_py(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
                 intensity: rgb(item(&l, "intensity")?)?,
             },
             o => {
-                return Err(PyValueError::new_err(format!(
+                return Err(crate::python::errors::argument_error(format!(
                     "lights: unknown light kind {o:?}"
                 )))
             }

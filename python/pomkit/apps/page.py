@@ -137,7 +137,7 @@ def _flip_map(frame: pk.Frame, ref: pk.Frame) -> tuple[float, np.ndarray]:
 def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: dict, uv_ref: pk.Frame,
             uv_ref_label: str, colour_ref: Optional[pk.Frame] = None) -> tuple[str, list[dict]]:
     """One scene's table: per method its frame, uv-error map, FLIP map and figures. The FLIP is
-    against `colour_ref` when given (the noise-free `render_exact`: the map shows the method's
+    against `colour_ref` when given (the noise-free `pk.oracle.image`: the map shows the method's
     error; on the torus it needs Mitsuba, the reference extra), else against the shipped Mitsuba
     render."""
     ref8 = reference(name, scene)
@@ -184,7 +184,7 @@ def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: d
                 else "<p>(no Mitsuba reference for this scene: run scripts/make_demo_refs.py)</p>")
     if colour_ref is not None:
         _save(colour_ref.to_srgb8(), outdir / f"{name}_exact.png")
-        ref_html += (f'<p><code>pk.reference.render_exact</code> (exact hits, exact shadows and AO, float64; noise-free; '
+        ref_html += (f'<p><code>pk.oracle.image</code> (exact hits, exact shadows and AO, float64; noise-free; '
                      f'the FLIP maps\' reference): <br><img src="{name}_exact.png"></p>')
     return f"<h2>{name}</h2>{ref_html}<table>{head}{''.join(cells)}</table>", rows
 
@@ -231,12 +231,12 @@ def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
              "Every method of the field on a plane and on a torus, and the curved methods on an asset; GPU times of "
              "this adapter.</p>"]
     planar = planar_scene(size)
-    oracle = pk.exact_uv(planar)
-    exact = pk.reference.render_exact(planar, spp=4)
+    oracle = pk.oracle.hits(planar)
+    exact = pk.oracle.image(planar, spp=4)
     s1, rows = section(r, outdir, "planar", planar, PLANAR, oracle, "the float64 oracle", exact)
     curved = curved_scene(size)
-    curved_ref = pk.reference.render_exact(curved, spp=4)
-    s2, rows2 = section(r, outdir, "curved", curved, CURVED, pk.exact_uv(curved), "the float64 oracle", curved_ref)
+    curved_ref = pk.oracle.image(curved, spp=4)
+    s2, rows2 = section(r, outdir, "curved", curved, CURVED, pk.oracle.hits(curved), "the float64 oracle", curved_ref)
     parts += [s1, s2]
     # a user's asset: a glTF with an atlas, checked, every curved method against the mesh
     asset = asset_scene(size)
@@ -252,7 +252,7 @@ def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
                    methods=["SteepParallax", "POM", "Relief", "ConeStep", "Exact"])
     parts.append("<h2>Which method should I ship?</h2><p><code>pk.choose(heights=pk.textures.bricks(128), "
                  "angles=(40, 75), resolution=96, max_uv_error=0.5)</code></p><pre>" + html.escape(str(ch)) + "</pre>")
-    # the same scenes, live: the notebook widget (issue 32)
+    # the same scenes, live: the notebook widget
     parts.append("<h2>Explore these scenes live</h2><p>In a notebook (JupyterLab, Notebook 7, VS Code, Colab; the "
                  "<code>notebooks</code> extra), orbit either scene, switch methods and views, and compare with the "
                  "reference:</p><pre>" + html.escape(EXPLORE_COMMAND) + "</pre>")

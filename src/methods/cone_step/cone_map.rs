@@ -6,7 +6,8 @@ use super::Cones;
 use crate::contract::{BuildInputs, Composer};
 use crate::error::Result;
 use crate::gpu::{Context, TableOut, TablePass, TableTarget};
-use crate::heightmap::{max_offset_table, read_r32, top_maxmip_level, write_r32};
+use crate::gpu::texels::{read_r32, write_r32};
+use crate::heightmap::{max_offset_table, top_maxmip_level};
 use crate::progress;
 
 pub const CONE_MAP_SHADER: &str = include_str!("cone_map.wgsl");

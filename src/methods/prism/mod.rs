@@ -72,7 +72,7 @@ impl MethodGeometry for PrismShell {
                 wgpu::TextureFormat::Rgba32Uint,
                 wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             );
-            crate::heightmap::write_texels(ctx, &tex, bytemuck::cast_slice(&texels), size, 16);
+            crate::gpu::texels::write_texels(ctx, &tex, bytemuck::cast_slice(&texels), size, 16);
             Ok(GpuMesh {
                 vbuf,
                 ibuf: None,

@@ -369,7 +369,7 @@ fn prism_walk(face_prism: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> Prism
     // What the walk keeps from a span across the loops, not the span itself: its entry, its exit
     // and the prism across the exit (loop-carried state is dear on lavapipe: carrying the six
     // corners of the shared side, to read three texels a prism instead of six, made Prism slower,
-    // docs/cost.md).
+    // docs/cost_journal_2026.md).
     var t_in = 0.0;
     var st_in = vec3<f32>(0.0);
     var t_out = 0.0;

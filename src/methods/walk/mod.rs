@@ -292,7 +292,7 @@ impl MethodGeometry for WalkMesh {
                 wgpu::TextureFormat::Rgba32Float,
                 wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             );
-            crate::heightmap::write_texels(ctx, &tex, bytemuck::cast_slice(&texels), size, 16);
+            crate::gpu::texels::write_texels(ctx, &tex, bytemuck::cast_slice(&texels), size, 16);
             Ok(GpuMesh {
                 vbuf: ctx.upload(
                     "walk vertices",

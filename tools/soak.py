@@ -1,5 +1,5 @@
 """Long-run check: N renders of 128^2 frames with varying scenes, materials and methods; prints
-the resident memory every N/10 renders. Usage: python scripts/soak.py [N]"""
+the resident memory every N/10 renders. Usage: python tools/soak.py [N]"""
 
 import resource
 import sys

@@ -210,7 +210,7 @@ def versus_bevy_relief(r: pk.Renderer, suite, rounds: int) -> tuple[list[Goal], 
     fetch, above = {}, {}
     rows = []
     for name, sc in suite:
-        ref = pk.exact_uv(sc)
+        ref = pk.oracle.hits(sc)
         bevy = presets.bevy_relief()
         cands = [f() for f in SAFE_CANDIDATES]
 

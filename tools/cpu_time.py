@@ -1,14 +1,14 @@
 """CPU milliseconds a frame with lavapipe rasterising on the calling thread: a time that moves
 little with the machine's load, for comparing two versions of a method when GPU timing on this
-machine is too noisy (docs/cost.md, "Instructions are not time").
+machine is too noisy (docs/cost_journal_2026.md, "Instructions are not time").
 
-    python scripts/cpu_time.py "sphere 64x32 spikes d0.1 x1" prism grid pom flat [--frames 9]
+    python tools/cpu_time.py "sphere 64x32 spikes d0.1 x1" prism grid pom flat [--frames 9]
 
-The scene is one of `pomkit.apps.suite`'s held-out curved scenes (`heldout_curved_suite`), or a
+The scene is one of `tools/suite.py`'s held-out curved scenes (`heldout_curved_suite`), or a
 planar one named "<map> <angle>" from `heldout_planar_suite` (e.g. "gravel 70°"). One child
 process runs with LP_NUM_THREADS=0, renders each method twice to warm up, then `--frames` times
 in interleaved rounds, and reports each method's median process CPU time a frame. Unlike
-scripts/jit_instructions.py's count, it sees what an instruction costs: a square root or a
+tools/jit_instructions.py's count, it sees what an instruction costs: a square root or a
 division in a loop, a gather's latency. Only meaningful on lavapipe (llvmpipe).
 """
 
@@ -28,7 +28,7 @@ def _child(scene_name: str, methods: list[str], frames: int) -> None:
 
     import numpy as np
     import pomkit as pk
-    from pomkit.apps.suite import heldout_curved_suite, heldout_planar_suite
+    from suite import heldout_curved_suite, heldout_planar_suite
 
     scenes = dict(heldout_curved_suite(256))
     if scene_name not in scenes:

@@ -1,9 +1,9 @@
 """Instructions a frame runs in lavapipe's JIT-compiled shaders, counted by valgrind's callgrind:
 a cost that does not move with the machine's load, for comparing two versions of a shader when
-timing on this machine is too noisy to tell them apart (docs/cost.md, "The children as unorm8
+timing on this machine is too noisy to tell them apart (docs/cost_journal_2026.md, "The children as unorm8
 codes").
 
-    python scripts/jit_instructions.py gravel exact pom flat [--angle 70] [--size 256] [--frames 2]
+    python tools/jit_instructions.py gravel exact pom flat [--angle 70] [--size 256] [--frames 2]
 
 Each method runs in its own process under `valgrind --tool=callgrind --smc-check=all` with
 LP_NUM_THREADS=0 (lavapipe rasterises on the calling thread); the instructions of the code that

@@ -2,7 +2,7 @@
 each asset of tests/zoo.py, without shadows, against `render_mitsuba(spp=4, shadows=False)`, at the
 reference's spp.
 
-    .venv/bin/python scripts/zoo_table.py [--size 128] [--views 2] [--depth 0.04]
+    .venv/bin/python tools/zoo_table.py [--size 128] [--views 2] [--depth 0.04]
 
 Per method and asset, over the views: silhouette IoU, pixels missed 3 pixels inside Mitsuba's
 outline (interior holes), interior FLIP, and wall ms a frame (llvmpipe here; timings of a CPU

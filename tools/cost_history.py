@@ -1,7 +1,7 @@
 #!/usr/bin/env python
 """The cost of the same frames at two commits, built side by side, in one command:
 
-    .venv/bin/python scripts/cost_history.py c29048d HEAD [--size 512] [--runs 3] [--rounds 7]
+    .venv/bin/python tools/cost_history.py c29048d HEAD [--size 512] [--runs 3] [--rounds 7]
 
 Each commit is checked out into target/history/<sha>/src (a `git worktree`), built there with
 maturin into target/history/<sha>/wheel (the cargo target dir is this clone's `target/`, so

@@ -4,7 +4,7 @@ upload, its pyramids and the method's own build included) and the process's peak
 (lavapipe keeps GPU memory in host RAM), each case in a fresh process so that nothing is shared,
 at 128² frames. Writes a Markdown table to stdout (docs/methods.md holds one).
 
-    .venv/bin/python scripts/large_maps.py [--sizes 4096 8192 16384] [--methods POM Exact ...]
+    .venv/bin/python tools/large_maps.py [--sizes 4096 8192 16384] [--methods POM Exact ...]
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ scene = pk.Scene(mesh=m, material=pk.Material(big, depth=0.06, tiling=1.0),
 r = pk.Renderer()
 note = ""
 if name == "exact_uv":
-    render = lambda: pk.exact_uv(scene)
+    render = lambda: pk.oracle.hits(scene)
 else:
     method = eval("pk." + name)
     render = lambda: r.render(scene, method, aovs=("uv", "mask"))

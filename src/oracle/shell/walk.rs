@@ -1,0 +1,237 @@
+//! The walk of one ray through an object's shell: prism to prism across shared sides, each
+//! prism's stretch of the ray cut into chords that are walked cell by cell against the bilinear
+//! field, and the first crossing refined onto the ray itself.
+
+use super::*;
+
+impl<'a> Object<'a> {
+    /// The walk of the ray o + lam d (object space) from `at` in prism `tri` at `lam0`.
+    pub(super) fn walk(&self, o: DVec3, d: DVec3, tri: u32, lam0: f64, at: Local, lift: f64) -> Walk {
+        let (mut tri, mut lam, mut at) = (tri, lam0, at);
+        if !(self.depth > 0.0) {
+            // no shell: the base surface itself
+            let p = self.prisms[tri as usize].as_ref().expect("a walked prism");
+            return if lift > 0.0 && d.dot(p.normal(at.b)) > 0.0 {
+                Walk::Left { lam, cells: 0 }
+            } else {
+                Walk::Hit {
+                    tri,
+                    lam,
+                    at,
+                    cells: 0,
+                }
+            };
+        }
+        let mut cells = 0u32;
+        let eps = 1e-12 * self.extent / d.length().max(1e-300);
+        for _ in 0..100_000 {
+            let p = self.prisms[tri as usize].as_ref().expect("a walked prism");
+            // the first side crossing ahead (those above the top do not bound the prism)
+            let mut side: Option<Crossing> = None;
+            for k in 0..3 {
+                p.crossings(o, d, k, true, &mut |c: Crossing| {
+                    if c.lam >= lam - eps
+                        && p.offset(c.at) <= 1e-9 * self.depth
+                        && side.is_none_or(|s| c.lam < s.lam)
+                    {
+                        side = Some(c);
+                    }
+                });
+            }
+            let top = p.top_exit(o, d).filter(|(l, _)| *l >= lam - eps);
+            // where the prism ends along the ray (far below the floor where nothing bounds it:
+            // the surface is met first)
+            let (end, via): (Sample, Option<Crossing>) = match (top, side) {
+                (Some((lt, bt)), s) if s.is_none_or(|s| lt <= s.lam) => {
+                    (self.sample(p, lt, bt, lift), None)
+                }
+                (_, Some(s)) => (self.sample(p, s.lam, s.at, lift), Some(s)),
+                _ => {
+                    let far = lam + 4.0 * (self.extent + self.depth) / d.length().max(1e-300);
+                    match p.locate(o + d * far, at) {
+                        Some(a) => (self.sample(p, far, a, lift), None),
+                        None => return Walk::Left { lam: far, cells },
+                    }
+                }
+            };
+            let start = self.sample(p, lam, at, lift);
+            if let Some((l, a)) = self.chord(p, o, d, (start, end), lift, 0, &mut cells) {
+                return Walk::Hit {
+                    tri,
+                    lam: l,
+                    at: a,
+                    cells,
+                };
+            }
+            let Some(c) = via else {
+                return Walk::Left {
+                    lam: end.lam,
+                    cells,
+                };
+            };
+            // into the triangle across the side, at the same point
+            let Some(next) = self.across[tri as usize][c.side] else {
+                return Walk::Left {
+                    lam: end.lam,
+                    cells,
+                };
+            };
+            let q = self.prisms[next as usize]
+                .as_ref()
+                .expect("a neighbour with area");
+            let x = o + d * c.lam;
+            let w = Prism::weights(c.at.b);
+            // the same corners in the neighbour, by position
+            let mut wq = [0.0; 3];
+            for k in 0..3 {
+                if let Some(j) =
+                    (0..3).find(|&j| self.weld[q.v[j] as usize] == self.weld[p.v[k] as usize])
+                {
+                    wq[j] = w[k];
+                }
+            }
+            let guess = Local {
+                b: DVec2::new(wq[1], wq[2]),
+                s: c.at.s,
+            };
+            match q.locate(x, guess) {
+                Some(a) if Prism::inside(a.b, 1e-7) => {
+                    (tri, lam, at) = (next, c.lam, a);
+                }
+                // a hard edge: the neighbour's shell does not begin here
+                _ => {
+                    return Walk::Left {
+                        lam: end.lam,
+                        cells,
+                    }
+                }
+            }
+        }
+        Walk::Left { lam, cells }
+    }
+
+    /// The first hit on the path from `a` to `b` in prism `p`: its lam and point.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn chord(
+        &self,
+        p: &Prism,
+        o: DVec3,
+        d: DVec3,
+        (a, b): (Sample, Sample),
+        lift: f64,
+        level: u32,
+        cells: &mut u32,
+    ) -> Option<(f64, Local)> {
+        *cells += 1;
+        let lm = 0.5 * (a.lam + b.lam);
+        let guess = Local {
+            b: 0.5 * (a.at.b + b.at.b),
+            s: 0.5 * (a.at.s + b.at.s),
+        };
+        let Some(located) = p.locate(o + d * lm, guess) else {
+            // the middle lies where the normals cross, far below the floor: the surface is met
+            // before it
+            let m = self.sample(p, lm, guess, lift);
+            return if level >= 48 {
+                None
+            } else {
+                self.chord(p, o, d, (a, m), lift, level + 1, cells)
+            };
+        };
+        let m = self.sample(p, lm, located, lift);
+        let (mid_c, mid_h) = (0.5 * (a.c + b.c), 0.5 * (a.h + b.h));
+        let (dev_c, dev_h) = ((m.c - mid_c).length(), (m.h - mid_h).abs());
+        // the path's bounds: the chord's, widened by twice its deviation at the middle
+        let (ec, eh) = (2.0 * dev_c + 1e-6, 2.0 * dev_h + 1e-9);
+        let low = a.h.min(b.h).min(m.h) - eh;
+        let (clo, chi) = (a.c.min(b.c).min(m.c) - ec, a.c.max(b.c).max(m.c) + ec);
+        // cells: texel centres at integers (x - 0.5)
+        let top = self
+            .field
+            .max_in((clo.x - 0.5, chi.x - 0.5), (clo.y - 0.5, chi.y - 0.5));
+        if low > top + 1e-12 {
+            return None;
+        }
+        let run = (b.c - a.c).length();
+        let tol_h = (TOL_TEXELS * (b.h - a.h).abs() / run.max(1e-300)).clamp(1e-9, 1e-3);
+        if (dev_c <= TOL_TEXELS && dev_h <= tol_h) || level >= 48 {
+            for (u, v) in [(a, m), (m, b)] {
+                let (hit, n) = walk_cells(&self.field, u.s, u.h, v.s - u.s, v.h - u.h, 1.0);
+                *cells += n;
+                if let Some(mu) = hit {
+                    let lam = u.lam + mu * (v.lam - u.lam);
+                    let g = Local {
+                        b: u.at.b + (v.at.b - u.at.b) * mu,
+                        s: u.at.s + (v.at.s - u.at.s) * mu,
+                    };
+                    let at = p.locate(o + d * lam, g).unwrap_or(g);
+                    return Some(self.refine(p, o, d, (lam, at), (u, v), lift));
+                }
+            }
+            return None;
+        }
+        self.chord(p, o, d, (a, m), lift, level + 1, cells)
+            .or_else(|| self.chord(p, o, d, (m, b), lift, level + 1, cells))
+    }
+
+    /// The chord's hit `(lam, at)` moved onto the path itself: bisection on the path between a
+    /// point above the field and one at or below it, within the chord `(u, v)` and near the
+    /// chord's answer (where no such pair is found, the chord's answer stands).
+    pub(super) fn refine(
+        &self,
+        p: &Prism,
+        o: DVec3,
+        d: DVec3,
+        (lam, at): (f64, Local),
+        (u, v): (Sample, Sample),
+        lift: f64,
+    ) -> (f64, Local) {
+        let hm = &self.mat.height;
+        // field above the path at lam: >= 0 where met
+        let g = |l: f64, guess: Local| -> Option<(f64, Local)> {
+            let a = p.locate(o + d * l, guess)?;
+            let x = self.sample(p, l, a, lift);
+            Some((hm.sample(x.s.x, x.s.y) - x.h, a))
+        };
+        let span = (v.lam - u.lam).abs();
+        let mut delta = 1e-6 * span + 1e-15;
+        while delta <= span {
+            let (lo, hi) = ((lam - delta).max(u.lam), (lam + delta).min(v.lam));
+            match (g(lo, at), g(hi, at)) {
+                (Some((glo, alo)), Some((ghi, ahi))) if glo < 0.0 && ghi >= 0.0 => {
+                    // Illinois: regula falsi that halves a stale end's weight
+                    let (mut lo, mut hi) = ((lo, glo, alo), (hi, ghi, ahi));
+                    let mut side = 0;
+                    for _ in 0..60 {
+                        if hi.0 - lo.0 <= 1e-13 * (1.0 + hi.0.abs()) {
+                            break;
+                        }
+                        let t = lo.0 + (hi.0 - lo.0) * (lo.1 / (lo.1 - hi.1)).clamp(0.0, 1.0);
+                        let mid = if t > lo.0 && t < hi.0 {
+                            t
+                        } else {
+                            0.5 * (lo.0 + hi.0)
+                        };
+                        let Some((gm, am)) = g(mid, hi.2) else { break };
+                        if gm >= 0.0 {
+                            hi = (mid, gm, am);
+                            if side == 1 {
+                                lo.1 *= 0.5;
+                            }
+                            side = 1;
+                        } else {
+                            lo = (mid, gm, am);
+                            if side == -1 {
+                                hi.1 *= 0.5;
+                            }
+                            side = -1;
+                        }
+                    }
+                    return (hi.0, hi.2);
+                }
+                _ => delta *= 8.0,
+            }
+        }
+        (lam, at)
+    }
+}

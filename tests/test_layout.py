@@ -1,0 +1,40 @@
+"""The README's Layout names every folder of src/, every WGSL module of shaders/ and every module
+and folder of python/pomkit/, so that a newcomer's map of the tree is the tree."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _layout() -> str:
+    text = (ROOT / "README.md").read_text()
+    m = re.search(r"## Layout\n\n```\n(.*?)```", text, re.S)
+    assert m, "README.md has no Layout block"
+    return m.group(1)
+
+
+def _named(layout: str, name: str) -> bool:
+    return re.search(rf"(?<![\w.]){re.escape(name)}(?![\w])", layout) is not None
+
+
+def test_the_layout_names_every_folder_and_module():
+    layout = _layout()
+    missing = []
+    for d in sorted(p for p in (ROOT / "src").iterdir() if p.is_dir()):
+        missing += [] if _named(layout, d.name + "/") else [f"src/{d.name}/"]
+    for d in sorted(p for p in (ROOT / "src" / "methods").iterdir() if p.is_dir()):
+        missing += [] if _named(layout, d.name + "/") else [f"src/methods/{d.name}/"]
+    for f in sorted((ROOT / "shaders").glob("*.wgsl")):
+        missing += [] if _named(layout, f.stem) else [f"shaders/{f.name}"]
+    for p in sorted((ROOT / "python" / "pomkit").iterdir()):
+        if p.name.startswith("__") or p.suffix in (".so", ".typed") or p.name == "_core.pyi":
+            continue
+        stem = p.name + "/" if p.is_dir() else p.stem
+        if not (_named(layout, stem) or _named(layout, stem.lstrip("_"))):
+            missing.append(f"python/pomkit/{p.name}")
+    for top in ("src", "shaders", "python/pomkit", "tools", "scripts", "notebooks", "tests", "docs"):
+        missing += [] if _named(layout, top + "/") else [top + "/"]
+    assert not missing, f"README.md's Layout does not name: {', '.join(missing)}"
