@@ -11,6 +11,7 @@ pub mod error;
 pub mod gpu;
 pub mod heightmap;
 pub mod imageio;
+pub mod jod;
 pub mod mesh;
 pub mod methods;
 pub mod oracle;

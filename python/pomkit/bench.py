@@ -20,6 +20,7 @@ import numpy as np
 
 from . import _frame, _methods, _render, _scene, textures
 from . import metrics, oracle
+from ._motion import PATHS, camera_path, motion  # noqa: F401 (pk.bench's API)
 from ._quads import GROUP, group_total, primitives, quad_count, quads, rasterised, triangle_counts  # noqa: F401 (pk.bench's API)
 
 __all__ = ["sweep", "variants", "plane_scene", "time_method", "time_methods", "swimming", "pareto_front", "label",

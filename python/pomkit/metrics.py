@@ -14,8 +14,9 @@ import numpy as np
 from ._frame import Frame
 from ._color import linear_to_srgb
 from ._scene import Scene
+from . import _core
 
-__all__ = ["uv_error", "depth_error", "mask_iou", "shadow_error", "flip", "psnr", "ssim", "regions", "compare"]
+__all__ = ["uv_error", "depth_error", "mask_iou", "shadow_error", "flip", "psnr", "ssim", "jod", "regions", "compare"]
 
 
 def _check(frame, ref):
@@ -149,6 +150,33 @@ def flip(frame: Frame, ref: Frame, image: bool = False, ppd: float = 67.0):
                                             parameters={"ppd": ppd})
     mean = float(mean)
     return (mean, np.asarray(emap)) if image else mean
+
+
+def _linear_video(x, name: str) -> np.ndarray:
+    """Frames (a Frame, a list of Frames, or (T, H, W, 3) / (H, W, 3) linear RGB) as float32 linear
+    RGB, misses black."""
+    if isinstance(x, Frame):
+        x = [x]
+    if isinstance(x, (list, tuple)) and x and all(isinstance(f, Frame) for f in x):
+        return np.stack([np.where(f.mask[..., None], f.color, 0.0) if f.has("mask") else f.color for f in x]).astype(np.float32)
+    a = np.asarray(x, dtype=np.float32)
+    if a.ndim not in (3, 4) or a.shape[-1] != 3:
+        raise ArgumentError(f"{name}: expected a Frame, a list of Frames or an array of shape (frames, H, W, 3), got {a.shape}")
+    return a
+
+
+def jod(test, reference, fps: float = 30.0, display: str = "standard_4k") -> float:
+    """ColorVideoVDP's JOD (Mantiuk et al. 2024; the pure-Rust `colorvideovdp` crate in the core)
+    of `test` against `reference`: each a Frame (an image), a list of Frames (a video at `fps`) or
+    an array of linear RGB frames (T, H, W, 3). 10 is no visible difference; each unit down, a
+    difference more people would object to. The colours are shown as sRGB (clamped to [0, 1])
+    on `display`, one of `_core.jod_displays()` (default: a 30-inch 4K monitor at 0.75 m,
+    200 cd/m²)."""
+    t, r = _linear_video(test, "test"), _linear_video(reference, "reference")
+    if t.shape != r.shape:
+        raise ArgumentError(f"reference: shape {r.shape}, the test's is {t.shape}; score videos of one size and length")
+    enc = [np.ascontiguousarray(linear_to_srgb(np.clip(v, 0.0, 1.0)), dtype=np.float32) for v in (t, r)]
+    return float(_core.jod(enc[0], enc[1], float(fps), display))
 
 
 def psnr(frame: Frame, ref: Frame, image: bool = False):

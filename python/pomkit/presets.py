@@ -10,7 +10,7 @@ from importlib.resources import files
 
 from ._methods import POM, Custom, Relief
 
-__all__ = ["bevy_pom", "bevy_relief", "godot_deep_parallax", "engine_pom", "ALL_PRESETS"]
+__all__ = ["bevy_pom", "bevy_relief", "godot_deep_parallax", "engine_pom", "playcanvas_pom", "ALL_PRESETS"]
 
 NO_LOD = 1000.0  # engines without a POM -> bump hand-over
 
@@ -46,8 +46,21 @@ def engine_pom() -> Custom:
     return Custom(wgsl=src, name="engine_pom", params={"min_layers": 8.0, "max_layers": 32.0}, mip_filtering=False)
 
 
+def playcanvas_pom() -> Custom:
+    """PlayCanvas v2.22's marched parallax (`parallaxMode = PARALLAX_OCCLUSION`, August 2026):
+    one mip level for the whole march, one step per two texels of it (at most 16, not rounded),
+    the slide capped at 5 times the depth, a fade to no offset where the march covers about a
+    texel, five halvings after the linear search. A `pk.Custom` method,
+    pomkit/wgsl/playcanvas_pom.wgsl, rebuilt from the engine's pull-request descriptions
+    (playcanvas/engine #9213, #9219, #9223); its soft self-shadows are not rebuilt."""
+    src = (files("pomkit") / "wgsl" / "playcanvas_pom.wgsl").read_text()
+    return Custom(wgsl=src, name="playcanvas_pom", mip_filtering=True,
+                  params={"samples": 16.0, "texels_per_step": 2.0, "max_slope": 5.0, "fade_lo": 0.5, "fade_hi": 1.5})
+
+
 #: name -> factory. Unreal's ParallaxOcclusionMapping material function is not included: its
 #: algorithm is only available in the engine's own sources, which are not public material we can
 #: verify here.
-ALL_PRESETS = {"bevy_pom": bevy_pom, "bevy_relief": bevy_relief, "godot_deep_parallax": godot_deep_parallax, "engine_pom": engine_pom}
+ALL_PRESETS = {"bevy_pom": bevy_pom, "bevy_relief": bevy_relief, "godot_deep_parallax": godot_deep_parallax, "engine_pom": engine_pom,
+               "playcanvas_pom": playcanvas_pom}
 

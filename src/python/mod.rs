@@ -8,6 +8,7 @@ mod build_hooks;
 mod errors;
 mod frame;
 mod io;
+mod jod;
 mod method_args;
 mod oracle_arrays;
 mod renderer;
@@ -80,6 +81,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene_args::bounding_sphere, m)?)?;
     m.add_function(wrap_pyfunction!(scene_args::tessellate, m)?)?;
     m.add_function(wrap_pyfunction!(io::load_image, m)?)?;
+    m.add_function(wrap_pyfunction!(jod::jod, m)?)?;
+    m.add_function(wrap_pyfunction!(jod::jod_displays, m)?)?;
     m.add_function(wrap_pyfunction!(build_hooks::set_progress_hook, m)?)?;
     m.add_function(wrap_pyfunction!(build_hooks::set_cache_dir, m)?)?;
     Ok(())

@@ -1,0 +1,43 @@
+"""Engine presets do what their sources say. PlayCanvas v2.22's marched parallax
+(pk.presets.playcanvas_pom, from playcanvas/engine #9213, #9219, #9223): at most 16 linear steps
+plus the entry sample and five halvings; one mip level for the march; the offset gone where
+the march covers under half a texel of that level (a minified plane renders as Flat does)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+import pomkit as pk
+
+
+def test_playcanvas_takes_at_most_its_budget_of_taps(renderer):
+    for theta in (20.0, 60.0, 85.0):
+        sc = pk.scenes.tilted_plane(pk.textures.real("gravel", 128), theta, 64)
+        f = renderer.render(sc, pk.presets.playcanvas_pom())
+        assert f.mask.any() and f.steps[f.mask].max() <= 16 + 1 + 5, theta
+
+
+def test_playcanvas_fades_out_under_minification(renderer):
+    """A 512² map 0.01 deep on a plane 6 units away at 64²: a pixel covers about 20 texels, the
+    march (2.6 texels of level 0) under half a texel of the level it reads (4.3), and the uv is
+    Flat's."""
+    sc = pk.scenes.tilted_plane(pk.textures.bricks(512), 45.0, 64, distance=6.0, depth=0.01)
+    f, flat = renderer.render(sc, pk.presets.playcanvas_pom()), renderer.render(sc, pk.Flat())
+    m = f.mask & flat.mask
+    assert m.sum() > 100
+    np.testing.assert_array_equal(f.uv[m], flat.uv[m])
+    # up close the same preset does displace
+    near = pk.scenes.tilted_plane(pk.textures.bricks(512), 45.0, 64)
+    g, flat_near = renderer.render(near, pk.presets.playcanvas_pom()), renderer.render(near, pk.Flat())
+    assert np.abs(g.uv - flat_near.uv)[g.mask & flat_near.mask].max() > 1e-3
+
+
+def test_playcanvas_caps_the_slide_at_five_depths(renderer):
+    """At 85° from the normal (tan 11.4) the march slides at most 5 depths along the surface:
+    a hit's uv moves from the entry's by at most 5 x depth in texture units (the plane is 2
+    units wide, so 0.08 of depth is 0.04 of uv)."""
+    sc = pk.scenes.tilted_plane(pk.textures.real("gravel", 128), 85.0, 64)
+    f, flat = renderer.render(sc, pk.presets.playcanvas_pom()), renderer.render(sc, pk.Flat())
+    m = f.mask & flat.mask
+    slide = np.linalg.norm(f.uv[m] - flat.uv[m], axis=-1)
+    assert slide.max() <= 5 * 0.04 * 1.01 and slide.max() > 0.04, slide.max()
