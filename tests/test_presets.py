@@ -41,3 +41,27 @@ def test_playcanvas_caps_the_slide_at_five_depths(renderer):
     m = f.mask & flat.mask
     slide = np.linalg.norm(f.uv[m] - flat.uv[m], axis=-1)
     assert slide.max() <= 5 * 0.04 * 1.01 and slide.max() > 0.04, slide.max()
+
+
+def _iou(a, b):
+    return (a & b).sum() / (a | b).sum()
+
+
+def test_silhouette_pom_cuts_the_far_border_but_not_the_near_one(renderer):
+    """Outlines against the displaced mesh (Tessellated at 4 vertices a texel), bricks and the
+    gravel photograph, depth 0.1. At 60° and 70° the clip at the uv bounds removes what POM
+    draws beyond the far border (measured IoU: POM 0.967-0.980, silhouette POM 0.990-0.995,
+    Prism 0.999-1.0). At 85° the displaced surface hangs below the near border, outside the
+    base mesh's pixels, where no per-pixel method on it can draw: both POMs stay at 0.60-0.64
+    while Prism, whose shell reaches there, keeps 0.96-1.0."""
+    for tex in ("bricks", "gravel"):
+        h = pk.textures.real("gravel", 128) if tex == "gravel" else pk.textures.bricks(128)
+        for theta in (60.0, 70.0, 85.0):
+            sc = pk.scenes.tilted_plane(h, theta, 96, depth=0.1)
+            mesh = renderer.render(sc, pk.Tessellated(0.25, shadows="none"), aovs=("mask",)).mask
+            pom, sil, prism = (_iou(renderer.render(sc, m, aovs=("mask",)).mask, mesh)
+                               for m in (pk.POM(shadows="none"), pk.presets.silhouette_pom(), pk.Prism(shadows="none")))
+            if theta < 80:
+                assert sil >= 0.985 and sil >= pom + 0.005, (tex, theta, pom, sil)
+            else:
+                assert prism >= 0.95 and max(pom, sil) < 0.8, (tex, theta, pom, sil, prism)

@@ -10,7 +10,7 @@ from importlib.resources import files
 
 from ._methods import POM, Custom, Relief
 
-__all__ = ["bevy_pom", "bevy_relief", "godot_deep_parallax", "engine_pom", "playcanvas_pom", "ALL_PRESETS"]
+__all__ = ["bevy_pom", "bevy_relief", "godot_deep_parallax", "engine_pom", "playcanvas_pom", "silhouette_pom", "ALL_PRESETS"]
 
 NO_LOD = 1000.0  # engines without a POM -> bump hand-over
 
@@ -58,9 +58,20 @@ def playcanvas_pom() -> Custom:
                   params={"samples": 16.0, "texels_per_step": 2.0, "max_slope": 5.0, "fade_lo": 0.5, "fade_hi": 1.5})
 
 
+def silhouette_pom() -> Custom:
+    """"Silhouette POM" as engines spread it in 2026 (three.js PR #33953, Terrain3D, Unity and
+    Unreal packs): POM (8 to 32 layers by the view angle, linear refinement) whose hit is
+    discarded outside the texture's [0, 1] uv bounds, cutting a planar face's silhouette without
+    prisms. A `pk.Custom` method, pomkit/wgsl/silhouette_pom.wgsl, our own writing of that
+    description; tests/test_presets.py measures its outline against the oracle's, POM's and
+    Prism's."""
+    src = (files("pomkit") / "wgsl" / "silhouette_pom.wgsl").read_text()
+    return Custom(wgsl=src, name="silhouette_pom", params={"min_steps": 8.0, "max_steps": 32.0})
+
+
 #: name -> factory. Unreal's ParallaxOcclusionMapping material function is not included: its
 #: algorithm is only available in the engine's own sources, which are not public material we can
 #: verify here.
 ALL_PRESETS = {"bevy_pom": bevy_pom, "bevy_relief": bevy_relief, "godot_deep_parallax": godot_deep_parallax, "engine_pom": engine_pom,
-               "playcanvas_pom": playcanvas_pom}
+               "playcanvas_pom": playcanvas_pom, "silhouette_pom": silhouette_pom}
 
