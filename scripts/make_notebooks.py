@@ -64,6 +64,15 @@ NB = {
 ("md", "## Explore the settings you tuned\n`pk.explore` takes configured methods as well as names."),
 ("code", "w = pk.explore(scene, methods=[pk.Prism(exact=True), pk.NCS(step_scale=2.0), 'CurvedRelief'], size=192)\nw"),
 ],
+"09_motion": [
+("md", "# 09 · In motion\nStill frames hide what users complain about: shimmer, swimming, writhing. `pk.bench.motion` renders each method and the oracle's image along a camera path and scores each video against the oracle's with ColorVideoVDP (JOD, 10: no visible difference), beside the flicker (the error's frame-to-frame change), swimming and the grazing slide."),
+("code", "import numpy as np, matplotlib.pyplot as plt\nimport pomkit as pk\nr = pk.Renderer()\nscene = pk.scenes.tilted_plane(pk.textures.bricks(128), 60.0, 96, lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0)], ambient=0.1)\nmethods = [pk.POM(shadows='none').with_steps(4), pk.POM(shadows='none'), pk.Relief(), pk.Exact(), pk.presets.playcanvas_pom()]\nprint(pk.bench.PATHS)"),
+("code", "rows = [x for path in pk.bench.PATHS for x in pk.bench.motion(methods, scene, path=path, frames=8, renderer=r)]\nfor x in rows:\n    print(f\"{x['path']:9s} {x['label'][:44]:44s} JOD {x['jod']:.2f}  flicker {x['flicker']:.4f}  swimming {x['swimming']:.3f} tx\")"),
+("md", "## JOD against the still frame's error\nA method can be accurate in a still frame and still swim in motion (docs/tables/motion.md lists where the two rankings disagree)."),
+("code", "fig, ax = plt.subplots(figsize=(6, 3.5))\nfor path in pk.bench.PATHS:\n    xs = [x for x in rows if x['path'] == path]\n    ax.plot([x['swimming'] for x in xs], [x['jod'] for x in xs], 'o', label=path)\nax.set_xlabel('swimming (texels a frame)'); ax.set_ylabel('JOD'); ax.legend()"),
+("md", "## The videos\nThe oracle's video and a method's along the dolly, side by side (frame 0 and the last)."),
+("code", "path = pk.bench.camera_path(scene, 'dolly', 8)\nm = methods[0]\nfig, ax = plt.subplots(2, 2, figsize=(6, 6))\nfor i, k in enumerate((0, 7)):\n    ax[i, 0].imshow(r.render(path[k], m).to_srgb8()); ax[i, 0].set_title(f'{m.name}, frame {k}')\n    ax[i, 1].imshow(pk.oracle.image(path[k], spp=1, shadows=False).to_srgb8()); ax[i, 1].set_title(f'oracle, frame {k}')\nfor a in ax.flat: a.axis('off')"),
+],
 }
 
 for name, cells in NB.items():

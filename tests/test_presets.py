@@ -65,3 +65,19 @@ def test_silhouette_pom_cuts_the_far_border_but_not_the_near_one(renderer):
                 assert sil >= 0.985 and sil >= pom + 0.005, (tex, theta, pom, sil)
             else:
                 assert prism >= 0.95 and max(pom, sil) < 0.8, (tex, theta, pom, sil, prism)
+
+
+def test_hdrp_takes_its_steps_and_fades_past_its_lod_threshold(renderer):
+    """HDRP's pixel displacement (pk.presets.hdrp_pom): at most 15 linear steps, the two samples
+    before the loop and three secant steps; above mip level 6 (threshold 5, faded over one
+    level) the offset is gone: a 512² map tiled 64 times on a 64² plane (level 7.85) renders
+    Flat's uv, untiled (level 1.85) it displaces."""
+    for theta in (20.0, 60.0, 85.0):
+        sc = pk.scenes.tilted_plane(pk.textures.bricks(128), theta, 64)
+        f = renderer.render(sc, pk.presets.hdrp_pom())
+        assert f.mask.any() and f.steps[f.mask].max() <= 2 + 15 + 3, theta
+    for tiling, moved in ((64.0, False), (1.0, True)):
+        sc = pk.scenes.tilted_plane(pk.textures.bricks(512), 45.0, 64, tiling=tiling)
+        f, flat = renderer.render(sc, pk.presets.hdrp_pom()), renderer.render(sc, pk.Flat())
+        m = f.mask & flat.mask
+        assert (np.abs(f.uv - flat.uv)[m].max() > 1e-3) == moved, tiling

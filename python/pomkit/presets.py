@@ -10,7 +10,7 @@ from importlib.resources import files
 
 from ._methods import POM, Custom, Relief
 
-__all__ = ["bevy_pom", "bevy_relief", "godot_deep_parallax", "engine_pom", "playcanvas_pom", "silhouette_pom", "ALL_PRESETS"]
+__all__ = ["bevy_pom", "bevy_relief", "godot_deep_parallax", "engine_pom", "playcanvas_pom", "silhouette_pom", "hdrp_pom", "ALL_PRESETS"]
 
 NO_LOD = 1000.0  # engines without a POM -> bump hand-over
 
@@ -69,9 +69,21 @@ def silhouette_pom() -> Custom:
     return Custom(wgsl=src, name="silhouette_pom", params={"min_steps": 8.0, "max_steps": 32.0})
 
 
+def hdrp_pom() -> Custom:
+    """Unity HDRP's pixel displacement (Lit, Displacement Mode: Pixel displacement): 5 to 15
+    steps linear in the view angle (truncated), a linear search, up to three secant steps that
+    stop within 0.01 of the field, the footprint's mip level, the offset faded out above level
+    5. A `pk.Custom` method, pomkit/wgsl/hdrp_pom.wgsl, our own writing after the pipeline's
+    public sources (PerPixelDisplacement.hlsl, Unity-Technologies/Graphics)."""
+    src = (files("pomkit") / "wgsl" / "hdrp_pom.wgsl").read_text()
+    return Custom(wgsl=src, name="hdrp_pom", mip_filtering=True,
+                  params={"min_samples": 5.0, "max_samples": 15.0, "lod_threshold": 5.0})
+
+
 #: name -> factory. Unreal's ParallaxOcclusionMapping material function is not included: its
 #: algorithm is only available in the engine's own sources, which are not public material we can
 #: verify here.
 ALL_PRESETS = {"bevy_pom": bevy_pom, "bevy_relief": bevy_relief, "godot_deep_parallax": godot_deep_parallax, "engine_pom": engine_pom,
-               "playcanvas_pom": playcanvas_pom, "silhouette_pom": silhouette_pom}
+               "playcanvas_pom": playcanvas_pom, "silhouette_pom": silhouette_pom,
+               "hdrp_pom": hdrp_pom}
 
