@@ -31,9 +31,13 @@ def test_the_page(tmp_path, monkeypatch):
     text = out.read_text()
     for name in list(page.PLANAR) + list(page.CURVED):
         assert f"<th>{name}<br>" in text, name
-    # both scenes' FLIP maps against the noise-free render_exact (the float64 oracle on the torus
-    # too), the shipped Mitsuba render beside them
-    assert text.count("vs render_exact (noise-free)") == 2 and text.count("exact hits, exact shadows") == 2
+    # both scenes' FLIP maps against the noise-free oracle image (on the torus too), shaded as each
+    # method is (shadows and AO or none), the shipped Mitsuba render beside them; each time says
+    # what its method computed
+    assert text.count("vs pk.oracle.image (noise-free), shaded as the method is") == 2
+    assert text.count("exact hits, exact shadows") == 2
+    assert "exact shadows, AO 64 directions)" in text and "ConeStep<br>" in text
+    assert text.count("against the unshadowed oracle image") >= 4 and text.count("against the shadowed oracle image") >= 2
     assert "pk.choose" in text and "lod_legend.png" in text
     # the command that opens the widget on the page's scenes is on the page, and it runs
     assert html.escape(page.EXPLORE_COMMAND) in text

@@ -134,15 +134,24 @@ def _flip_map(frame: pk.Frame, ref: pk.Frame) -> tuple[float, np.ndarray]:
         return float(d.mean()), d
 
 
+def computed(m: pk.Method) -> str:
+    """What a method's frame computed beyond its hit: its self-shadows and ambient occlusion."""
+    sh = getattr(m, "shadows", "none")
+    ao = getattr(m, "ao_directions", 0)
+    return ("no shadows" if sh == "none" else f"{sh} shadows") + (f", AO {ao} directions" if ao else "")
+
+
 def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: dict, uv_ref: pk.Frame,
-            uv_ref_label: str, colour_ref: Optional[pk.Frame] = None) -> tuple[str, list[dict]]:
-    """One scene's table: per method its frame, uv-error map, FLIP map and figures. The FLIP is
-    against `colour_ref` when given (the noise-free `pk.oracle.image`: the map shows the method's
-    error; on the torus it needs Mitsuba, the reference extra), else against the shipped Mitsuba
-    render."""
+            uv_ref_label: str, colour_ref: Optional[dict[bool, pk.Frame]] = None) -> tuple[str, list[dict]]:
+    """One scene's table: per method its frame, uv-error map, FLIP map and figures, with what
+    the method computed beside its time. The FLIP is against `colour_ref` when given, the
+    noise-free `pk.oracle.image` shaded as the method is ({True: with shadows and AO, False:
+    without}, by whether the method shadows itself), else against the shipped Mitsuba render."""
     ref8 = reference(name, scene)
+    flip_refs: dict[bool, pk.Frame] = {}
     if colour_ref is not None:
-        flip_ref, flip_label = colour_ref, "render_exact (noise-free)"
+        flip_refs, flip_label = colour_ref, "pk.oracle.image (noise-free), shaded as the method is"
+        flip_ref: Optional[pk.Frame] = colour_ref[True]
     elif ref8 is not None:
         flip_ref = pk.Frame._of({"color": pk.srgb_to_linear(ref8).astype(np.float32), "mask": np.ones(ref8.shape[:2], bool)})
         flip_label = "Mitsuba"
@@ -163,14 +172,20 @@ def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: d
         imgs = [_save(f.to_srgb8(), outdir / f"{name}_{label}.png"),
                 _save(heat(e["image"], UV_MAX, f.mask | uv_ref.mask), outdir / f"{name}_{label}_uv.png")]
         if flip_ref is not None:
-            fl, emap = _flip_map(f, flip_ref)
+            shaded = getattr(m, "shadows", "none") != "none"
+            fl, emap = _flip_map(f, flip_refs.get(shaded, flip_ref))
             row["flip"] = fl
+            row["flip_against"] = ("the shadowed" if shaded else "the unshadowed") if flip_refs else "Mitsuba"
             imgs.append(_save(heat(emap, 0.5 if have_flip else 0.25, np.ones(emap.shape, bool)),
                               outdir / f"{name}_{label}_flip.png"))
         rows.append(row)
-        figures = f"{row['gpu_ms']:.1f} ms (2 passes, spp 4) · uv p95 {row['uv_p95']:.2f} tx · IoU {row['mask_iou']:.3f}"
+        row["computed"] = computed(m)
+        figures = (f"{row['gpu_ms']:.1f} ms (2 passes, spp 4; {row['computed']}) · uv p95 {row['uv_p95']:.2f} tx · "
+                   f"IoU {row['mask_iou']:.3f}")
         if "flip" in row:
             figures += f" · {'FLIP' if have_flip else '|Δ sRGB|'} {row['flip']:.3f}"
+            if flip_refs:
+                figures += f" against {row['flip_against']} oracle image"
         cells.append(f"<tr><th>{html.escape(label)}<br><small>{m.safety}</small></th>"
                      + "".join(f'<td><img src="{i}"></td>' for i in imgs)
                      + f"<td><small>{html.escape(figures)}</small></td></tr>")
@@ -183,9 +198,10 @@ def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: d
     ref_html = (f'<p>Mitsuba 3 (the displaced mesh, box filter): <br><img src="{name}_mitsuba.png"></p>' if ref8 is not None
                 else "<p>(no Mitsuba reference for this scene: run scripts/make_demo_refs.py)</p>")
     if colour_ref is not None:
-        _save(colour_ref.to_srgb8(), outdir / f"{name}_exact.png")
+        _save(colour_ref[True].to_srgb8(), outdir / f"{name}_exact.png")
         ref_html += (f'<p><code>pk.oracle.image</code> (exact hits, exact shadows and AO, float64; noise-free; '
-                     f'the FLIP maps\' reference): <br><img src="{name}_exact.png"></p>')
+                     f'the FLIP maps\' reference for the methods that shadow themselves, and the same without '
+                     f'shadows or AO for those that do not): <br><img src="{name}_exact.png"></p>')
     return f"<h2>{name}</h2>{ref_html}<table>{head}{''.join(cells)}</table>", rows
 
 
@@ -232,10 +248,10 @@ def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
              "this adapter.</p>"]
     planar = planar_scene(size)
     oracle = pk.oracle.hits(planar)
-    exact = pk.oracle.image(planar, spp=4)
+    exact = {sh: pk.oracle.image(planar, spp=4, shadows=sh) for sh in (True, False)}
     s1, rows = section(r, outdir, "planar", planar, PLANAR, oracle, "the float64 oracle", exact)
     curved = curved_scene(size)
-    curved_ref = pk.oracle.image(curved, spp=4)
+    curved_ref = {sh: pk.oracle.image(curved, spp=4, shadows=sh) for sh in (True, False)}
     s2, rows2 = section(r, outdir, "curved", curved, CURVED, pk.oracle.hits(curved), "the float64 oracle", curved_ref)
     parts += [s1, s2]
     # a user's asset: a glTF with an atlas, checked, every curved method against the mesh
