@@ -205,21 +205,25 @@ mod tests {
         assert_eq!(max_pyramid(&m)[1][0], 1.0);
     }
 
+    /// Map sizes the atlas tests run over: square and not, powers of two and not, 1 to 16384.
+    const ATLAS_SIZES: [(u32, u32); 9] = [
+        (1, 1),
+        (2, 2),
+        (4, 2),
+        (512, 512),
+        (96, 40),
+        (100, 36),
+        (8192, 8192),
+        (16384, 4096),
+        (24, 7),
+    ];
+
     /// The max atlas holds levels 1 ..= top at x = W - 2 W / 2^k, and maxmip.wgsl's
     /// `node_children` wraps a node n of level k by floor((n + 0.5) * (2^k * (1 / W))) in f32:
     /// both are this table's, and exact, for every level the walk reads, n < 2^22.
     #[test]
     fn the_traversal_s_atlas_offsets_and_wrap_are_the_table_s() {
-        for (w, h) in [
-            (1, 1),
-            (2, 2),
-            (512, 512),
-            (96, 40),
-            (100, 36),
-            (8192, 8192),
-            (16384, 4096),
-            (24, 7),
-        ] {
+        for (w, h) in ATLAS_SIZES {
             let (offs, _) = max_atlas(w, h);
             for k in 1..=top_maxmip_level(w, h) {
                 let size = (1u32 << k) as f32;
@@ -248,17 +252,7 @@ mod tests {
     /// (W / 2, H / 2 - 2 H / 2^k) in f32: this table's, inside the atlas, the levels apart.
     #[test]
     fn the_walk_s_children_offsets_are_the_table_s() {
-        for (w, h) in [
-            (1, 1),
-            (2, 2),
-            (4, 2),
-            (512, 512),
-            (96, 40),
-            (100, 36),
-            (8192, 8192),
-            (16384, 4096),
-            (24, 7),
-        ] {
+        for (w, h) in ATLAS_SIZES {
             let (offs, (aw, ah)) = children_atlas(w, h);
             let top = top_maxmip_level(w, h);
             assert_eq!(offs.len() as u32, top + 1, "{w}x{h}");
