@@ -503,5 +503,19 @@ class Custom(_PerPixel):
         return self.name
 
 
+def label(m) -> str:
+    """The method with only the fields that differ from its defaults, e.g. POM(max_steps=16);
+    a Custom method by its name and parameters; a preset by its name."""
+    preset = getattr(m, "_preset", None)
+    if preset:
+        return preset
+    if isinstance(m, Custom):
+        return f"{m.name}({', '.join(f'{k}={v:g}' for k, v in m.params.items())})"
+    default = type(m)()
+    diff = [f"{f.name}={getattr(m, f.name)!r}" for f in dataclasses.fields(m) if getattr(m, f.name) != getattr(default, f.name)]
+    return f"{m.name}({', '.join(diff)})"
+
+
+
 #: every built-in method class, for sweeps
 ALL_METHODS = (Flat, Bump, Parallax, SteepParallax, POM, Relief, Exact, ConeStep, NCS, Prism, Tessellated, CurvedRelief, DistanceMapping)

@@ -14,7 +14,7 @@ import numpy as np
 from . import _render, metrics, oracle
 from ._errors import ArgumentError, ArgumentTypeError
 from ._frame import Frame
-from ._methods import Method
+from ._methods import Method, label
 from ._scene import Camera, Scene
 
 __all__ = ["PATHS", "camera_path", "motion"]
@@ -88,7 +88,6 @@ def motion(methods: Iterable[Method], scene: Scene, path: str = "orbit", frames:
       (NaN on the pull-back, whose view does not turn);
     - gpu_ms: the median time of the method's frames.
     The method renders at `spp` samples per pixel like the oracle, so aliasing is not scored."""
-    from .bench import label
     methods = list(methods)
     for m in methods:
         if not isinstance(m, Method):

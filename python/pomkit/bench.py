@@ -21,6 +21,7 @@ import numpy as np
 from . import _frame, _methods, _render, _scene, textures
 from . import metrics, oracle
 from ._motion import PATHS, camera_path, motion  # noqa: F401 (pk.bench's API)
+from ._methods import label  # noqa: F401 (pk.bench's API)
 from ._quads import GROUP, group_total, primitives, quad_count, quads, rasterised, triangle_counts  # noqa: F401 (pk.bench's API)
 
 __all__ = ["sweep", "variants", "plane_scene", "time_method", "time_methods", "swimming", "pareto_front", "label",
@@ -104,20 +105,6 @@ def variants(cls, **grid) -> list:
     for k in keys:
         out = [dict(d, **{k: v}) for d in out for v in grid[k]]
     return [cls(**d) for d in out]
-
-
-def label(m) -> str:
-    """The method with only the fields that differ from its defaults, e.g. POM(max_steps=16);
-    a Custom method by its name and parameters; a preset by its name."""
-    from dataclasses import fields
-    preset = getattr(m, "_preset", None)
-    if preset:
-        return preset
-    if isinstance(m, _methods.Custom):
-        return f"{m.name}({', '.join(f'{k}={v:g}' for k, v in m.params.items())})"
-    default = type(m)()
-    diff = [f"{f.name}={getattr(m, f.name)!r}" for f in fields(m) if getattr(m, f.name) != getattr(default, f.name)]
-    return f"{m.name}({', '.join(diff)})"
 
 
 def method_name(m) -> str:
