@@ -1,7 +1,7 @@
 # One command each, from a fresh Debian machine with Rust and Python 3.11:
 #   make demo   set up everything, then run `python -m pomkit demo` (writes ./pomkit-out/index.html)
 #   make test   set up everything, then run the tests (cargo test and pytest)
-#   make check  the fast loop before every commit, once `make test` has set up (under 3 minutes)
+#   make check  the fast loop before every commit, once `make test` has set up (under 3 minutes; the first run builds the extension in place)
 SHELL := /bin/bash
 export XDG_RUNTIME_DIR ?= /tmp/pomkit-xdg-$(shell id -u)
 VENV := .venv/bin
