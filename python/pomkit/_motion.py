@@ -7,7 +7,7 @@ swimming, the grazing slide), with the method's GPU time per frame. `pk.bench.mo
 from __future__ import annotations
 
 import math
-from typing import Iterable, Sequence
+from typing import Iterable
 
 import numpy as np
 
@@ -64,10 +64,6 @@ def camera_path(scene: Scene, path: str = "orbit", frames: int = 12) -> list[Sce
     return out
 
 
-def _video(frames: Sequence[Frame]) -> np.ndarray:
-    return np.stack([np.where(f.mask[..., None], f.color, 0.0) for f in frames]).astype(np.float32)
-
-
 def _shadowed(method: Method) -> bool:
     return getattr(method, "shadows", "none") != "none"
 
@@ -98,15 +94,18 @@ def motion(methods: Iterable[Method], scene: Scene, path: str = "orbit", frames:
     turn = [math.degrees(math.acos(np.clip(np.dot(a, b) / (np.linalg.norm(a) * np.linalg.norm(b)), -1, 1)))
             for a, b in ((np.subtract(p.camera.eye, p.camera.target), np.subtract(q.camera.eye, q.camera.target))
                          for p, q in zip(scenes, scenes[1:]))]
-    refs: dict[bool, list[Frame]] = {}
+    # the oracle's frames and video, once per shading
+    refs: dict[bool, tuple[list[Frame], np.ndarray]] = {}
     rows = []
     for m in methods:
         sh = _shadowed(m)
         if sh not in refs:
-            refs[sh] = [oracle.image(s, spp=spp, shadows=sh) for s in scenes]
-        ref = refs[sh]
+            frames_sh = [oracle.image(s, spp=spp, shadows=sh) for s in scenes]
+            refs[sh] = (frames_sh, metrics._linear_video(frames_sh, "reference"))
+        ref, vr = refs[sh]
         fs = [r.render(s, m, aovs=("color", "uv", "mask"), spp=spp) for s in scenes]
-        err = _video(fs) - _video(ref)
+        vm = metrics._linear_video(fs, "frames")
+        err = vm.astype(np.float64) - vr
         both = [f.mask & o.mask for f, o in zip(fs, ref)]
         swim, slide = [], []
         for k in range(1, frames):
@@ -121,9 +120,9 @@ def motion(methods: Iterable[Method], scene: Scene, path: str = "orbit", frames:
         rows.append(dict(
             method=m.name, label=label(m), path=path, frames=frames, fps=fps, spp=spp,
             shading="self-shadowed" if sh else "unshadowed",
-            jod=metrics.jod(_video(fs), _video(ref), fps=fps, display=display),
-            error_rms=float(np.sqrt(np.mean(err.astype(np.float64) ** 2))),
-            flicker=float(np.sqrt(np.mean(np.diff(err.astype(np.float64), axis=0) ** 2))),
+            jod=metrics.jod(vm, vr, fps=fps, display=display),
+            error_rms=float(np.sqrt(np.mean(err ** 2))),
+            flicker=float(np.sqrt(np.mean(np.diff(err, axis=0) ** 2))),
             swimming=float(np.mean(swim)) if swim else float("nan"),
             slide=float(np.mean(slide)) if slide else float("nan"),
             gpu_ms=float(np.median([f.time_ms or 0.0 for f in fs]))))
