@@ -8,7 +8,7 @@ VENV := .venv/bin
 # the tests that run a second time on the GL backend in `make test` (about five minutes)
 GL_TESTS := tests/test_cost.py tests/test_supersampling.py tests/test_methods.py tests/test_analytic.py tests/test_differential.py tests/test_shadows.py tests/test_throughput.py tests/test_sizes.py tests/test_reference_exact.py tests/test_assets.py tests/test_golden.py tests/test_oracle_curved.py
 
-.PHONY: setup setup-test setup-bench setup-demo demo check test test-gl bench tables wheel info clean
+.PHONY: setup setup-test setup-bench setup-demo demo check test test-gl bench tables stubs wheel info clean
 
 setup:
 	scripts/setup.sh
@@ -70,6 +70,10 @@ bench: setup-bench
 # the measured tables of docs/tables (tools/tables.py; the reference tables need the test setup's Mitsuba)
 tables: setup
 	$(VENV)/python tools/tables.py
+
+# the scene classes' stub, written from the core's schema (src/scene/schema.rs)
+stubs: setup
+	$(VENV)/python tools/schema_stub.py
 
 clean:
 	rm -rf target .venv .venv-floor pomkit-out

@@ -13,40 +13,7 @@ use std::sync::{Arc, Mutex};
 /// Loops a shader may run per pixel: more would risk the driver's watchdog.
 pub const MAX_STEPS_LIMIT: u32 = 4096;
 
-/// Where a method's parameters come from, field by field: the pyo3 layer reads a Python
-/// dataclass through it. The core names the fields and types them; a binding layer only
-/// converts values (and names the field in its errors).
-pub trait Fields {
-    fn u32(&self, name: &str) -> Result<u32>;
-    fn f32(&self, name: &str) -> Result<f32>;
-    fn f64(&self, name: &str) -> Result<f64>;
-    fn bool(&self, name: &str) -> Result<bool>;
-    fn str(&self, name: &str) -> Result<String>;
-    /// a mapping of names to numbers, in its order (a custom method's `params`)
-    fn f32_map(&self, name: &str) -> Result<Vec<(String, f32)>>;
-}
-
-/// A parameter's type, read from `Fields` by name.
-pub trait FieldValue: Sized {
-    fn get(f: &dyn Fields, name: &str) -> Result<Self>;
-}
-
-macro_rules! field_values {
-    ($($t:ty => $get:ident),*) => {$(
-        impl FieldValue for $t {
-            fn get(f: &dyn Fields, name: &str) -> Result<Self> {
-                f.$get(name)
-            }
-        }
-    )*};
-}
-
-field_values!(u32 => u32, f32 => f32, f64 => f64, bool => bool);
-
-/// A method's parameters, read from `Fields`.
-pub trait FromFields: Sized {
-    fn from_fields(f: &dyn Fields) -> Result<Self>;
-}
+pub use crate::fields::{FieldValue, Fields, FromFields};
 
 /// A parameter struct whose fields are read from `Fields` by their names (the dataclass's).
 #[macro_export]
@@ -58,11 +25,11 @@ macro_rules! params {
             $($(#[$fm])* pub $f: $t,)*
         }
 
-        impl $crate::contract::FromFields for $name {
+        impl $crate::fields::FromFields for $name {
             #[allow(unused_variables)]
-            fn from_fields(src: &dyn $crate::contract::Fields) -> $crate::error::Result<Self> {
+            fn from_fields(src: &dyn $crate::fields::Fields) -> $crate::error::Result<Self> {
                 Ok($name {
-                    $($f: <$t as $crate::contract::FieldValue>::get(src, stringify!($f))?,)*
+                    $($f: <$t as $crate::fields::FieldValue>::get(src, stringify!($f))?,)*
                 })
             }
         }
@@ -80,8 +47,8 @@ macro_rules! option_enum {
             $($variant,)*
         }
 
-        impl $crate::contract::FieldValue for $name {
-            fn get(f: &dyn $crate::contract::Fields, name: &str) -> $crate::error::Result<Self> {
+        impl $crate::fields::FieldValue for $name {
+            fn get(f: &dyn $crate::fields::Fields, name: &str) -> $crate::error::Result<Self> {
                 Self::parse(&f.str(name)?)
             }
         }

@@ -8,6 +8,7 @@
 pub mod assets;
 pub mod contract;
 pub mod error;
+pub mod fields;
 pub mod gpu;
 pub mod heightmap;
 pub mod imageio;

@@ -63,7 +63,7 @@ def test_no_module_cycle():
 
 def test_contract_is_at_the_bottom_and_python_on_top():
     g = graph()
-    assert g["contract"] <= {"error", "gpu", "scene", "mesh", "heightmap"}, g["contract"]
+    assert g["contract"] <= {"error", "fields", "gpu", "scene", "mesh", "heightmap"}, g["contract"]
     for m, deps in g.items():
         if m != "python":
             assert "python" not in deps, f"{m} uses the pyo3 layer"

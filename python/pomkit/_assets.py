@@ -190,7 +190,7 @@ def check_asset(mesh: Mesh, height: Any = None) -> AssetReport:
         hd = height._height_data()
     elif height is not None:
         hd = Material(height=height)._height_data()
-    r = _core.check_asset(mesh._describe(), hd, float(tiling))
+    r = _core.check_asset(mesh._core_data(), hd, float(tiling))
     d: dict[str, Any] = dict(r)
     seam = r["seam_height_max"]
     d["seam_world_max"] = None if (depth is None or seam is None) else seam * depth

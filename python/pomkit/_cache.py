@@ -16,8 +16,10 @@ from typing import Callable
 
 import numpy as np
 
+from . import _schema
+
 #: the hash's format, part of every key: a new format leaves the old entries unread
-FORMAT = 2
+FORMAT = 3
 
 
 def cache_dir() -> Path:
@@ -60,6 +62,11 @@ def _array(h, name: str, a: np.ndarray) -> None:
     h.update(name.encode() + a.dtype.str.encode() + str(a.shape).encode() + a.tobytes())
 
 
+def _fields(x, skip: tuple[str, ...] = ()) -> dict:
+    """A schema class's fields (camera, light) by name, as the core declares them."""
+    return {f[0]: getattr(x, f[0]) for f in _schema.fields(x._schema) if f[0] not in skip}
+
+
 def scene_hash(scene, **settings) -> str:
     """sha256 over every array and parameter that changes a render, the same on every machine:
     parameters canonical (`canonical`), built-in meshes by their recipe (their vertices come from
@@ -67,14 +74,9 @@ def scene_hash(scene, **settings) -> str:
     hashed as the float32 arrays the scene holds: pomkit makes those from exactly rounded
     operations (textures.py, _color.py), so they too are the same everywhere."""
     h = hashlib.sha256()
-    lights = []
-    for l in scene.lights:
-        ld = l._describe()
-        # pomkit's own shadow settings do not change a reference render
-        ld.pop("cast_shadows", None)
-        ld.pop("shadow_map_size", None)
-        lights.append(ld)
-    h.update(_json(dict(camera=scene.camera._describe(), lights=lights, ambient=scene.ambient)))
+    # pomkit's own shadow settings do not change a reference render
+    lights = [dict(_fields(l, skip=("cast_shadows", "shadow_map_size")), kind=l._schema) for l in scene.lights]
+    h.update(_json(dict(camera=_fields(scene.camera), lights=lights, ambient=scene.ambient)))
     for i, o in enumerate(scene.objects):
         m = o.material
         h.update(f"object{i}".encode() + _json(dict(depth=m.depth, tiling=m.tiling, transform=o.transform)))

@@ -1,16 +1,17 @@
 """Type stubs for the compiled core (pomkit._core). The pyo3 layer only converts: scenes come
-as the dict `pomkit.Scene._describe()` returns, methods as the dataclasses of pomkit._methods
-(extracted field by field into the core's typed `Method`)."""
+as `pomkit.Scene` objects and methods as the dataclasses of pomkit._methods, each read
+attribute by attribute into the core's typed structs (src/python/fields.rs)."""
 
 from typing import Any, Callable, Literal, Optional, Sequence, TypedDict, final, type_check_only
 
 import numpy as np
 
 from ._methods import Method
+from ._scene import Scene
 
 __all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "COST_AOV_NAMES", "CONE_KINDS", "FILTERING_KINDS", "HeightData", "MAX_LIGHTS",
-           "MAX_STEPS_LIMIT", "MeshData", "PATTERN_KINDS", "PRISM_BYTES", "PRISM_VERTEX_BYTES", "REFINE_KINDS", "Renderer", "SHADOW_KINDS", "WALK_BYTES_PER_TRIANGLE",
-           "__version__", "adapters", "bounding_sphere", "check_asset", "exact_uv", "load_gltf", "jod", "jod_displays", "load_image", "mesh_from_arrays", "mesh_generate", "oracle_refusal", "reference_directions", "reference_normals", "render_exact", "set_cache_dir", "set_progress_hook", "tessellate"]
+           "MAX_STEPS_LIMIT", "MeshData", "PATTERN_KINDS", "PRISM_BYTES", "PRISM_VERTEX_BYTES", "REFINE_KINDS", "RenderedFrame", "Renderer", "SCHEMA", "SHADOW_KINDS", "WALK_BYTES_PER_TRIANGLE",
+           "__version__", "adapters", "bounding_sphere", "check_asset", "exact_uv", "light_power", "load_gltf", "jod", "jod_displays", "load_image", "mesh_cube", "mesh_cylinder", "mesh_from_arrays", "mesh_plane", "mesh_sphere", "mesh_torus", "oracle_refusal", "reference_directions", "reference_normals", "render_exact", "set_cache_dir", "set_progress_hook", "tessellate"]
 __version__: str
 #: GPU bytes of one triangle's walk data (NCS and curved relief)
 WALK_BYTES_PER_TRIANGLE: int
@@ -27,6 +28,9 @@ REFINE_KINDS: list[str]
 PATTERN_KINDS: list[str]
 MAX_STEPS_LIMIT: int
 AOV_DOCS: dict[str, str]
+#: the scene's schema classes (src/scene/schema.rs): name -> (doc, [(field, kind, default
+#: literal or None, lo, hi, doc)]), from which pomkit._schema builds Camera and the lights
+SCHEMA: dict[str, tuple[str, list[tuple[str, str, Optional[str], Optional[float], Optional[float], str]]]]
 
 
 @final
@@ -51,63 +55,21 @@ class AlbedoData:
     @property
     def key(self) -> int: ...
 
-@type_check_only
-class CameraDict(TypedDict):
-    eye: tuple[float, float, float]
-    target: tuple[float, float, float]
-    up: tuple[float, float, float]
-    fov_y: float
-    width: int
-    height: int
-
-
-@type_check_only
-class DirectionalLightDict(TypedDict):
-    kind: Literal["directional"]
-    direction: tuple[float, float, float]
-    irradiance: tuple[float, float, float]
-    angular_diameter: float
-    cast_shadows: bool
-    shadow_map_size: int
-
-
-@type_check_only
-class SphereLightDict(TypedDict):
-    kind: Literal["sphere"]
-    position: tuple[float, float, float]
-    radius: float
-    intensity: tuple[float, float, float]
-
-
-@type_check_only
-class ObjectDict(TypedDict):
-    mesh: MeshData
-    height: HeightData
-    albedo: Optional[AlbedoData]
-    depth: float
-    tiling: float
-    # row-major 4x4 object-to-world, None for the identity
-    transform: Optional[list[float]]
-
-
-@type_check_only
-class SceneDict(TypedDict):
-    """What a scene crosses into the core as (`pomkit.Scene._describe`): typed here, read key
-    by key by src/python/scene_args.rs."""
-    objects: list[ObjectDict]
-    camera: CameraDict
-    lights: list[DirectionalLightDict | SphereLightDict]
-    ambient: tuple[float, float, float]
-
-
-# A render: (the arrays by AOV name, None for those not asked for; gpu_ms; wall_ms). The names
-# are AOV_NAMES (the core's table, src/render/aovs.rs), their meaning AOV_DOCS.
-_FrameTuple = tuple[dict[str, Optional[np.ndarray]], Optional[float], float]
+@final
+class RenderedFrame:
+    """A render as it crosses the boundary (pomkit.Frame wraps it)."""
+    #: numpy arrays by AOV name (AOV_NAMES, their meaning AOV_DOCS), None for those not asked for
+    @property
+    def arrays(self) -> dict[str, Optional[np.ndarray]]: ...
+    @property
+    def gpu_ms(self) -> Optional[float]: ...
+    @property
+    def wall_ms(self) -> float: ...
 
 
 @type_check_only
 class MeshArrays(TypedDict):
-    """A mesh's arrays (`mesh_generate`, `mesh_from_arrays`)."""
+    """A mesh's arrays (`mesh_plane` and the other generators, `mesh_from_arrays`)."""
     positions: np.ndarray    # (n, 3) float32
     normals: np.ndarray      # (n, 3) float32
     uvs: np.ndarray          # (n, 2) float32
@@ -217,31 +179,35 @@ class RendererInfo(TypedDict):
 @final
 class Renderer:
     def __new__(cls, adapter: Optional[str] = None) -> "Renderer": ...
-    def render(self, scene: SceneDict, method: Method, aovs: Optional[Sequence[str]] = None, spp: int = 1) -> _FrameTuple: ...
-    def render_many(self, scenes: Sequence[SceneDict], method: Method,
-                    aovs: Optional[Sequence[str]] = None, spp: int = 1) -> list[_FrameTuple]: ...
+    def render(self, scene: Scene, method: Method, aovs: Optional[Sequence[str]] = None, spp: int = 1) -> RenderedFrame: ...
+    def render_many(self, scenes: Sequence[Scene], method: Method,
+                    aovs: Optional[Sequence[str]] = None, spp: int = 1) -> list[RenderedFrame]: ...
     def update_height(self, old: HeightData, new: HeightData) -> bool: ...
     def info(self) -> RendererInfo: ...
     def _provoke_validation_error(self) -> None: ...
     def _destroy_device(self) -> None: ...
 
 def adapters() -> list[AdapterDict]: ...
-def exact_uv(scene: SceneDict, light_bias: float = 0.0) -> OracleDict: ...
-def bounding_sphere(scene: SceneDict) -> tuple[tuple[float, float, float], float]: ...
-def render_exact(scene: SceneDict, spp: int, shadows: bool = True) -> ExactImageDict: ...
-def oracle_refusal(scene: SceneDict) -> Optional[str]: ...
-def reference_normals(scene: SceneDict, object: int, uvs: np.ndarray, base_normals: np.ndarray, tangents: np.ndarray,
+def exact_uv(scene: Scene, light_bias: float = 0.0) -> OracleDict: ...
+def light_power(light: Any) -> tuple[float, float, float]: ...
+def bounding_sphere(scene: Scene) -> tuple[tuple[float, float, float], float]: ...
+def render_exact(scene: Scene, spp: int, shadows: bool = True) -> ExactImageDict: ...
+def oracle_refusal(scene: Scene) -> Optional[str]: ...
+def reference_normals(scene: Scene, object: int, uvs: np.ndarray, base_normals: np.ndarray, tangents: np.ndarray,
                       uv_scale: np.ndarray) -> np.ndarray: ...
 def reference_directions(axes: np.ndarray, tan_r: np.ndarray, q: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]: ...
-def tessellate(scene: SceneDict, texels_per_vertex: float, object: int = 0,
+def tessellate(scene: Scene, texels_per_vertex: float, object: int = 0,
                pattern: Literal["fan", "grid"] = "fan") -> TessellationDict: ...
 def mesh_from_arrays(positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray, indices: np.ndarray,
                      tangents: Optional[np.ndarray] = None,
                      frames: Literal["pomkit", "mikktspace"] = "pomkit") -> MeshFromArrays: ...
 def load_gltf(path: str) -> list[GltfNode]: ...
 def check_asset(mesh: MeshData, height: Optional[HeightData] = None, tiling: float = 1.0) -> AssetReportDict: ...
-def mesh_generate(kind: Literal["plane", "sphere", "torus", "cylinder", "cube"], a: float, b: float, n1: int,
-                  n2: int) -> MeshArrays: ...
+def mesh_plane(size: float, segments: int) -> MeshArrays: ...
+def mesh_sphere(radius: float, segments: int, rings: int) -> MeshArrays: ...
+def mesh_torus(major: float, minor: float, segments: int, tube_segments: int) -> MeshArrays: ...
+def mesh_cylinder(radius: float, height: float, segments: int, rings: int) -> MeshArrays: ...
+def mesh_cube(size: float, segments: int) -> MeshArrays: ...
 def load_image(path: Any, kind: Literal["height", "albedo"]) -> tuple[np.ndarray, int]: ...
 def set_progress_hook(hook: Optional[Callable[[str, int, int], None]]) -> None: ...
 def set_cache_dir(path: Optional[str]) -> None: ...

@@ -36,7 +36,7 @@ def displaced_arrays(scene: Scene, resolution: float = 2.0, object: int = 0) -> 
         raise ArgumentTypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
     resolution = _v.number("resolution", resolution, 1 / 1024, 64)  # vertices per texel
     object = _v.integer("object", object, 0, len(scene.objects) - 1, strict=True)
-    t = _core.tessellate(scene._describe(), 1.0 / float(resolution), int(object), MESH)
+    t = _core.tessellate(scene, 1.0 / float(resolution), int(object), MESH)
     a: dict[str, np.ndarray] = {k: np.asarray(v) for k, v in t.items()}
     o = scene.objects[int(object)]
     if not o.is_identity:

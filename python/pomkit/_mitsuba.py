@@ -93,7 +93,7 @@ def _look_at(mi, cam):
 
 def _scene_radius(scene: Scene) -> tuple[np.ndarray, float]:
     """The scene's bounding sphere, the core's (`Scene::bounding_sphere`: one home for it)."""
-    c, r = _core.bounding_sphere(scene._describe())
+    c, r = _core.bounding_sphere(scene)
     return np.asarray(c, np.float64), float(r)
 
 
@@ -106,22 +106,22 @@ def _emitters(mi, scene: Scene) -> dict:
             d = d / np.linalg.norm(d)
             if l.angular_diameter <= 0:
                 out[f"light{i}"] = {"type": "directional", "direction": d.tolist(),
-                                    "irradiance": {"type": "rgb", "value": list(l.irradiance)}}
+                                    "irradiance": {"type": "rgb", "value": list(l.power)}}
             else:
                 # a distant disk source of the same angular diameter: a sphere far away whose
                 # radiance gives the same irradiance on a surface facing it, E = L pi sin^2(a)
                 a = math.radians(l.angular_diameter) / 2
                 dist = 1000.0 * radius
                 pos = centre - d * dist
-                L = np.asarray(l.irradiance) / (math.pi * math.sin(a) ** 2)
+                L = np.asarray(l.power) / (math.pi * math.sin(a) ** 2)
                 out[f"light{i}"] = {"type": "sphere", "center": pos.tolist(), "radius": dist * math.sin(a),
                                     "emitter": {"type": "area", "radiance": {"type": "rgb", "value": L.tolist()}}}
         elif isinstance(l, SphereLight):
             if l.radius <= 0:
                 out[f"light{i}"] = {"type": "point", "position": list(l.position),
-                                    "intensity": {"type": "rgb", "value": list(l.intensity)}}
+                                    "intensity": {"type": "rgb", "value": list(l.power)}}
             else:
-                L = np.asarray(l.intensity) / (math.pi * l.radius ** 2)
+                L = np.asarray(l.power) / (math.pi * l.radius ** 2)
                 out[f"light{i}"] = {"type": "sphere", "center": list(l.position), "radius": l.radius,
                                     "emitter": {"type": "area", "radiance": {"type": "rgb", "value": L.tolist()}}}
     if max(scene.ambient) > 0:
@@ -241,10 +241,10 @@ def _delta_emitters(scene: Scene) -> dict:
     for i, l in enumerate(scene.lights):
         if isinstance(l, DirectionalLight):
             out[f"light{i:02d}"] = {"type": "directional", "direction": list(map(float, l.direction)),
-                                    "irradiance": {"type": "rgb", "value": list(l.irradiance)}}
+                                    "irradiance": {"type": "rgb", "value": list(l.power)}}
         elif isinstance(l, SphereLight):
             out[f"light{i:02d}"] = {"type": "point", "position": list(l.position),
-                                    "intensity": {"type": "rgb", "value": list(l.intensity)}}
+                                    "intensity": {"type": "rgb", "value": list(l.power)}}
     return out
 
 
@@ -280,7 +280,7 @@ class _Caster:
             sel = valid & (out["object"] == i)
             if not sel.any():
                 continue
-            n = _core.reference_normals(self.scene._describe(), i, np.ascontiguousarray(out["uv"][sel]),
+            n = _core.reference_normals(self.scene, i, np.ascontiguousarray(out["uv"][sel]),
                                         np.ascontiguousarray(bn[sel]), np.ascontiguousarray(np.c_[tg[sel], ts[sel, 0]]),
                                         np.ascontiguousarray(ts[sel, 1:]))
             if not o.is_identity:

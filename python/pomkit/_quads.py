@@ -107,7 +107,7 @@ def triangle_counts(scene: _scene.Scene, method) -> tuple[int, int, float]:
     for i, o in enumerate(scene.objects):
         tr = np.asarray(o.transform, dtype=np.float64)
         if isinstance(method, _methods.Tessellated):
-            t = _core.tessellate(scene._describe(), float(method.texels_per_vertex), i, method.pattern)
+            t = _core.tessellate(scene, float(method.texels_per_vertex), i, method.pattern)
             pos, faces = np.asarray(t["positions"], np.float64), np.asarray(t["faces"])
         else:
             pos, faces = np.asarray(o.mesh.positions, np.float64), np.asarray(o.mesh.indices).reshape(-1, 3)

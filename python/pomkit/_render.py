@@ -56,7 +56,7 @@ class Renderer:
         one-sample pass: they are the plain frame's, bit for bit, and `time_ms` is both passes'.
         spp=1 is the plain frame."""
         _check(scene, method)
-        return _frame(self._r.render(scene._describe(), method, _aovs(aovs), _spp(spp)), method)
+        return _frame(self._r.render(scene, method, _aovs(aovs), _spp(spp)), method)
 
     def render_many(self, scenes: Iterable[Scene], method: Method, aovs: Aovs = "all", spp: int = 1) -> list[Frame]:
         """Render many scenes (one scene under many cameras, a sweep of one parameter...) with one
@@ -66,7 +66,7 @@ class Renderer:
         scenes = list(scenes)
         for sc in scenes:
             _check(sc, method)
-        ds = self._r.render_many([sc._describe() for sc in scenes], method, _aovs(aovs), _spp(spp))
+        ds = self._r.render_many(list(scenes), method, _aovs(aovs), _spp(spp))
         return [_frame(d, method) for d in ds]
 
     def render_visibility(self, scene: Scene, method: Method, aovs: Aovs = ("color", "uv", "mask")) -> Frame:
@@ -176,9 +176,8 @@ def _check(scene: Any, method: Any) -> None:
         raise ArgumentTypeError(f"method: expected a pomkit method such as pomkit.POM(), got {type(method).__name__}")
 
 
-def _frame(r: "_core._FrameTuple", method: Method) -> Frame:
-    arrays, gpu_ms, wall_ms = r
-    return Frame._of(arrays, gpu_ms=gpu_ms, wall_ms=wall_ms, method=repr(method))
+def _frame(r: "_core.RenderedFrame", method: Method) -> Frame:
+    return Frame._of(r.arrays, gpu_ms=r.gpu_ms, wall_ms=r.wall_ms, method=repr(method))
 
 
 def exact_uv(scene: Scene, *, light_bias: float = 0.0) -> Frame:

@@ -12,11 +12,12 @@ from ._errors import ArgumentError, ArgumentTypeError
 import math
 import warnings
 from dataclasses import dataclass, field
-from typing import Any, Literal, Optional, Sequence
+from typing import TYPE_CHECKING, Any, Literal, Optional, Sequence
 
 import numpy as np
 
 from . import _core
+from . import _schema
 from . import _validate as _v
 from ._color import srgb_to_linear
 
@@ -64,8 +65,8 @@ class Mesh:
     uv_scale: np.ndarray
     charts: np.ndarray
     kind: str = "arrays"
-    #: how a built-in mesh was made: (kind, a, b, n, m) of the core's generator. Scene hashes
-    #: read this, not the vertices, which come from the platform's sinf and cosf.
+    #: how a built-in mesh was made: (kind, {parameter: value}) of the core's generator. Scene
+    #: hashes read this, not the vertices, which come from the platform's sinf and cosf.
     recipe: Optional[tuple] = None
 
     @classmethod
@@ -75,9 +76,9 @@ class Mesh:
                    r(a["uv_scale"]), r(a["charts"]), kind=kind)
 
     @classmethod
-    def _generate(cls, kind: 'Literal["plane", "sphere", "torus", "cylinder", "cube"]', a: float, b: float, n: int, m: int) -> "Mesh":
-        mesh = cls._from_core(_core.mesh_generate(kind, a, b, n, m), kind)
-        object.__setattr__(mesh, "recipe", (kind, a, b, n, m))
+    def _generate(cls, kind: 'Literal["plane", "sphere", "torus", "cylinder", "cube"]', **params: Any) -> "Mesh":
+        mesh = cls._from_core(getattr(_core, f"mesh_{kind}")(**params), kind)
+        object.__setattr__(mesh, "recipe", (kind, params))
         return mesh
 
     @classmethod
@@ -86,7 +87,7 @@ class Mesh:
 
         u grows with +X and v with +Z, so row 0 of a map is the far edge for a camera on +Z.
         """
-        return cls._generate("plane", _pos("size", size), 0.0, _count("segments", segments), 1)
+        return cls._generate("plane", size=_pos("size", size), segments=_count("segments", segments))
 
     @classmethod
     def sphere(cls, radius: float = 1.0, segments: int = 64, rings: int = 32) -> "Mesh":
@@ -96,7 +97,8 @@ class Mesh:
         from the north pole (+Y, v = 0) to the south pole (v = 1). The poles are rows of
         coincident vertices and u = 0/1 is a seam of duplicated vertices: both are test cases.
         """
-        return cls._generate("sphere", _pos("radius", radius), 0.0, _count("segments", segments), _count("rings", rings))
+        return cls._generate("sphere", radius=_pos("radius", radius), segments=_count("segments", segments),
+                             rings=_count("rings", rings))
 
     @classmethod
     def torus(cls, major: float = 1.0, minor: float = 0.35, segments: int = 64, tube_segments: int = 32) -> "Mesh":
@@ -105,7 +107,8 @@ class Mesh:
         u = angle around the axis / 2pi, v = angle around the tube / 2pi (v = 0 on the outer
         equator, rising toward +Y). Continuous and periodic in both directions.
         """
-        return cls._generate("torus", _pos("major", major), _pos("minor", minor), _count("segments", segments), _count("tube_segments", tube_segments))
+        return cls._generate("torus", major=_pos("major", major), minor=_pos("minor", minor),
+                             segments=_count("segments", segments), tube_segments=_count("tube_segments", tube_segments))
 
     @classmethod
     def cylinder(cls, radius: float = 0.5, height: float = 1.5, segments: int = 64, rings: int = 1) -> "Mesh":
@@ -113,12 +116,13 @@ class Mesh:
 
         u = angle / 2pi (u = 0 on +X), v from the top rim (v = 0) to the bottom rim (v = 1).
         """
-        return cls._generate("cylinder", _pos("radius", radius), _pos("height", height), _count("segments", segments), _count("rings", rings))
+        return cls._generate("cylinder", radius=_pos("radius", radius), height=_pos("height", height),
+                             segments=_count("segments", segments), rings=_count("rings", rings))
 
     @classmethod
     def cube(cls, size: float = 1.5, segments: int = 1) -> "Mesh":
         """Cube of edge `size` centred at the origin; each face carries the whole uv square."""
-        return cls._generate("cube", _pos("size", size), 0.0, _count("segments", segments), 1)
+        return cls._generate("cube", size=_pos("size", size), segments=_count("segments", segments))
 
     @classmethod
     def from_arrays(cls, positions, normals, uvs, indices, tangents: Any = None) -> "Mesh":
@@ -183,7 +187,7 @@ class Mesh:
         return dict(positions=self.positions, normals=self.normals, uvs=self.uvs, indices=self.indices,
                     tangents=self.tangents, uv_scale=self.uv_scale, charts=self.charts)
 
-    def _describe(self) -> "_core.MeshData":
+    def _core_data(self) -> "_core.MeshData":
         """The core's copy of the arrays with their content key, made on the first render and
         kept (the arrays are read-only), so that later renders neither copy nor hash them."""
         return _handle(self, "_core_mesh", lambda: _core.MeshData(
@@ -284,114 +288,70 @@ class Material:
     __getstate__ = _without_handles
 
 
-@dataclass(frozen=True)
-class Camera:
-    """Pinhole camera. Use `Camera.look_at`. fov_y is the vertical field of view in degrees;
-    the ray of pixel (i, j) passes through the pixel centre (j + 0.5, i + 0.5), row 0 at the top."""
-
-    eye: tuple[float, float, float]
-    target: tuple[float, float, float]
-    up: tuple[float, float, float]
-    fov_y: float
-    width: int
-    height: int
+class _CameraBase(_schema.SchemaClass):
+    """A camera's methods; its fields are the core's (src/scene/camera.rs), typed for mypy in
+    `_schema_classes.pyi` (here `c` is the instance seen as that class)."""
 
     @classmethod
     def look_at(cls, eye, target=(0.0, 0.0, 0.0), up=(0.0, 1.0, 0.0), fov_y: float = 45.0,
                 width: int = 256, height: int = 256) -> "Camera":
-        return cls(eye, target, up, fov_y, width, height)
+        return cls(eye, target, up, fov_y, width, height)  # type: ignore[call-arg, return-value]
 
-    def __post_init__(self):
-        eye, target, up = _vec3("eye", self.eye), _vec3("target", self.target), _vec3("up", self.up)
-        for name in ("width", "height"):
-            object.__setattr__(self, name, _v.integer(name, getattr(self, name), 1, 1 << 30))
-        fov = _v.number("fov_y", self.fov_y, 0.0, 179.999, lo_open=True)
-        f = np.subtract(target, eye)
+    def _check(self) -> None:
+        c: Any = self
+        f = np.subtract(c.target, c.eye)
         if np.linalg.norm(f) < 1e-9:
             raise ArgumentError("eye: eye and target coincide; move the eye away from the target")
-        u = np.asarray(up)
+        u = np.asarray(c.up)
         if np.linalg.norm(u) < 1e-12 or np.linalg.norm(np.cross(f / np.linalg.norm(f), u / np.linalg.norm(u))) < 1e-6:
             raise ArgumentError("up: up is zero or parallel to the view direction; pass another up vector")
-        object.__setattr__(self, "eye", eye)
-        object.__setattr__(self, "target", target)
-        object.__setattr__(self, "up", up)
-        object.__setattr__(self, "fov_y", fov)
 
     def basis(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(forward, right, up) unit vectors in float64."""
-        f = np.subtract(self.target, self.eye)
+        c: Any = self
+        f = np.subtract(c.target, c.eye)
         f = f / np.linalg.norm(f)
-        r = np.cross(f, self.up)
+        r = np.cross(f, c.up)
         r = r / np.linalg.norm(r)
         return f, r, np.cross(r, f)
 
     def rays(self) -> np.ndarray:
         """(H, W, 3) float64 unit directions of the rays through the pixel centres."""
+        c: Any = self
         f, r, u = self.basis()
-        t = math.tan(math.radians(self.fov_y) / 2)
-        aspect = self.width / self.height
-        x = ((np.arange(self.width) + 0.5) / self.width * 2 - 1) * t * aspect
-        y = (1 - (np.arange(self.height) + 0.5) / self.height * 2) * t
+        t = math.tan(math.radians(c.fov_y) / 2)
+        w, h = c.width, c.height
+        x = ((np.arange(w) + 0.5) / w * 2 - 1) * t * w / h
+        y = (1 - (np.arange(h) + 0.5) / h * 2) * t
         d = f[None, None, :] + x[None, :, None] * r[None, None, :] + y[:, None, None] * u[None, None, :]
         return d / np.linalg.norm(d, axis=-1, keepdims=True)
 
-    def _describe(self) -> "_core.CameraDict":
-        return dict(eye=self.eye, target=self.target, up=self.up, fov_y=self.fov_y, width=self.width, height=self.height)
+
+class _LightBase(_schema.SchemaClass):
+    """What every light has; its fields are the core's (src/scene/mod.rs)."""
+
+    @property
+    def power(self) -> tuple[float, float, float]:
+        """What the light delivers, its tint included (the core's `Light::power`): a directional
+        light's linear RGB irradiance, a sphere light's intensity in W/sr."""
+        p = _core.light_power(self)
+        return (float(p[0]), float(p[1]), float(p[2]))
 
 
-@dataclass(frozen=True)
-class DirectionalLight:
-    """A distant light. `direction` is the way the light travels (as in Mitsuba); `irradiance`
-    (linear RGB or a scalar) is measured on a surface facing the light; `angular_diameter`
-    (degrees) is the apparent size of the source, which the soft shadows estimate.
+class _DirectionalBase(_LightBase):
+    """A directional light's check."""
 
-    cast_shadows: the objects shadow each other from this light through a shadow map in which
-    each object casts with its displaced surface (the method itself, run in a depth-only pass);
-    a surface receives it at its displaced hit point. Only the first directional light with
-    cast_shadows=True casts; `SphereLight`s never do. A method's own `shadows=` (self-shadowing of
-    its height field) multiplies with it. shadow_map_size: the map's size in texels (square,
-    orthographic, fitted to the scene's bounding sphere; clamped to the device's limit), also
-    used by `Tessellated`'s own shadows; docs/objects.md measures what it does to shadow edges."""
-
-    direction: tuple[float, float, float]
-    irradiance: Any = 1.0
-    angular_diameter: float = 0.0
-    cast_shadows: bool = False
-    shadow_map_size: int = 1024
-
-    def __post_init__(self):
-        object.__setattr__(self, "shadow_map_size", _v.integer("shadow_map_size", self.shadow_map_size, 16, 16384))
-        object.__setattr__(self, "cast_shadows", _v.boolean("cast_shadows", self.cast_shadows))
-        d = _vec3("direction", self.direction)
-        if np.linalg.norm(d) < 1e-12:
+    def _check(self) -> None:
+        if np.linalg.norm(getattr(self, "direction")) < 1e-12:
             raise ArgumentError("direction: must be a non-zero vector")
-        object.__setattr__(self, "direction", d)
-        object.__setattr__(self, "irradiance", _rgb("irradiance", self.irradiance))
-        object.__setattr__(self, "angular_diameter", _v.number("angular_diameter", self.angular_diameter, 0.0, 179.999))
-
-    def _describe(self) -> "_core.DirectionalLightDict":
-        return dict(kind="directional", direction=self.direction, irradiance=self.irradiance,
-                    angular_diameter=self.angular_diameter, cast_shadows=self.cast_shadows,
-                    shadow_map_size=self.shadow_map_size)
 
 
-@dataclass(frozen=True)
-class SphereLight:
-    """A spherical area light at `position` with `radius` and radiant intensity `intensity`
-    (W/sr, linear RGB or scalar): irradiance I / r^2 on a surface facing it at distance r. Its
-    radiance is I / (pi radius^2) (Mitsuba: a `sphere` shape with an `area` emitter)."""
-
-    position: tuple[float, float, float]
-    radius: float = 0.05
-    intensity: Any = 1.0
-
-    def __post_init__(self):
-        object.__setattr__(self, "position", _vec3("position", self.position))
-        object.__setattr__(self, "radius", _v.number("radius", self.radius, 0.0))
-        object.__setattr__(self, "intensity", _rgb("intensity", self.intensity))
-
-    def _describe(self) -> "_core.SphereLightDict":
-        return dict(kind="sphere", position=self.position, radius=self.radius, intensity=self.intensity)
+if TYPE_CHECKING:
+    from ._schema_classes import Camera, DirectionalLight, SphereLight
+else:
+    Camera = _schema.build("Camera", _CameraBase, __name__)
+    DirectionalLight = _schema.build("DirectionalLight", _DirectionalBase, __name__)
+    SphereLight = _schema.build("SphereLight", _LightBase, __name__)
 
 
 #: the most lights a scene takes (the core's; the shaders' light array has this size)
@@ -448,17 +408,6 @@ class Object:
     @property
     def is_identity(self) -> bool:
         return bool(np.array_equal(self.transform, np.eye(4)))
-
-    def _describe(self) -> "_core.ObjectDict":
-        m = self.material
-        return dict(
-            mesh=self.mesh._describe(),
-            height=m._height_data(),
-            albedo=m._albedo_data(),
-            depth=m.depth,
-            tiling=m.tiling,
-            transform=None if self.is_identity else [float(x) for x in self.transform.reshape(-1)],
-        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -541,11 +490,3 @@ class Scene:
         else:
             changes.update(objects=self.objects, mesh=None, material=None)
         return dataclasses.replace(self, **changes)
-
-    def _describe(self) -> "_core.SceneDict":
-        return dict(
-            objects=[o._describe() for o in self.objects],
-            camera=self.camera._describe(),
-            lights=[l._describe() for l in self.lights],
-            ambient=self.ambient,
-        )

@@ -41,7 +41,7 @@ def hits(scene: Scene, *, light_bias: float = 0.0) -> Frame:
     blocker grazes the ray within that tolerance."""
     if not isinstance(scene, Scene):
         raise ArgumentTypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
-    d = _core.exact_uv(scene._describe(), float(light_bias))
+    d = _core.exact_uv(scene, float(light_bias))
     vis = d["visibility"].astype(np.float32)
     return Frame(uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["cells"], visibility=vis, object=d["object"],
                  method="oracle.hits")
@@ -76,7 +76,7 @@ def image(scene: Scene, spp: int = 16, shadows: bool = True, cache: bool = True)
 
     def compute():
         t0 = time.perf_counter()
-        d = _core.render_exact(scene._describe(), spp, bool(shadows))  # with the pixel centres' hits
+        d = _core.render_exact(scene, spp, bool(shadows))  # with the pixel centres' hits
         return dict(color=d["color"], coverage=d["coverage"], uv=d["uv"].astype(np.float32),
                     depth=d["depth"].astype(np.float32), mask=d["mask"], visibility=d["visibility"].astype(np.float32),
                     object=d["object"], ms=np.array(1e3 * (time.perf_counter() - t0)))

@@ -201,11 +201,11 @@ def _pyrender_render(scene: Scene, resolution: float):
             x /= np.linalg.norm(x)
             lp = np.eye(4)
             lp[:3, 0], lp[:3, 1], lp[:3, 2] = x, np.cross(z, x), z
-            ps.add(pyrender.DirectionalLight(color=np.ones(3), intensity=float(np.mean(l.irradiance))), pose=lp)
+            ps.add(pyrender.DirectionalLight(color=np.ones(3), intensity=float(np.mean(l.power))), pose=lp)
         else:
             lp = np.eye(4)
             lp[:3, 3] = l.position
-            ps.add(pyrender.PointLight(color=np.ones(3), intensity=float(np.mean(l.intensity)) * 4 * math.pi), pose=lp)
+            ps.add(pyrender.PointLight(color=np.ones(3), intensity=float(np.mean(l.power)) * 4 * math.pi), pose=lp)
     rend = pyrender.OffscreenRenderer(cam.width, cam.height)
     try:
         flags = pyrender.RenderFlags.SHADOWS_DIRECTIONAL | pyrender.RenderFlags.RGBA

@@ -130,13 +130,9 @@ fn image<T: Tracer>(scene: &Scene, oracle: &T, k: u32, shadows: bool) -> ExactIm
         .lights
         .iter()
         .map(|l| match l {
-            Light::Directional {
-                direction,
-                angular_diameter,
-                ..
-            } if *angular_diameter > 0.0 => Some(disk_directions(
-                -DVec3::from(*direction).normalize(),
-                (0.5 * angular_diameter).to_radians().tan(),
+            Light::Directional(l) if l.angular_diameter > 0.0 => Some(disk_directions(
+                -DVec3::from(l.direction).normalize(),
+                (0.5 * l.angular_diameter).to_radians().tan(),
             )),
             _ => None,
         })
@@ -203,29 +199,20 @@ fn shade<T: Tracer>(
     let nrm = o.normal(hit);
     let albedo = albedo_at(&o.material(hit.object).albedo, hit.s);
     let mut direct = DVec3::ZERO;
-    for (l, disk) in scene.lights.iter().zip(disks) {
-        let (to_light, e, tan_r) = match l {
-            Light::Directional {
-                direction,
-                irradiance,
-                angular_diameter,
-                ..
-            } => (
-                -DVec3::from(*direction).normalize(),
-                DVec3::from(irradiance.map(|x| x as f64)),
-                (0.5 * angular_diameter).to_radians().tan(),
+    for (light, disk) in scene.lights.iter().zip(disks) {
+        let (to_light, e, tan_r) = match light {
+            Light::Directional(l) => (
+                -DVec3::from(l.direction).normalize(),
+                DVec3::from(light.power().map(|x| x as f64)),
+                (0.5 * l.angular_diameter).to_radians().tan(),
             ),
-            Light::Sphere {
-                position,
-                radius,
-                intensity,
-            } => {
-                let d = DVec3::from(*position) - p;
+            Light::Sphere(l) => {
+                let d = DVec3::from(l.position) - p;
                 let r2 = d.length_squared().max(1e-24);
                 (
                     d / r2.sqrt(),
-                    DVec3::from(intensity.map(|x| x as f64)) / r2,
-                    radius / (r2 - radius * radius).max(1e-24).sqrt(),
+                    DVec3::from(light.power().map(|x| x as f64)) / r2,
+                    l.radius / (r2 - l.radius * l.radius).max(1e-24).sqrt(),
                 )
             }
         };

@@ -456,11 +456,7 @@ fn trace(
 fn first_light_directions(scene: &Scene) -> Vec<DVec3> {
     use crate::scene::Light;
     let Some((dir, diameter)) = scene.lights.iter().find_map(|l| match l {
-        Light::Directional {
-            direction,
-            angular_diameter,
-            ..
-        } => Some((DVec3::from(*direction), *angular_diameter)),
+        Light::Directional(l) => Some((DVec3::from(l.direction), l.angular_diameter)),
         _ => None,
     }) else {
         return Vec::new();

@@ -5,7 +5,7 @@ use super::nd_array;
 use crate::render::aovs::{AovData, AOVS};
 use crate::render::{Aovs, Frame};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyTuple};
+use pyo3::types::PyDict;
 
 /// `aovs=` from Python: None or "all" for every AOV but the cost counters, else a sequence of
 /// names.
@@ -28,10 +28,24 @@ pub fn aovs_from_py(aovs: Option<&Bound<'_, PyAny>>) -> PyResult<Aovs> {
     Ok(Aovs::parse(&names)?)
 }
 
-/// The frame as (a dict of numpy arrays by AOV name, None for those not asked for; gpu_ms;
-/// wall_ms), as the AOV table (render/aovs.rs) says: shape (H, W) or (H, W, comps), its dtype.
-/// The arrays are moved, not copied.
-pub fn frame_to_py<'py>(py: Python<'py>, f: Frame) -> PyResult<Bound<'py, PyTuple>> {
+/// A rendered frame as it crosses the boundary: its arrays by AOV name and its timings
+/// (`pomkit.Frame` wraps it).
+#[pyclass(name = "RenderedFrame", module = "pomkit._core", frozen)]
+pub struct PyRenderedFrame {
+    /// numpy arrays by AOV name (the AOV table's, render/aovs.rs), None for those not asked for
+    #[pyo3(get)]
+    arrays: Py<PyDict>,
+    /// GPU time of the passes by timestamp queries, None where the adapter has none
+    #[pyo3(get)]
+    gpu_ms: Option<f64>,
+    /// wall time of the render call
+    #[pyo3(get)]
+    wall_ms: f64,
+}
+
+/// The frame's arrays as the AOV table (render/aovs.rs) says: shape (H, W) or (H, W, comps),
+/// its dtype. The arrays are moved, not copied.
+pub fn frame_to_py<'py>(py: Python<'py>, f: Frame) -> PyResult<Bound<'py, PyRenderedFrame>> {
     let (h, w) = (f.height as usize, f.width as usize);
     let d = PyDict::new(py);
     for (a, data) in AOVS.iter().zip(f.data) {
@@ -48,12 +62,12 @@ pub fn frame_to_py<'py>(py: Python<'py>, f: Frame) -> PyResult<Bound<'py, PyTupl
         };
         d.set_item(a.name, arr)?;
     }
-    PyTuple::new(
+    Bound::new(
         py,
-        [
-            d.into_any(),
-            f.gpu_ms.into_pyobject(py)?.into_any(),
-            f.wall_ms.into_pyobject(py)?.into_any(),
-        ],
+        PyRenderedFrame {
+            arrays: d.unbind(),
+            gpu_ms: f.gpu_ms,
+            wall_ms: f.wall_ms,
+        },
     )
 }

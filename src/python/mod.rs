@@ -6,6 +6,7 @@
 mod assets;
 mod build_hooks;
 mod errors;
+mod fields;
 mod frame;
 mod io;
 mod jod;
@@ -30,6 +31,23 @@ pub(crate) fn nd_array<'py, T: numpy::Element, D: numpy::ndarray::Dimension>(
     Ok(a.into_pyarray(py).into_any())
 }
 
+/// The scene's schema classes (src/scene/schema.rs) as Python builds them: class name ->
+/// (doc, [(field, kind, default literal or None, lo, hi, doc)]).
+fn schema(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let d = PyDict::new(py);
+    for (class, doc, fields) in crate::scene::schema::classes() {
+        let fs: Vec<_> = fields
+            .iter()
+            .map(|f| {
+                let (lo, hi) = f.kind.range().unzip();
+                (f.name, f.kind.name(), f.default, lo, hi, f.doc.trim())
+            })
+            .collect();
+        d.set_item(class, (doc.trim(), fs))?;
+    }
+    Ok(d)
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
@@ -41,6 +59,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("PRISM_VERTEX_BYTES", crate::methods::PRISM_VERTEX_BYTES)?;
     // the contracts Python derives its checks and Literals from (one source: the core)
     m.add("MAX_LIGHTS", crate::scene::MAX_LIGHTS)?;
+    m.add("SCHEMA", schema(m.py())?)?;
     m.add("AOV_NAMES", crate::render::Aovs::NAMES.to_vec())?;
     // the AOVs counted only when named: those outside `aovs="all"`
     let standard = crate::render::Aovs::STANDARD;
@@ -66,6 +85,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("MAX_STEPS_LIMIT", crate::methods::MAX_STEPS_LIMIT)?;
     m.add_class::<renderer::PyRenderer>()?;
     m.add_class::<PyMeshData>()?;
+    m.add_class::<frame::PyRenderedFrame>()?;
     m.add_class::<PyHeightData>()?;
     m.add_class::<PyAlbedoData>()?;
     m.add_function(wrap_pyfunction!(renderer::adapters, m)?)?;
@@ -77,8 +97,13 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scene_args::mesh_from_arrays, m)?)?;
     m.add_function(wrap_pyfunction!(assets::load_gltf, m)?)?;
     m.add_function(wrap_pyfunction!(assets::check_asset, m)?)?;
-    m.add_function(wrap_pyfunction!(scene_args::mesh_generate, m)?)?;
+    m.add_function(wrap_pyfunction!(scene_args::mesh_plane, m)?)?;
+    m.add_function(wrap_pyfunction!(scene_args::mesh_sphere, m)?)?;
+    m.add_function(wrap_pyfunction!(scene_args::mesh_torus, m)?)?;
+    m.add_function(wrap_pyfunction!(scene_args::mesh_cylinder, m)?)?;
+    m.add_function(wrap_pyfunction!(scene_args::mesh_cube, m)?)?;
     m.add_function(wrap_pyfunction!(scene_args::bounding_sphere, m)?)?;
+    m.add_function(wrap_pyfunction!(scene_args::light_power, m)?)?;
     m.add_function(wrap_pyfunction!(scene_args::tessellate, m)?)?;
     m.add_function(wrap_pyfunction!(io::load_image, m)?)?;
     m.add_function(wrap_pyfunction!(jod::jod, m)?)?;

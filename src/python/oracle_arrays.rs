@@ -16,7 +16,7 @@ use pyo3::types::PyDict;
 #[pyo3(signature = (scene, light_bias=0.0))]
 pub fn exact_uv<'py>(
     py: Python<'py>,
-    scene: &Bound<'py, PyDict>,
+    scene: &Bound<'py, PyAny>,
     light_bias: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene_from_py(scene)?;
@@ -46,7 +46,7 @@ fn hits_into(d: &Bound<'_, PyDict>, o: crate::oracle::OracleHits) -> PyResult<()
 #[pyo3(signature = (scene, spp, shadows=true))]
 pub fn render_exact<'py>(
     py: Python<'py>,
-    scene: &Bound<'py, PyDict>,
+    scene: &Bound<'py, PyAny>,
     spp: u32,
     shadows: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
@@ -85,7 +85,7 @@ fn columns<const N: usize>(
 #[pyo3(signature = (scene, object, uvs, base_normals, tangents, uv_scale))]
 pub fn reference_normals<'py>(
     py: Python<'py>,
-    scene: &Bound<'py, PyDict>,
+    scene: &Bound<'py, PyAny>,
     object: usize,
     uvs: PyReadonlyArray2<'py, f64>,
     base_normals: PyReadonlyArray2<'py, f64>,
@@ -173,7 +173,7 @@ pub fn reference_directions<'py>(
 /// Why `render_exact`'s oracle cannot take `scene` (several objects, a transform, a curved
 /// mesh), or None when it can.
 #[pyfunction]
-pub fn oracle_refusal(scene: &Bound<'_, PyDict>) -> PyResult<Option<String>> {
+pub fn oracle_refusal(scene: &Bound<'_, PyAny>) -> PyResult<Option<String>> {
     let scene = scene_from_py(scene)?;
     Ok(crate::oracle::image::oracle_refusal(&scene))
 }

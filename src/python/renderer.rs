@@ -1,12 +1,12 @@
 //! The renderer across the boundary: `pomkit._core.Renderer` (scenes and methods in, frames
 //! out, the GIL released while the GPU works) and the adapters.
 
-use super::frame::{aovs_from_py, frame_to_py};
+use super::frame::{aovs_from_py, frame_to_py, PyRenderedFrame};
 use super::scene_args::{scene_from_py, PyHeightData};
 use crate::methods::Method;
 use crate::render::Renderer;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyTuple};
+use pyo3::types::{PyDict, PyList};
 use std::sync::Arc;
 
 /// The renderer: one per Python Renderer, sharing the process-wide device.
@@ -27,18 +27,18 @@ impl PyRenderer {
         Ok(Self { inner: Arc::new(r) })
     }
 
-    /// Render `scene` (a dict from pomkit.Scene._describe()) with `method` (a pomkit method
-    /// dataclass, extracted field by field into the core's typed `Method`). Returns (a dict of
-    /// numpy arrays by AOV name, None for those not in `aovs`; gpu_ms; wall_ms): `frame_to_py`.
+    /// Render `scene` (a pomkit.Scene, read attribute by attribute) with `method` (a pomkit
+    /// method dataclass, extracted field by field into the core's typed `Method`): the frame's
+    /// arrays and timings (`frame_to_py`).
     #[pyo3(signature = (scene, method, aovs=None, spp=1))]
     fn render<'py>(
         &self,
         py: Python<'py>,
-        scene: &Bound<'py, PyDict>,
+        scene: &Bound<'py, PyAny>,
         method: Method,
         aovs: Option<&Bound<'py, PyAny>>,
         spp: u32,
-    ) -> PyResult<Bound<'py, PyTuple>> {
+    ) -> PyResult<Bound<'py, PyRenderedFrame>> {
         let aovs = aovs_from_py(aovs)?;
         let scene = scene_from_py(scene)?;
         let r = self.inner.clone();
@@ -53,11 +53,11 @@ impl PyRenderer {
     fn render_many<'py>(
         &self,
         py: Python<'py>,
-        scenes: Vec<Bound<'py, PyDict>>,
+        scenes: Vec<Bound<'py, PyAny>>,
         method: Method,
         aovs: Option<&Bound<'py, PyAny>>,
         spp: u32,
-    ) -> PyResult<Vec<Bound<'py, PyTuple>>> {
+    ) -> PyResult<Vec<Bound<'py, PyRenderedFrame>>> {
         let aovs = aovs_from_py(aovs)?;
         let scenes = scenes
             .iter()

@@ -5,12 +5,14 @@
 use super::nd_array;
 use crate::error::Error;
 use crate::mesh::{Mesh, TangentFrames};
+use super::fields::read;
 use crate::scene::{
-    shared, Albedo, Camera, HeightMap, Light, Material, Object, Scene, Shared, Transform,
+    shared, Albedo, Camera, DirectionalLight, HeightMap, Light, Material, Object, Scene, Shared,
+    SphereLight, Transform,
 };
 use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::PyDict;
 
 fn rows<const N: usize>(a: &PyReadonlyArray2<'_, f32>, name: &str) -> PyResult<Vec<[f32; N]>> {
     let v = a.as_array();
@@ -87,34 +89,42 @@ pub fn mesh_from_arrays<'py>(
     Ok(d)
 }
 
-/// A generated base mesh: kind in plane, sphere, torus, cylinder, cube.
+/// The generated base meshes (`Mesh::plane`, ...), each by its parameters' names.
 #[pyfunction]
-pub fn mesh_generate<'py>(
-    py: Python<'py>,
-    kind: &str,
-    a: f64,
-    b: f64,
-    n1: u32,
-    n2: u32,
-) -> PyResult<Bound<'py, PyDict>> {
-    let m = match kind {
-        "plane" => Mesh::plane(a, n1),
-        "sphere" => Mesh::sphere(a, n1, n2),
-        "torus" => Mesh::torus(a, b, n1, n2),
-        "cylinder" => Mesh::cylinder(a, b, n1, n2),
-        "cube" => Mesh::cube(a, n1),
-        o => Err(Error::arg("kind", format!("unknown mesh kind {o:?}"))),
-    }?;
-    mesh_out(py, &m)
+pub fn mesh_plane(py: Python<'_>, size: f64, segments: u32) -> PyResult<Bound<'_, PyDict>> {
+    mesh_out(py, &Mesh::plane(size, segments)?)
 }
 
-fn item<'py>(d: &Bound<'py, PyDict>, k: &str) -> PyResult<Bound<'py, PyAny>> {
-    d.get_item(k)?
-        .ok_or_else(|| crate::python::errors::argument_error(format!("scene description lacks {k:?}")))
+#[pyfunction]
+pub fn mesh_sphere(py: Python<'_>, radius: f64, segments: u32, rings: u32) -> PyResult<Bound<'_, PyDict>> {
+    mesh_out(py, &Mesh::sphere(radius, segments, rings)?)
 }
 
-fn v3(x: &Bound<'_, PyAny>) -> PyResult<[f64; 3]> {
-    x.extract()
+#[pyfunction]
+pub fn mesh_torus(
+    py: Python<'_>,
+    major: f64,
+    minor: f64,
+    segments: u32,
+    tube_segments: u32,
+) -> PyResult<Bound<'_, PyDict>> {
+    mesh_out(py, &Mesh::torus(major, minor, segments, tube_segments)?)
+}
+
+#[pyfunction]
+pub fn mesh_cylinder(
+    py: Python<'_>,
+    radius: f64,
+    height: f64,
+    segments: u32,
+    rings: u32,
+) -> PyResult<Bound<'_, PyDict>> {
+    mesh_out(py, &Mesh::cylinder(radius, height, segments, rings)?)
+}
+
+#[pyfunction]
+pub fn mesh_cube(py: Python<'_>, size: f64, segments: u32) -> PyResult<Bound<'_, PyDict>> {
+    mesh_out(py, &Mesh::cube(size, segments)?)
 }
 
 /// A mesh converted once and keyed (content hash) for the GPU caches: `pomkit.Mesh` makes one
@@ -210,29 +220,53 @@ impl PyAlbedoData {
     }
 }
 
-/// One object of a scene description: its keyed mesh, height map and albedo, its material's
-/// numbers and its transform (16 numbers, row-major).
-fn object_from_py(d: &Bound<'_, PyDict>) -> PyResult<Object> {
-    let mesh = item(d, "mesh")?.cast::<PyMeshData>()?.get().0.clone();
-    let height = item(d, "height")?.cast::<PyHeightData>()?.get().0.clone();
-    let albedo = item(d, "albedo")?;
+fn attr<'py>(ob: &Bound<'py, PyAny>, name: &str, what: &str) -> PyResult<Bound<'py, PyAny>> {
+    ob.getattr(name)
+        .map_err(|_| Error::arg(name, format!("missing: expected {what}")).into())
+}
+
+/// A handle the Python scene class makes once (`Mesh._core_data()`, ...), by calling `method`.
+fn handle<'py, T: pyo3::PyClass>(ob: &Bound<'py, PyAny>, method: &str, arg: &str) -> PyResult<Bound<'py, T>> {
+    let h = ob
+        .call_method0(method)
+        .map_err(|_| Error::arg(arg, format!("expected a pomkit.{}", if arg == "mesh" { "Mesh" } else { "Material" })))?;
+    Ok(h.cast_into::<T>()?)
+}
+
+/// One `pomkit.Object`: its mesh's and material's keyed handles, the material's numbers and
+/// the transform (a 4x4 array).
+fn object_from_py(o: &Bound<'_, PyAny>) -> PyResult<Object> {
+    let what = "a pomkit.Object";
+    let mesh = handle::<PyMeshData>(&attr(o, "mesh", what)?, "_core_data", "mesh")?.get().0.clone();
+    let m = attr(o, "material", what)?;
+    let height = handle::<PyHeightData>(&m, "_height_data", "material")?.get().0.clone();
+    let albedo = m.call_method0("_albedo_data")?;
     let albedo = if albedo.is_none() {
         None
     } else {
         Some(albedo.cast::<PyAlbedoData>()?.get().0.clone())
     };
+    let num = |name: &str| -> PyResult<f64> {
+        let v = attr(&m, name, "a pomkit.Material")?;
+        v.extract()
+            .map_err(|_| Error::arg(name, format!("expected a number, got {v}")).into())
+    };
     let material = Material {
         height,
-        depth: item(d, "depth")?.extract()?,
-        tiling: item(d, "tiling")?.extract()?,
+        depth: num("depth")? as f32,
+        tiling: num("tiling")? as f32,
         albedo,
     };
-    let t = item(d, "transform")?;
-    let transform = if t.is_none() {
+    let t = attr(o, "transform", what)?;
+    let rows: [[f64; 4]; 4] = t
+        .extract()
+        .or_else(|_| t.call_method0("tolist")?.extract())
+        .map_err(|_| Error::arg("transform", "expected a 4x4 matrix"))?;
+    let m4 = glam::DMat4::from_cols_array_2d(&rows).transpose();
+    let transform = if m4 == glam::DMat4::IDENTITY {
         Transform::default()
     } else {
-        let m: [f64; 16] = t.extract()?;
-        Transform::new(glam::DMat4::from_cols_array(&m).transpose(), "transform")?
+        Transform::new(m4, "transform")?
     };
     Ok(Object {
         mesh,
@@ -241,52 +275,43 @@ fn object_from_py(d: &Bound<'_, PyDict>) -> PyResult<Object> {
     })
 }
 
-/// Build a core Scene from the dict that `pomkit.Scene._describe()` returns: the mesh, height
-/// map and albedo arrive as keyed handles (shared, not copied).
-pub fn scene_from_py(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
+/// One light: the schema class its `_schema` attribute names.
+fn light_from_py(l: &Bound<'_, PyAny>) -> PyResult<Light> {
+    let kind: String = l
+        .getattr("_schema")
+        .and_then(|k| k.extract())
+        .map_err(|_| Error::arg("lights", format!("expected pomkit.DirectionalLight or pomkit.SphereLight, got {l}")))?;
+    use crate::scene::schema::Schema;
+    Ok(match kind.as_str() {
+        DirectionalLight::CLASS => Light::Directional(read(l, "a pomkit.DirectionalLight")?),
+        SphereLight::CLASS => Light::Sphere(read(l, "a pomkit.SphereLight")?),
+        o => return Err(Error::arg("lights", format!("unknown light class {o:?}")).into()),
+    })
+}
+
+/// What a light delivers, tint included (`Light::power`): linear RGB irradiance or intensity.
+#[pyfunction]
+pub fn light_power(light: &Bound<'_, PyAny>) -> PyResult<[f32; 3]> {
+    Ok(light_from_py(light)?.power())
+}
+
+/// A `pomkit.Scene` as the core's Scene, read attribute by attribute: the mesh, height map and
+/// albedo arrive as keyed handles (shared, not copied).
+pub fn scene_from_py(s: &Bound<'_, PyAny>) -> PyResult<Scene> {
+    let what = "a pomkit.Scene";
     let mut objects = Vec::new();
-    for o in item(d, "objects")?.cast::<PyList>()?.iter() {
-        objects.push(object_from_py(o.cast::<PyDict>()?)?);
+    for o in attr(s, "objects", what)?.try_iter()? {
+        objects.push(object_from_py(&o?)?);
     }
-    let cam = item(d, "camera")?;
-    let cam = cam.cast::<PyDict>()?;
-    let camera = Camera {
-        eye: v3(&item(cam, "eye")?)?,
-        target: v3(&item(cam, "target")?)?,
-        up: v3(&item(cam, "up")?)?,
-        fov_y: item(cam, "fov_y")?.extract()?,
-        width: item(cam, "width")?.extract()?,
-        height: item(cam, "height")?.extract()?,
-        window: None,
-        samples: 1,
-    };
+    let camera: Camera = read(&attr(s, "camera", what)?, "a pomkit.Camera")?;
     let mut lights = Vec::new();
-    let ls = item(d, "lights")?;
-    for l in ls.cast::<PyList>()?.iter() {
-        let l = l.cast::<PyDict>()?.clone();
-        let kind: String = item(&l, "kind")?.extract()?;
-        let rgb = |x: Bound<'_, PyAny>| -> PyResult<[f32; 3]> { x.extract() };
-        lights.push(match kind.as_str() {
-            "directional" => Light::Directional {
-                direction: v3(&item(&l, "direction")?)?,
-                irradiance: rgb(item(&l, "irradiance")?)?,
-                angular_diameter: item(&l, "angular_diameter")?.extract()?,
-                cast_shadows: item(&l, "cast_shadows")?.extract()?,
-                shadow_map_size: item(&l, "shadow_map_size")?.extract()?,
-            },
-            "sphere" => Light::Sphere {
-                position: v3(&item(&l, "position")?)?,
-                radius: item(&l, "radius")?.extract()?,
-                intensity: rgb(item(&l, "intensity")?)?,
-            },
-            o => {
-                return Err(crate::python::errors::argument_error(format!(
-                    "lights: unknown light kind {o:?}"
-                )))
-            }
-        });
+    for l in attr(s, "lights", what)?.try_iter()? {
+        lights.push(light_from_py(&l?)?);
     }
-    let ambient: [f32; 3] = item(d, "ambient")?.extract()?;
+    let ambient = attr(s, "ambient", what)?;
+    let ambient: [f32; 3] = ambient
+        .extract()
+        .map_err(|_| Error::arg("ambient", format!("expected three numbers (linear RGB), got {ambient}")))?;
     Ok(Scene {
         objects,
         camera,
@@ -297,7 +322,7 @@ pub fn scene_from_py(d: &Bound<'_, PyDict>) -> PyResult<Scene> {
 
 /// The scene's bounding sphere (`Scene::bounding_sphere`): ((x, y, z), radius).
 #[pyfunction]
-pub fn bounding_sphere(scene: &Bound<'_, PyDict>) -> PyResult<([f64; 3], f64)> {
+pub fn bounding_sphere(scene: &Bound<'_, PyAny>) -> PyResult<([f64; 3], f64)> {
     let (c, r) = scene_from_py(scene)?.bounding_sphere();
     Ok((c.to_array(), r))
 }
@@ -310,7 +335,7 @@ pub fn bounding_sphere(scene: &Bound<'_, PyDict>) -> PyResult<([f64; 3], f64)> {
 #[pyo3(signature = (scene, texels_per_vertex, object=0, pattern="fan"))]
 pub fn tessellate<'py>(
     py: Python<'py>,
-    scene: &Bound<'py, PyDict>,
+    scene: &Bound<'py, PyAny>,
     texels_per_vertex: f64,
     object: usize,
     pattern: &str,

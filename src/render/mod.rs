@@ -310,7 +310,7 @@ impl Renderer {
                     sphere_lights: scene
                         .lights
                         .iter()
-                        .any(|l| matches!(l, crate::scene::Light::Sphere { .. })),
+                        .any(|l| matches!(l, crate::scene::Light::Sphere(_))),
                 },
                 written,
                 arg,

@@ -77,38 +77,28 @@ uniform_struct! {
     }
 }
 
-fn light_uniform(l: &Light) -> LightU {
-    match l {
-        Light::Directional {
-            direction,
-            irradiance,
-            angular_diameter,
-            ..
-        } => {
-            let d = DVec3::from(*direction).normalize();
+fn light_uniform(light: &Light) -> LightU {
+    let e = light.power();
+    match light {
+        Light::Directional(l) => {
+            let d = DVec3::from(l.direction).normalize();
             LightU {
                 vec: [d.x as f32, d.y as f32, d.z as f32, 0.0],
                 color: [
-                    irradiance[0],
-                    irradiance[1],
-                    irradiance[2],
-                    (angular_diameter.to_radians() * 0.5).tan() as f32,
+                    e[0],
+                    e[1],
+                    e[2],
+                    (l.angular_diameter.to_radians() * 0.5).tan() as f32,
                 ],
             }
         }
-        Light::Sphere {
-            position,
-            radius,
-            intensity,
-        } => LightU {
-            vec: [
-                position[0] as f32,
-                position[1] as f32,
-                position[2] as f32,
-                1.0,
-            ],
-            color: [intensity[0], intensity[1], intensity[2], *radius as f32],
-        },
+        Light::Sphere(l) => {
+            let p = l.position;
+            LightU {
+                vec: [p[0] as f32, p[1] as f32, p[2] as f32, 1.0],
+                color: [e[0], e[1], e[2], l.radius as f32],
+            }
+        }
     }
 }
 

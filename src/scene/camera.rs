@@ -4,23 +4,32 @@
 use crate::error::{Error, Result};
 use glam::{DMat4, DVec3, DVec4, Mat4};
 
-/// Pinhole camera. The ray of pixel (i, j) passes through the pixel centre (j + 0.5, i + 0.5);
-/// row 0 is the top of the image; `fov_y` is the vertical field of view in degrees.
-#[derive(Clone, Debug)]
-pub struct Camera {
-    pub eye: [f64; 3],
-    pub target: [f64; 3],
-    pub up: [f64; 3],
-    pub fov_y: f64,
-    pub width: u32,
-    pub height: u32,
-    /// When set, the image is one window of a larger one: its `width` x `height` pixels are
-    /// those from `origin` of a `full`-sized image of the same camera (tiled passes of a
-    /// supersampled frame). None: the whole image.
-    pub window: Option<Window>,
-    /// k when this image's pixels are the k x k samples of a supersampled frame's pixels (the
-    /// exact shadows share their directions among them), 1 otherwise.
-    pub samples: u32,
+crate::schema! {
+    /// Pinhole camera. Use `Camera.look_at`. fov_y is the vertical field of view in degrees;
+    /// the ray of pixel (i, j) passes through the pixel centre (j + 0.5, i + 0.5), row 0 at the top.
+    pub struct Camera {
+        /// the eye's position
+        pub eye: [f64; 3] = Vec3;
+        /// the point looked at
+        pub target: [f64; 3] = Vec3, "(0.0, 0.0, 0.0)";
+        /// the up direction (not parallel to the view direction)
+        pub up: [f64; 3] = Vec3, "(0.0, 1.0, 0.0)";
+        /// the vertical field of view in degrees
+        pub fov_y: f64 = Real(1e-6, 179.999), "45.0";
+        /// the image's width in pixels
+        pub width: u32 = Integer(1, 1 << 30), "256";
+        /// the image's height in pixels
+        pub height: u32 = Integer(1, 1 << 30), "256";
+    }
+    internal {
+        /// When set, the image is one window of a larger one: its `width` x `height` pixels are
+        /// those from `origin` of a `full`-sized image of the same camera (tiled passes of a
+        /// supersampled frame). None: the whole image.
+        pub window: Option<Window> = None;
+        /// k when this image's pixels are the k x k samples of a supersampled frame's pixels
+        /// (the exact shadows share their directions among them), 1 otherwise.
+        pub samples: u32 = 1;
+    }
 }
 
 /// Where a camera's image lies in the full image it is a window of.

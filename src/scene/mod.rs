@@ -6,6 +6,7 @@ use glam::{DMat4, DVec3, DVec4};
 use std::hash::{Hash, Hasher};
 
 mod camera;
+pub mod schema;
 pub use camera::{Camera, CameraBasis, Window};
 use std::sync::Arc;
 
@@ -235,46 +236,84 @@ impl Material {
     }
 }
 
+crate::schema! {
+    /// A distant light. `direction` is the way the light travels (as in Mitsuba); `irradiance`
+    /// (linear RGB or a scalar) is measured on a surface facing the light; `angular_diameter`
+    /// (degrees) is the apparent size of the source, which the soft shadows estimate.
+    ///
+    /// cast_shadows: the objects shadow each other from this light through a shadow map in which
+    /// each object casts with its displaced surface (the method itself, run in a depth-only pass);
+    /// a surface receives it at its displaced hit point. Only the first directional light with
+    /// cast_shadows=True casts; `SphereLight`s never do. A method's own `shadows=` (self-shadowing
+    /// of its height field) multiplies with it. shadow_map_size: the map's size in texels (square,
+    /// orthographic, fitted to the scene's bounding sphere; clamped to the device's limit), also
+    /// used by `Tessellated`'s own shadows; docs/objects.md measures what it does to shadow edges.
+    pub struct DirectionalLight {
+        /// the way the light travels (a non-zero vector)
+        pub direction: [f64; 3] = Vec3;
+        /// linear RGB irradiance on a surface facing the light (a scalar for grey)
+        pub irradiance: [f32; 3] = Rgb, "1.0";
+        /// the source's apparent size in degrees (0: a point-like source)
+        pub angular_diameter: f64 = Real(0.0, 179.999), "0.0";
+        /// objects shadow each other from this light through a shadow map
+        pub cast_shadows: bool = Bool, "False";
+        /// the shadow map's size in texels (square; clamped to the device's limit)
+        pub shadow_map_size: u32 = Integer(16, 16384), "1024";
+        /// a linear RGB tint that multiplies `irradiance` (glTF KHR_lights_punctual's `color`)
+        pub color: [f32; 3] = Rgb, "1.0";
+    }
+}
+
+crate::schema! {
+    /// A spherical area light at `position` with `radius` and radiant intensity `intensity`
+    /// (W/sr, linear RGB or scalar): irradiance I / r^2 on a surface facing it at distance r. Its
+    /// radiance is I / (pi radius^2) (Mitsuba: a `sphere` shape with an `area` emitter).
+    pub struct SphereLight {
+        /// the sphere's centre
+        pub position: [f64; 3] = Vec3;
+        /// the sphere's radius (0: a point light)
+        pub radius: f64 = Real(0.0, 1e30), "0.05";
+        /// linear RGB radiant intensity in W/sr (a scalar for grey)
+        pub intensity: [f32; 3] = Rgb, "1.0";
+        /// a linear RGB tint that multiplies `intensity` (glTF KHR_lights_punctual's `color`)
+        pub color: [f32; 3] = Rgb, "1.0";
+    }
+}
+
+/// A scene's light: one of the schema's light classes.
 #[derive(Clone, Debug)]
 pub enum Light {
-    /// `direction` is the way the light travels; irradiance on a surface facing the light.
-    /// `cast_shadows`: objects shadow each other from this light through a shadow map (the
-    /// first such light; see render::shadow_map).
-    Directional {
-        direction: [f64; 3],
-        irradiance: [f32; 3],
-        angular_diameter: f64,
-        cast_shadows: bool,
-        /// the shadow map's size in texels (square; clamped to the device's limit)
-        shadow_map_size: u32,
-    },
-    /// A sphere light of radiant intensity `intensity` (W/sr): irradiance I / r^2.
-    Sphere {
-        position: [f64; 3],
-        radius: f64,
-        intensity: [f32; 3],
-    },
+    Directional(DirectionalLight),
+    Sphere(SphereLight),
 }
 
 impl Light {
+    /// What the light delivers, tint included: a directional light's irradiance, a sphere
+    /// light's intensity (W/sr), in linear RGB.
+    pub fn power(&self) -> [f32; 3] {
+        let (e, c) = match self {
+            Light::Directional(l) => (l.irradiance, l.color),
+            Light::Sphere(l) => (l.intensity, l.color),
+        };
+        [e[0] * c[0], e[1] * c[1], e[2] * c[2]]
+    }
+
     pub fn validate(&self) -> Result<()> {
         match self {
-            Light::Directional {
-                direction,
-                irradiance,
-                angular_diameter,
-                ..
-            } => {
-                let d = DVec3::from(*direction);
+            Light::Directional(l) => {
+                let d = DVec3::from(l.direction);
                 if !d.is_finite() || d.length() < 1e-12 {
                     return Err(Error::arg("direction", "must be a finite non-zero vector"));
                 }
-                if irradiance.iter().any(|x| !x.is_finite() || *x < 0.0) {
+                if l.irradiance.iter().any(|x| !x.is_finite() || *x < 0.0) {
                     return Err(Error::arg("irradiance", "must be finite and >= 0"));
                 }
-                if !(angular_diameter.is_finite()
-                    && *angular_diameter >= 0.0
-                    && *angular_diameter < 180.0)
+                if l.color.iter().any(|x| !x.is_finite() || *x < 0.0) {
+                    return Err(Error::arg("color", "must be finite and >= 0"));
+                }
+                if !(l.angular_diameter.is_finite()
+                    && l.angular_diameter >= 0.0
+                    && l.angular_diameter < 180.0)
                 {
                     return Err(Error::arg(
                         "angular_diameter",
@@ -282,19 +321,18 @@ impl Light {
                     ));
                 }
             }
-            Light::Sphere {
-                position,
-                radius,
-                intensity,
-            } => {
-                if !DVec3::from(*position).is_finite() {
+            Light::Sphere(l) => {
+                if !DVec3::from(l.position).is_finite() {
                     return Err(Error::arg("position", "must be finite"));
                 }
-                if !(radius.is_finite() && *radius >= 0.0) {
+                if !(l.radius.is_finite() && l.radius >= 0.0) {
                     return Err(Error::arg("radius", "must be finite and >= 0"));
                 }
-                if intensity.iter().any(|x| !x.is_finite() || *x < 0.0) {
+                if l.intensity.iter().any(|x| !x.is_finite() || *x < 0.0) {
                     return Err(Error::arg("intensity", "must be finite and >= 0"));
+                }
+                if l.color.iter().any(|x| !x.is_finite() || *x < 0.0) {
+                    return Err(Error::arg("color", "must be finite and >= 0"));
                 }
             }
         }

@@ -6,7 +6,7 @@ use pomkit::mesh::Mesh;
 use pomkit::methods::{Flat, Method, PerPixel, Pom};
 use pomkit::oracle::exact_hits;
 use pomkit::render::Renderer;
-use pomkit::scene::{shared, Camera, HeightMap, Light, Material, Scene};
+use pomkit::scene::{shared, Camera, DirectionalLight, HeightMap, Light, Material, Scene};
 use pomkit::Error;
 
 fn scene(height: HeightMap, theta_deg: f64, size: u32) -> Scene {
@@ -29,13 +29,14 @@ fn scene(height: HeightMap, theta_deg: f64, size: u32) -> Scene {
             window: None,
             samples: 1,
         },
-        vec![Light::Directional {
+        vec![Light::Directional(DirectionalLight {
             direction: [-0.3, -1.0, -0.2],
             irradiance: [2.0; 3],
             angular_diameter: 1.0,
             cast_shadows: false,
             shadow_map_size: 2048,
-        }],
+            color: [1.0; 3],
+        })],
         [0.05; 3],
     )
 }

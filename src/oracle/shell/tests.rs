@@ -34,13 +34,14 @@ fn scene(mesh: Mesh, hm: HeightMap, depth: f32, eye: [f64; 3], size: u32) -> Sce
             window: None,
             samples: 1,
         },
-        vec![Light::Directional {
+        vec![Light::Directional(crate::scene::DirectionalLight {
             direction: [-0.3, -1.0, -0.2],
             irradiance: [2.0; 3],
             angular_diameter: 0.0,
             cast_shadows: false,
             shadow_map_size: 2048,
-        }],
+            color: [1.0; 3],
+        })],
         [0.05; 3],
     )
 }

@@ -1,0 +1,78 @@
+//! A Python object's attributes as the core's `Fields`: how the methods' dataclasses and the
+//! scene's schema classes cross the boundary. The core names and types each field; this only
+//! converts, and names the field (and the object it belongs to) in its errors.
+
+use crate::fields::{Fields, FromFields};
+use crate::error::{Error, Result};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+pub(crate) struct PyFields<'py> {
+    ob: Bound<'py, PyAny>,
+    /// what the object should be, for errors ("a pomkit.Camera")
+    what: &'static str,
+}
+
+impl<'py> PyFields<'py> {
+    pub(crate) fn new(ob: Bound<'py, PyAny>, what: &'static str) -> Self {
+        PyFields { ob, what }
+    }
+
+    fn attr(&self, name: &str) -> Result<Bound<'py, PyAny>> {
+        self.ob
+            .getattr(name)
+            .map_err(|_| Error::arg(name, format!("missing: expected {}", self.what)))
+    }
+
+    fn get<T: for<'a> FromPyObjectOwned<'a>>(&self, name: &str, expected: &str) -> Result<T> {
+        let v = self.attr(name)?;
+        v.extract::<T>()
+            .map_err(|_| Error::arg(name, format!("expected {expected}, got {v}")))
+    }
+}
+
+impl Fields for PyFields<'_> {
+    fn u32(&self, name: &str) -> Result<u32> {
+        self.get(name, "a non-negative integer")
+    }
+    fn f32(&self, name: &str) -> Result<f32> {
+        self.get(name, "a number")
+    }
+    fn f64(&self, name: &str) -> Result<f64> {
+        self.get(name, "a number")
+    }
+    fn bool(&self, name: &str) -> Result<bool> {
+        self.get(name, "True or False")
+    }
+    fn str(&self, name: &str) -> Result<String> {
+        self.get(name, "a string")
+    }
+    fn vec3(&self, name: &str) -> Result<[f64; 3]> {
+        self.get(name, "three numbers")
+    }
+    fn rgb(&self, name: &str) -> Result<[f32; 3]> {
+        self.get(name, "three numbers (linear RGB)")
+    }
+    fn f32_map(&self, name: &str) -> Result<Vec<(String, f32)>> {
+        let v = self.attr(name)?;
+        let d = v
+            .cast::<PyDict>()
+            .map_err(|_| Error::arg(name, "expected a dict of name -> number"))?;
+        d.iter()
+            .map(|(k, v)| {
+                Ok((
+                    k.extract::<String>()
+                        .map_err(|_| Error::arg(name, "names must be strings"))?,
+                    v.extract::<f64>()
+                        .map_err(|_| Error::arg(name, "values must be numbers"))?
+                        as f32,
+                ))
+            })
+            .collect()
+    }
+}
+
+/// A schema struct read from a Python object's attributes; errors name `what` and the field.
+pub(crate) fn read<T: FromFields>(ob: &Bound<'_, PyAny>, what: &'static str) -> Result<T> {
+    T::from_fields(&PyFields::new(ob.clone(), what))
+}
