@@ -23,7 +23,15 @@ pub trait Fields {
     fn rgb(&self, name: &str) -> Result<[f32; 3]> {
         Err(Error::arg(name, "expected linear RGB"))
     }
+    /// shared core data made once for the field's value (a height map, an albedo), None where
+    /// the value is None; the reader downcasts it to the type it expects
+    fn handle(&self, name: &str) -> Result<Option<Handle>> {
+        Err(Error::arg(name, "expected shared core data"))
+    }
 }
+
+/// Shared core data of any type (`Fields::handle`).
+pub type Handle = std::sync::Arc<dyn std::any::Any + Send + Sync>;
 
 /// A parameter's type, read from `Fields` by name.
 pub trait FieldValue: Sized {
@@ -46,4 +54,3 @@ field_values!(u32 => u32, f32 => f32, f64 => f64, bool => bool, [f64; 3] => vec3
 pub trait FromFields: Sized {
     fn from_fields(f: &dyn Fields) -> Result<Self>;
 }
-

@@ -15,16 +15,17 @@ from pathlib import Path
 from pomkit import _core, _schema
 
 OUT = Path(__file__).resolve().parent.parent / "python" / "pomkit" / "_schema_classes.pyi"
-BASES = {"Camera": "_CameraBase", "DirectionalLight": "_DirectionalBase", "SphereLight": "_LightBase"}
+BASES = {"Camera": "_CameraBase", "Material": "_MaterialBase", "DirectionalLight": "_DirectionalBase", "SphereLight": "_LightBase"}
 
 
 def stub() -> str:
     lines = ['"""Static types of the scene classes the core declares (src/scene/schema.rs), which',
              "pomkit._schema builds at import. Written by tools/schema_stub.py (make stubs); do not edit.\"\"\"",
-             "", "from dataclasses import dataclass", "from typing import Any", "",
-             "from ._scene import _CameraBase, _DirectionalBase, _LightBase", ""]
+             "", "from dataclasses import dataclass", "from typing import Any, Optional", "", "import numpy as np", "",
+             "from ._scene import _CameraBase, _DirectionalBase, _LightBase, _MaterialBase", ""]
     for name in _core.SCHEMA:
-        lines += ["", "@dataclass(frozen=True)", f"class {name}({BASES[name]}):"]
+        eq = "" if _schema.by_value(name) else ", eq=False"
+        lines += ["", f"@dataclass(frozen=True{eq})", f"class {name}({BASES[name]}):"]
         for f, kind, default, _lo, _hi, doc in _schema.fields(name):
             lines.append(f"    #: {' '.join(doc.split())}")
             lines.append(f"    {f}: {_schema.PY_TYPES[kind]}" + (" = ..." if default is not None else ""))

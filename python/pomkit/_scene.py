@@ -19,7 +19,6 @@ import numpy as np
 from . import _core
 from . import _schema
 from . import _validate as _v
-from ._color import srgb_to_linear
 
 __all__ = ["Mesh", "Material", "Camera", "DirectionalLight", "SphereLight", "Object", "Scene"]
 
@@ -205,87 +204,15 @@ def _count(name: str, x) -> int:
     return _v.integer(name, x, 1, 100_000)
 
 
-def _normalize_height(h: Any) -> np.ndarray:
-    if isinstance(h, np.ndarray):
-        arr = h
-    else:
-        try:
-            arr = np.asarray(h)
-        except Exception:
-            raise ArgumentTypeError("height: expected a 2-D numpy array") from None
-    if arr.dtype == np.uint8:
-        out = arr.astype(np.float32) / 255.0
-    elif arr.dtype == np.uint16:
-        out = arr.astype(np.float32) / 65535.0
-    elif arr.dtype in (np.float32, np.float64, np.float16):
-        out = arr.astype(np.float32)
-    else:
-        raise ArgumentTypeError(f"height: dtype {arr.dtype} is not supported; pass float32 in [0, 1], uint8 or uint16")
-    if out.ndim != 2:
-        raise ArgumentError(f"height: expected a 2-D array (H, W), got shape {arr.shape}")
-    if out.size == 0:
-        raise ArgumentError(f"height: the array is empty (shape {arr.shape})")
-    if not np.all(np.isfinite(out)):
-        bad = np.argwhere(~np.isfinite(out))[0]
-        raise ArgumentError(f"height: contains NaN or Inf (first at row {bad[0]}, column {bad[1]}); clean it, e.g. np.nan_to_num")
-    lo, hi = float(out.min()), float(out.max())
-    if lo < 0.0 or hi > 1.0:
-        raise ArgumentError(f"height: float values must lie in [0, 1], found [{lo}, {hi}]; normalise the map")
-    return _readonly(np.ascontiguousarray(out))
-
-
-def _normalize_albedo(a: Any) -> np.ndarray | None:
-    if a is None:
-        return None
-    arr = np.asarray(a)
-    if arr.ndim != 3 or arr.shape[2] not in (3, 4):
-        raise ArgumentError(f"albedo: expected shape (H, W, 3), got {arr.shape}")
-    if arr.size == 0:
-        raise ArgumentError("albedo: the array is empty")
-    arr = arr[..., :3]
-    if arr.dtype == np.uint8:
-        out = srgb_to_linear(arr)  # by table: the same bits on every CPU (_color.py)
-    elif arr.dtype.kind == "f":
-        out = arr.astype(np.float32)
-        if not np.all(np.isfinite(out)):
-            raise ArgumentError("albedo: contains NaN or Inf")
-        if out.min() < 0:
-            raise ArgumentError("albedo: linear values must be >= 0")
-    else:
-        raise ArgumentTypeError(f"albedo: dtype {arr.dtype} is not supported; pass sRGB uint8 or linear float32")
-    return _readonly(np.ascontiguousarray(out))
-
-
-@dataclass(frozen=True, eq=False)
-class Material:
-    """Height map and albedo.
-
-    height: (H, W) float32 in [0, 1] (uint8 and uint16 are normalised); h = 1 is the base
-    surface, h = 0 lies `depth` world units below it. albedo: (H, W, 3) sRGB uint8 or linear
-    float32; None is a constant linear 0.5 grey. tiling: repetitions of the maps over the
-    mesh's uv square.
-    """
-
-    height: Any
-    depth: float = 0.08
-    albedo: Any = None
-    tiling: float = 1.0
-
-    def __post_init__(self):
-        object.__setattr__(self, "height", _normalize_height(self.height))
-        object.__setattr__(self, "depth", _v.number("depth", self.depth, 0.0))
-        object.__setattr__(self, "tiling", _v.number("tiling", self.tiling, 0.0, 1e6, lo_open=True))
-        object.__setattr__(self, "albedo", _normalize_albedo(self.albedo))
+class _MaterialBase(_schema.SchemaClass):
+    """A material's methods; its fields are the core's (src/scene/mod.rs)."""
 
     def _height_data(self) -> "_core.HeightData":
-        return _handle(self, "_core_height", lambda: _core.HeightData(self.height))
+        return self._handle_of("height")
 
     def _albedo_data(self) -> "Optional[_core.AlbedoData]":
-        if self.albedo is None:
-            return None
-        return _handle(self, "_core_albedo", lambda: _core.AlbedoData(self.albedo))
+        return self._handle_of("albedo")
 
-    __getstate__ = _without_handles
 
 
 class _CameraBase(_schema.SchemaClass):
@@ -347,8 +274,9 @@ class _DirectionalBase(_LightBase):
 
 
 if TYPE_CHECKING:
-    from ._schema_classes import Camera, DirectionalLight, SphereLight
+    from ._schema_classes import Camera, DirectionalLight, Material, SphereLight
 else:
+    Material = _schema.build("Material", _MaterialBase, __name__)
     Camera = _schema.build("Camera", _CameraBase, __name__)
     DirectionalLight = _schema.build("DirectionalLight", _DirectionalBase, __name__)
     SphereLight = _schema.build("SphereLight", _LightBase, __name__)

@@ -1,5 +1,5 @@
 """The scene classes the core declares (src/scene/schema.rs, exported as `_core.SCHEMA`):
-`Camera`, `DirectionalLight` and `SphereLight` are built here as frozen dataclasses with the
+`Camera`, `Material`, `DirectionalLight` and `SphereLight` are built here as frozen dataclasses with the
 core's fields, their order, defaults, ranges and docs. A base class adds a class's methods and
 the checks that span several fields (`_check`). Their static types are `_schema_classes.pyi`,
 written from the same table by tools/schema_stub.py (tests/test_contracts.py holds it equal).
@@ -25,6 +25,14 @@ _CONVERT: dict[str, Callable[[str, Any, Any, Any], Any]] = {
     "real": lambda name, v, lo, hi: _v.number(name, v, lo, hi),
     "integer": lambda name, v, lo, hi: _v.integer(name, v, int(lo), int(hi)),
     "bool": lambda name, v, lo, hi: _v.boolean(name, v),
+    "height": lambda name, v, lo, hi: _v.height_map(name, v),
+    "albedo": lambda name, v, lo, hi: _v.albedo(name, v),
+}
+
+#: the core's shared data of the kinds that are arrays, made once per object (`_handle_of`)
+_HANDLES: dict[str, Callable[[Any], Any]] = {
+    "height": _core.HeightData,
+    "albedo": _core.AlbedoData,
 }
 
 #: the Python type of each kind, for the stub
@@ -34,6 +42,8 @@ PY_TYPES: dict[str, str] = {
     "real": "float",
     "integer": "int",
     "bool": "bool",
+    "height": "np.ndarray",
+    "albedo": "Optional[np.ndarray]",
 }
 
 
@@ -67,6 +77,31 @@ class SchemaClass:
     def _check(self) -> None:
         """Rules across fields (none by default)."""
 
+    def _handle_of(self, name: str) -> Any:
+        """The core's copy of an array field with its content key, made on first use and kept
+        (the arrays are read-only), so that later renders neither copy nor hash it; None for a
+        None value."""
+        value = getattr(self, name)
+        if value is None:
+            return None
+        key = f"_core_{name}"
+        h = self.__dict__.get(key)
+        if h is None:
+            kind = next(f[1] for f in fields(self._schema) if f[0] == name)
+            h = _HANDLES[kind](value)
+            object.__setattr__(self, key, h)
+        return h
+
+    def __getstate__(self) -> dict:
+        """Pickle state without the core's copies (they are remade on first use)."""
+        return {k: v for k, v in self.__dict__.items() if not k.startswith("_core_")}
+
+
+def by_value(name: str) -> bool:
+    """Whether instances compare (and hash) by value: not where a field is an array (those
+    compare by identity)."""
+    return not any(f[1] in _HANDLES for f in fields(name))
+
 
 def build(name: str, base: type, module: str) -> Any:
     """The frozen dataclass `name` of the core's table on `base` (a SchemaClass), as if
@@ -77,7 +112,7 @@ def build(name: str, base: type, module: str) -> Any:
             specs.append((f, Any))
         else:
             specs.append((f, Any, dataclasses.field(default=ast.literal_eval(default))))
-    cls = dataclasses.make_dataclass(name, specs, bases=(base,), frozen=True,
+    cls = dataclasses.make_dataclass(name, specs, bases=(base,), frozen=True, eq=by_value(name),
                                      namespace={"__doc__": doc(name), "_schema": name})
     cls.__module__ = module
     return cls

@@ -2,9 +2,11 @@
 pomkit._schema builds at import. Written by tools/schema_stub.py (make stubs); do not edit."""
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Optional
 
-from ._scene import _CameraBase, _DirectionalBase, _LightBase
+import numpy as np
+
+from ._scene import _CameraBase, _DirectionalBase, _LightBase, _MaterialBase
 
 
 @dataclass(frozen=True)
@@ -21,6 +23,17 @@ class Camera(_CameraBase):
     width: int = ...
     #: the image's height in pixels
     height: int = ...
+
+@dataclass(frozen=True, eq=False)
+class Material(_MaterialBase):
+    #: the height map, h = 1 at the base surface
+    height: np.ndarray
+    #: the distance between h = 1 (the base surface) and h = 0, in object units
+    depth: float = ...
+    #: the albedo (None: a constant linear 0.5 grey)
+    albedo: Optional[np.ndarray] = ...
+    #: repetitions of the maps over the mesh's uv square
+    tiling: float = ...
 
 @dataclass(frozen=True)
 class DirectionalLight(_DirectionalBase):

@@ -14,6 +14,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from . import _core
+from ._color import srgb_to_linear
 
 _INTS = (int, np.integer)
 _REALS = (int, float, np.integer, np.floating)
@@ -98,3 +99,60 @@ def float_array(name: str, a: Any, ncols: int, dtype: Any = np.float32) -> np.nd
     if not np.all(np.isfinite(arr)):
         raise ArgumentError(f"{name}: contains NaN or Inf")
     return arr
+
+
+def height_map(name: str, h: Any) -> np.ndarray:
+    """A height map as float32 in [0, 1], read-only: uint8 and uint16 normalised."""
+    if isinstance(h, np.ndarray):
+        arr = h
+    else:
+        try:
+            arr = np.asarray(h)
+        except Exception:
+            raise ArgumentTypeError(f"{name}: expected a 2-D numpy array") from None
+    if arr.dtype == np.uint8:
+        out = arr.astype(np.float32) / 255.0
+    elif arr.dtype == np.uint16:
+        out = arr.astype(np.float32) / 65535.0
+    elif arr.dtype in (np.float32, np.float64, np.float16):
+        out = arr.astype(np.float32)
+    else:
+        raise ArgumentTypeError(f"{name}: dtype {arr.dtype} is not supported; pass float32 in [0, 1], uint8 or uint16")
+    if out.ndim != 2:
+        raise ArgumentError(f"{name}: expected a 2-D array (H, W), got shape {arr.shape}")
+    if out.size == 0:
+        raise ArgumentError(f"{name}: the array is empty (shape {arr.shape})")
+    if not np.all(np.isfinite(out)):
+        bad = np.argwhere(~np.isfinite(out))[0]
+        raise ArgumentError(f"{name}: contains NaN or Inf (first at row {bad[0]}, column {bad[1]}); clean it, e.g. np.nan_to_num")
+    lo, hi = float(out.min()), float(out.max())
+    if lo < 0.0 or hi > 1.0:
+        raise ArgumentError(f"{name}: float values must lie in [0, 1], found [{lo}, {hi}]; normalise the map")
+    out = np.ascontiguousarray(out)
+    out.flags.writeable = False
+    return out
+
+
+def albedo(name: str, a: Any) -> np.ndarray | None:
+    """An albedo as linear float32 (H, W, 3), read-only: sRGB uint8 decoded; None stays None."""
+    if a is None:
+        return None
+    arr = np.asarray(a)
+    if arr.ndim != 3 or arr.shape[2] not in (3, 4):
+        raise ArgumentError(f"{name}: expected shape (H, W, 3), got {arr.shape}")
+    if arr.size == 0:
+        raise ArgumentError(f"{name}: the array is empty")
+    arr = arr[..., :3]
+    if arr.dtype == np.uint8:
+        out = srgb_to_linear(arr)  # by table: the same bits on every CPU (_color.py)
+    elif arr.dtype.kind == "f":
+        out = arr.astype(np.float32)
+        if not np.all(np.isfinite(out)):
+            raise ArgumentError(f"{name}: contains NaN or Inf")
+        if out.min() < 0:
+            raise ArgumentError(f"{name}: linear values must be >= 0")
+    else:
+        raise ArgumentTypeError(f"{name}: dtype {arr.dtype} is not supported; pass sRGB uint8 or linear float32")
+    out = np.ascontiguousarray(out)
+    out.flags.writeable = False
+    return out

@@ -167,7 +167,7 @@ def render_pyrender(scene: Scene, resolution: float = 2.0, cache: bool = True) -
 def _pyrender_render(scene: Scene, resolution: float):
     import pyrender
     import trimesh
-    from ._scene import srgb_to_linear
+    from ._color import srgb_to_linear
 
     ps = pyrender.Scene(ambient_light=np.array(list(scene.ambient)) if max(scene.ambient) > 0 else np.zeros(3),
                         bg_color=[0, 0, 0, 0])

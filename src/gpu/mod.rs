@@ -77,7 +77,9 @@ fn describe(a: &wgpu::Adapter) -> AdapterDesc {
 /// "3.3.0 NVIDIA 580.159.04", "OpenGL ES 3.2 ..."): (major, minor, whether ES).
 fn gl_version(driver: &str) -> Option<(u32, u32, bool)> {
     let es = driver.contains("OpenGL ES");
-    let v = driver.split_whitespace().find(|w| w.starts_with(|c: char| c.is_ascii_digit()))?;
+    let v = driver
+        .split_whitespace()
+        .find(|w| w.starts_with(|c: char| c.is_ascii_digit()))?;
     let mut it = v.split('.').map(|x| x.parse::<u32>().ok());
     Some((it.next()??, it.next()??, es))
 }
@@ -556,9 +558,15 @@ mod gl_version_tests {
 
     #[test]
     fn reads_the_version_a_gl_driver_reports() {
-        assert_eq!(gl_version("4.5 (Core Profile) Mesa 22.3.6"), Some((4, 5, false)));
+        assert_eq!(
+            gl_version("4.5 (Core Profile) Mesa 22.3.6"),
+            Some((4, 5, false))
+        );
         assert_eq!(gl_version("3.3.0 NVIDIA 580.159.04"), Some((3, 3, false)));
-        assert_eq!(gl_version("OpenGL ES 3.2 NVIDIA 580.159.04"), Some((3, 2, true)));
+        assert_eq!(
+            gl_version("OpenGL ES 3.2 NVIDIA 580.159.04"),
+            Some((3, 2, true))
+        );
         assert_eq!(gl_version("NVIDIA"), None);
     }
 }

@@ -11,8 +11,7 @@ fn constant_height_analytic() {
         // per unit world length: horizontal sin(theta) (1 world unit = 0.5 uv on a size-2 plane)
         let ds = DVec2::new(theta.sin() * 0.5, 0.0);
         let dh = -theta.cos() / depth;
-        let (lam, _) =
-            march_height_field(&Field::new(&hm), DVec2::new(0.3, 0.4), ds, dh).unwrap();
+        let (lam, _) = march_height_field(&Field::new(&hm), DVec2::new(0.3, 0.4), ds, dh).unwrap();
         let expect = (1.0 - c as f32 as f64) * depth / theta.cos();
         assert!((lam - expect).abs() < 1e-9, "c={c}: {lam} vs {expect}");
     }
@@ -62,9 +61,8 @@ fn light_rays_at_the_top_and_behind_a_wall() {
     let ds = DVec2::new(4.0 / 32.0, 0.0);
     let field = Field::new(&hm);
     // the ray from the floor at texel-space x (s.x * 32 - 0.5), `b` the bias
-    let biased = |x: f64, b: f64| {
-        light_ray_free(&field, DVec2::new((x + 0.5) / 32.0, 0.5), 0.0, ds, 1.0, b)
-    };
+    let biased =
+        |x: f64, b: f64| light_ray_free(&field, DVec2::new((x + 0.5) / 32.0, 0.5), 0.0, ds, 1.0, b);
     let free = |x: f64| biased(x, 0.0);
     assert!(free(3.9));
     assert!(!free(4.1));

@@ -1,6 +1,7 @@
 //! Assets across the boundary: glTF nodes (`load_gltf`) and the asset report (`check_asset`).
 
-use super::scene_args::{mesh_out, PyHeightData, PyMeshData};
+use super::handles::{PyHeightData, PyMeshData};
+use super::scene_args::mesh_out;
 use crate::assets::{self, TangentSource};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};

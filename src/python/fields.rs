@@ -2,8 +2,9 @@
 //! scene's schema classes cross the boundary. The core names and types each field; this only
 //! converts, and names the field (and the object it belongs to) in its errors.
 
-use crate::fields::{Fields, FromFields};
+use super::handles::{PyAlbedoData, PyHeightData};
 use crate::error::{Error, Result};
+use crate::fields::{Fields, FromFields, Handle};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -52,6 +53,23 @@ impl Fields for PyFields<'_> {
     }
     fn rgb(&self, name: &str) -> Result<[f32; 3]> {
         self.get(name, "three numbers (linear RGB)")
+    }
+    fn handle(&self, name: &str) -> Result<Option<Handle>> {
+        // the object makes (once) and keeps the core's data of its field
+        let h = self
+            .ob
+            .call_method1("_handle_of", (name,))
+            .map_err(|e| Error::arg(name, format!("expected {}: {e}", self.what)))?;
+        if h.is_none() {
+            return Ok(None);
+        }
+        if let Ok(d) = h.cast::<PyHeightData>() {
+            return Ok(Some(d.get().0.clone() as Handle));
+        }
+        if let Ok(d) = h.cast::<PyAlbedoData>() {
+            return Ok(Some(d.get().0.clone() as Handle));
+        }
+        Err(Error::arg(name, format!("expected {}", self.what)))
     }
     fn f32_map(&self, name: &str) -> Result<Vec<(String, f32)>> {
         let v = self.attr(name)?;

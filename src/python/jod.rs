@@ -4,7 +4,10 @@
 use numpy::PyReadonlyArrayDyn;
 use pyo3::prelude::*;
 
-fn frames(a: &PyReadonlyArrayDyn<'_, f32>, name: &str) -> PyResult<((usize, usize, usize), Vec<f32>)> {
+fn frames(
+    a: &PyReadonlyArrayDyn<'_, f32>,
+    name: &str,
+) -> PyResult<((usize, usize, usize), Vec<f32>)> {
     let v = a.as_array();
     let s = v.shape();
     let (n, h, w) = match (s.len(), s.last()) {
@@ -21,7 +24,12 @@ fn frames(a: &PyReadonlyArrayDyn<'_, f32>, name: &str) -> PyResult<((usize, usiz
 
 #[pyfunction]
 #[pyo3(signature = (test, reference, fps=30.0, display="standard_4k"))]
-pub fn jod(test: PyReadonlyArrayDyn<'_, f32>, reference: PyReadonlyArrayDyn<'_, f32>, fps: f64, display: &str) -> PyResult<f64> {
+pub fn jod(
+    test: PyReadonlyArrayDyn<'_, f32>,
+    reference: PyReadonlyArrayDyn<'_, f32>,
+    fps: f64,
+    display: &str,
+) -> PyResult<f64> {
     let (st, t) = frames(&test, "test")?;
     let (sr, r) = frames(&reference, "reference")?;
     if st != sr {

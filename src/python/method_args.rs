@@ -13,7 +13,9 @@ impl<'a, 'py> FromPyObject<'a, 'py> for Method {
         let kind: String = ob
             .getattr("_kind")
             .map_err(|_| {
-                crate::python::errors::argument_error("method: expected a pomkit method such as pomkit.POM()")
+                crate::python::errors::argument_error(
+                    "method: expected a pomkit method such as pomkit.POM()",
+                )
             })?
             .extract()?;
         match from_fields(&kind, &PyFields::new(ob, "a pomkit method dataclass")) {

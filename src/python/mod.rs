@@ -8,6 +8,7 @@ mod build_hooks;
 mod errors;
 mod fields;
 mod frame;
+mod handles;
 mod io;
 mod jod;
 mod method_args;
@@ -15,11 +16,11 @@ mod oracle_arrays;
 mod renderer;
 mod scene_args;
 
+use handles::{PyAlbedoData, PyHeightData, PyMeshData};
 use numpy::ndarray::Array;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use scene_args::{PyAlbedoData, PyHeightData, PyMeshData};
 
 /// A numpy array of `shape` that takes ownership of `v` (no copy).
 pub(crate) fn nd_array<'py, T: numpy::Element, D: numpy::ndarray::Dimension>(
@@ -27,7 +28,8 @@ pub(crate) fn nd_array<'py, T: numpy::Element, D: numpy::ndarray::Dimension>(
     shape: impl numpy::ndarray::IntoDimension<Dim = D>,
     v: Vec<T>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let a = Array::from_shape_vec(shape, v).map_err(|e| crate::python::errors::argument_error(e.to_string()))?;
+    let a = Array::from_shape_vec(shape, v)
+        .map_err(|e| crate::python::errors::argument_error(e.to_string()))?;
     Ok(a.into_pyarray(py).into_any())
 }
 

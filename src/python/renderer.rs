@@ -2,7 +2,8 @@
 //! out, the GIL released while the GPU works) and the adapters.
 
 use super::frame::{aovs_from_py, frame_to_py, PyRenderedFrame};
-use super::scene_args::{scene_from_py, PyHeightData};
+use super::handles::PyHeightData;
+use super::scene_args::scene_from_py;
 use crate::methods::Method;
 use crate::render::Renderer;
 use pyo3::prelude::*;

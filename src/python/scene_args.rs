@@ -1,31 +1,18 @@
-//! Scene data across the boundary: meshes (generated or from arrays), and the keyed handles
-//! (`MeshData`, `HeightData`, `AlbedoData`) that the Python scene classes make once, so that a
-//! render neither copies nor hashes their arrays again.
+//! Scenes across the boundary: a `pomkit.Scene` read by attribute (its camera, lights and
+//! materials through the core's schema, fields.rs; meshes and maps as keyed handles,
+//! handles.rs), and meshes generated or made from arrays.
 
+use super::fields::read;
+use super::handles::{rows, PyMeshData};
 use super::nd_array;
 use crate::error::Error;
 use crate::mesh::{Mesh, TangentFrames};
-use super::fields::read;
 use crate::scene::{
-    shared, Albedo, Camera, DirectionalLight, HeightMap, Light, Material, Object, Scene, Shared,
-    SphereLight, Transform,
+    Camera, DirectionalLight, Light, Material, Object, Scene, Shared, SphereLight, Transform,
 };
-use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
+use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-
-fn rows<const N: usize>(a: &PyReadonlyArray2<'_, f32>, name: &str) -> PyResult<Vec<[f32; N]>> {
-    let v = a.as_array();
-    if v.shape()[1] != N {
-        return Err(crate::python::errors::argument_error(format!(
-            "{name}: expected shape (n, {N}), got {:?}",
-            v.shape()
-        )));
-    }
-    Ok(v.outer_iter()
-        .map(|r| std::array::from_fn(|k| r[k]))
-        .collect())
-}
 
 /// A mesh's arrays by name (the stub's `MeshArrays`): positions (n, 3), normals (n, 3), uvs
 /// (n, 2), indices (m,), tangents (n, 4), uv_scale (n, 2), charts (c, 3).
@@ -96,7 +83,12 @@ pub fn mesh_plane(py: Python<'_>, size: f64, segments: u32) -> PyResult<Bound<'_
 }
 
 #[pyfunction]
-pub fn mesh_sphere(py: Python<'_>, radius: f64, segments: u32, rings: u32) -> PyResult<Bound<'_, PyDict>> {
+pub fn mesh_sphere(
+    py: Python<'_>,
+    radius: f64,
+    segments: u32,
+    rings: u32,
+) -> PyResult<Bound<'_, PyDict>> {
     mesh_out(py, &Mesh::sphere(radius, segments, rings)?)
 }
 
@@ -127,136 +119,25 @@ pub fn mesh_cube(py: Python<'_>, size: f64, segments: u32) -> PyResult<Bound<'_,
     mesh_out(py, &Mesh::cube(size, segments)?)
 }
 
-/// A mesh converted once and keyed (content hash) for the GPU caches: `pomkit.Mesh` makes one
-/// on its first render and keeps it.
-#[pyclass(name = "MeshData", module = "pomkit._core", frozen)]
-pub struct PyMeshData(pub Shared<Mesh>);
-
-#[pymethods]
-impl PyMeshData {
-    #[new]
-    fn new(
-        positions: PyReadonlyArray2<'_, f32>,
-        normals: PyReadonlyArray2<'_, f32>,
-        uvs: PyReadonlyArray2<'_, f32>,
-        tangents: PyReadonlyArray2<'_, f32>,
-        uv_scale: PyReadonlyArray2<'_, f32>,
-        indices: PyReadonlyArray1<'_, u32>,
-        charts: PyReadonlyArray2<'_, u32>,
-    ) -> PyResult<Self> {
-        let c = charts.as_array();
-        if !c.is_empty() && c.shape()[1] != 3 {
-            return Err(crate::python::errors::argument_error("charts: expected shape (k, 3)"));
-        }
-        let mesh = Mesh {
-            positions: rows::<3>(&positions, "positions")?,
-            normals: rows::<3>(&normals, "normals")?,
-            uvs: rows::<2>(&uvs, "uvs")?,
-            tangents: rows::<4>(&tangents, "tangents")?,
-            uv_scale: rows::<2>(&uv_scale, "uv_scale")?,
-            indices: indices.as_array().iter().copied().collect(),
-            charts: c.outer_iter().map(|r| [r[0], r[1], r[2]]).collect(),
-        };
-        Ok(PyMeshData(shared(mesh)?))
-    }
-    /// The content key the GPU caches use.
-    #[getter]
-    fn key(&self) -> u64 {
-        self.0.key
-    }
-}
-
-/// A height map converted once and keyed: `pomkit.Material` makes one on its first render.
-#[pyclass(name = "HeightData", module = "pomkit._core", frozen)]
-pub struct PyHeightData(pub Shared<HeightMap>);
-
-#[pymethods]
-impl PyHeightData {
-    #[new]
-    fn new(height: PyReadonlyArray2<'_, f32>) -> PyResult<Self> {
-        let v = height.as_array();
-        let (h, w) = (v.shape()[0] as u32, v.shape()[1] as u32);
-        let data = match v.as_slice() {
-            Some(s) => s.to_vec(),
-            None => v.iter().copied().collect(),
-        };
-        Ok(PyHeightData(shared(HeightMap::new(w, h, data)?)?))
-    }
-    #[getter]
-    fn key(&self) -> u64 {
-        self.0.key
-    }
-}
-
-/// A linear RGB albedo converted once and keyed.
-#[pyclass(name = "AlbedoData", module = "pomkit._core", frozen)]
-pub struct PyAlbedoData(pub Shared<Albedo>);
-
-#[pymethods]
-impl PyAlbedoData {
-    #[new]
-    fn new(albedo: PyReadonlyArray3<'_, f32>) -> PyResult<Self> {
-        let av = albedo.as_array();
-        if av.shape()[2] != 3 {
-            return Err(crate::python::errors::argument_error("albedo: expected shape (H, W, 3)"));
-        }
-        let data = av
-            .outer_iter()
-            .flat_map(|r| {
-                r.outer_iter()
-                    .map(|p| [p[0], p[1], p[2], 1.0])
-                    .collect::<Vec<_>>()
-            })
-            .collect();
-        Ok(PyAlbedoData(shared(Albedo {
-            width: av.shape()[1] as u32,
-            height: av.shape()[0] as u32,
-            data,
-        })?))
-    }
-    #[getter]
-    fn key(&self) -> u64 {
-        self.0.key
-    }
-}
-
 fn attr<'py>(ob: &Bound<'py, PyAny>, name: &str, what: &str) -> PyResult<Bound<'py, PyAny>> {
     ob.getattr(name)
         .map_err(|_| Error::arg(name, format!("missing: expected {what}")).into())
 }
 
-/// A handle the Python scene class makes once (`Mesh._core_data()`, ...), by calling `method`.
-fn handle<'py, T: pyo3::PyClass>(ob: &Bound<'py, PyAny>, method: &str, arg: &str) -> PyResult<Bound<'py, T>> {
+/// The mesh's keyed handle, which `pomkit.Mesh` makes once (`Mesh._core_data()`).
+fn mesh_handle(ob: &Bound<'_, PyAny>) -> PyResult<Shared<Mesh>> {
     let h = ob
-        .call_method0(method)
-        .map_err(|_| Error::arg(arg, format!("expected a pomkit.{}", if arg == "mesh" { "Mesh" } else { "Material" })))?;
-    Ok(h.cast_into::<T>()?)
+        .call_method0("_core_data")
+        .map_err(|_| Error::arg("mesh", "expected a pomkit.Mesh"))?;
+    Ok(h.cast_into::<PyMeshData>()?.get().0.clone())
 }
 
-/// One `pomkit.Object`: its mesh's and material's keyed handles, the material's numbers and
-/// the transform (a 4x4 array).
+/// One `pomkit.Object`: its mesh's keyed handle, its material (a schema class) and its
+/// transform (a 4x4 array).
 fn object_from_py(o: &Bound<'_, PyAny>) -> PyResult<Object> {
     let what = "a pomkit.Object";
-    let mesh = handle::<PyMeshData>(&attr(o, "mesh", what)?, "_core_data", "mesh")?.get().0.clone();
-    let m = attr(o, "material", what)?;
-    let height = handle::<PyHeightData>(&m, "_height_data", "material")?.get().0.clone();
-    let albedo = m.call_method0("_albedo_data")?;
-    let albedo = if albedo.is_none() {
-        None
-    } else {
-        Some(albedo.cast::<PyAlbedoData>()?.get().0.clone())
-    };
-    let num = |name: &str| -> PyResult<f64> {
-        let v = attr(&m, name, "a pomkit.Material")?;
-        v.extract()
-            .map_err(|_| Error::arg(name, format!("expected a number, got {v}")).into())
-    };
-    let material = Material {
-        height,
-        depth: num("depth")? as f32,
-        tiling: num("tiling")? as f32,
-        albedo,
-    };
+    let mesh = mesh_handle(&attr(o, "mesh", what)?)?;
+    let material: Material = read(&attr(o, "material", what)?, "a pomkit.Material")?;
     let t = attr(o, "transform", what)?;
     let rows: [[f64; 4]; 4] = t
         .extract()
@@ -280,7 +161,12 @@ fn light_from_py(l: &Bound<'_, PyAny>) -> PyResult<Light> {
     let kind: String = l
         .getattr("_schema")
         .and_then(|k| k.extract())
-        .map_err(|_| Error::arg("lights", format!("expected pomkit.DirectionalLight or pomkit.SphereLight, got {l}")))?;
+        .map_err(|_| {
+            Error::arg(
+                "lights",
+                format!("expected pomkit.DirectionalLight or pomkit.SphereLight, got {l}"),
+            )
+        })?;
     use crate::scene::schema::Schema;
     Ok(match kind.as_str() {
         DirectionalLight::CLASS => Light::Directional(read(l, "a pomkit.DirectionalLight")?),
@@ -309,9 +195,12 @@ pub fn scene_from_py(s: &Bound<'_, PyAny>) -> PyResult<Scene> {
         lights.push(light_from_py(&l?)?);
     }
     let ambient = attr(s, "ambient", what)?;
-    let ambient: [f32; 3] = ambient
-        .extract()
-        .map_err(|_| Error::arg("ambient", format!("expected three numbers (linear RGB), got {ambient}")))?;
+    let ambient: [f32; 3] = ambient.extract().map_err(|_| {
+        Error::arg(
+            "ambient",
+            format!("expected three numbers (linear RGB), got {ambient}"),
+        )
+    })?;
     Ok(Scene {
         objects,
         camera,

@@ -24,11 +24,9 @@ pub struct ShadowSetup {
 pub fn setup(scene: &Scene, spec: &Spec, max_dim: u32) -> Option<ShadowSetup> {
     let directional = |cast_only: bool| {
         scene.lights.iter().enumerate().find_map(|(i, l)| match l {
-            Light::Directional(l) if l.cast_shadows || !cast_only => Some((
-                i,
-                DVec3::from(l.direction).normalize(),
-                l.shadow_map_size,
-            )),
+            Light::Directional(l) if l.cast_shadows || !cast_only => {
+                Some((i, DVec3::from(l.direction).normalize(), l.shadow_map_size))
+            }
             _ => None,
         })
     };

@@ -206,15 +206,23 @@ pub struct Albedo {
     pub data: Vec<[f32; 4]>,
 }
 
-#[derive(Clone, Debug)]
-pub struct Material {
-    pub height: Shared<HeightMap>,
-    /// world distance between h = 1 (base surface) and h = 0
-    pub depth: f32,
-    /// repetitions of the map over the mesh's uv square
-    pub tiling: f32,
-    /// None: constant linear 0.5 grey
-    pub albedo: Option<Shared<Albedo>>,
+crate::schema! {
+    /// Height map and albedo.
+    ///
+    /// height: (H, W) float32 in [0, 1] (uint8 and uint16 are normalised); h = 1 is the base
+    /// surface, h = 0 lies `depth` world units below it. albedo: (H, W, 3) sRGB uint8 or linear
+    /// float32; None is a constant linear 0.5 grey. tiling: repetitions of the maps over the
+    /// mesh's uv square.
+    pub struct Material {
+        /// the height map, h = 1 at the base surface
+        pub height: Shared<HeightMap> = Height;
+        /// the distance between h = 1 (the base surface) and h = 0, in object units
+        pub depth: f32 = Real(0.0, 1e30), "0.08";
+        /// the albedo (None: a constant linear 0.5 grey)
+        pub albedo: Option<Shared<Albedo>> = Albedo, "None";
+        /// repetitions of the maps over the mesh's uv square
+        pub tiling: f32 = Real(1e-12, 1e6), "1.0";
+    }
 }
 
 impl Material {

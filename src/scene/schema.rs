@@ -16,6 +16,10 @@ pub enum Kind {
     Integer { lo: u32, hi: u32 },
     /// True or False
     Bool,
+    /// a height map: a 2-D array in [0, 1] (float, uint8 or uint16), shared as `HeightMap`
+    Height,
+    /// an albedo: (H, W, 3) sRGB uint8 or linear float, or None; shared as `Albedo`
+    Albedo,
 }
 
 impl Kind {
@@ -26,6 +30,8 @@ impl Kind {
             Kind::Real { .. } => "real",
             Kind::Integer { .. } => "integer",
             Kind::Bool => "bool",
+            Kind::Height => "height",
+            Kind::Albedo => "albedo",
         }
     }
     /// The inclusive range of a number (None for the others).
@@ -58,11 +64,27 @@ pub trait Schema {
 /// A kind by its name in `schema!`.
 #[macro_export]
 macro_rules! schema_kind {
-    (Vec3) => { $crate::scene::schema::Kind::Vec3 };
-    (Rgb) => { $crate::scene::schema::Kind::Rgb };
-    (Bool) => { $crate::scene::schema::Kind::Bool };
-    (Real($lo:expr, $hi:expr)) => { $crate::scene::schema::Kind::Real { lo: $lo, hi: $hi } };
-    (Integer($lo:expr, $hi:expr)) => { $crate::scene::schema::Kind::Integer { lo: $lo, hi: $hi } };
+    (Vec3) => {
+        $crate::scene::schema::Kind::Vec3
+    };
+    (Rgb) => {
+        $crate::scene::schema::Kind::Rgb
+    };
+    (Bool) => {
+        $crate::scene::schema::Kind::Bool
+    };
+    (Height) => {
+        $crate::scene::schema::Kind::Height
+    };
+    (Albedo) => {
+        $crate::scene::schema::Kind::Albedo
+    };
+    (Real($lo:expr, $hi:expr)) => {
+        $crate::scene::schema::Kind::Real { lo: $lo, hi: $hi }
+    };
+    (Integer($lo:expr, $hi:expr)) => {
+        $crate::scene::schema::Kind::Integer { lo: $lo, hi: $hi }
+    };
 }
 
 /// A schema struct: `field: Type = Kind(range) [= "python default"],` per user-facing field,
@@ -82,7 +104,7 @@ macro_rules! schema {
         })?
     ) => {
         $(#[doc = $doc])*
-        #[derive(Clone, Debug, PartialEq)]
+        #[derive(Clone, Debug)]
         pub struct $name {
             $($(#[doc = $fdoc])* pub $f: $t,)*
             $($($(#[$im])* pub $x: $xt,)*)?
@@ -122,6 +144,26 @@ macro_rules! schema_default {
     };
 }
 
+impl crate::fields::FieldValue for super::Shared<super::HeightMap> {
+    fn get(f: &dyn crate::fields::Fields, name: &str) -> crate::error::Result<Self> {
+        f.handle(name)?
+            .and_then(|h| h.downcast().ok())
+            .ok_or_else(|| crate::error::Error::arg(name, "expected a height map"))
+    }
+}
+
+impl crate::fields::FieldValue for Option<super::Shared<super::Albedo>> {
+    fn get(f: &dyn crate::fields::Fields, name: &str) -> crate::error::Result<Self> {
+        match f.handle(name)? {
+            None => Ok(None),
+            Some(h) => h
+                .downcast()
+                .map(Some)
+                .map_err(|_| crate::error::Error::arg(name, "expected an albedo")),
+        }
+    }
+}
+
 /// Every schema class, in the order Python builds them.
 pub fn classes() -> Vec<(&'static str, &'static str, &'static [Field])> {
     fn one<T: Schema>() -> (&'static str, &'static str, &'static [Field]) {
@@ -129,6 +171,7 @@ pub fn classes() -> Vec<(&'static str, &'static str, &'static [Field])> {
     }
     vec![
         one::<super::Camera>(),
+        one::<super::Material>(),
         one::<super::DirectionalLight>(),
         one::<super::SphereLight>(),
     ]
@@ -137,8 +180,8 @@ pub fn classes() -> Vec<(&'static str, &'static str, &'static [Field])> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fields::{Fields, FromFields};
     use crate::error::{Error, Result};
+    use crate::fields::{Fields, FromFields};
 
     /// Fields from (name, value) pairs: what the pyo3 layer does from attributes.
     struct Pairs(Vec<(&'static str, f64)>);
@@ -180,7 +223,10 @@ mod tests {
 
     #[test]
     fn a_light_reads_every_field_of_its_table_and_names_a_missing_one() {
-        let names: Vec<&str> = super::super::SphereLight::FIELDS.iter().map(|f| f.name).collect();
+        let names: Vec<&str> = super::super::SphereLight::FIELDS
+            .iter()
+            .map(|f| f.name)
+            .collect();
         let all = Pairs(names.iter().map(|n| (*n, 0.5)).collect());
         let l = super::super::SphereLight::from_fields(&all).unwrap();
         assert_eq!(l.radius, 0.5);
@@ -197,7 +243,11 @@ mod tests {
             let mut defaulted = false;
             for f in fields {
                 assert!(!f.doc.trim().is_empty(), "{class}.{}", f.name);
-                assert!(!(defaulted && f.default.is_none()), "{class}.{}: a required field after a default", f.name);
+                assert!(
+                    !(defaulted && f.default.is_none()),
+                    "{class}.{}: a required field after a default",
+                    f.name
+                );
                 defaulted |= f.default.is_some();
             }
         }

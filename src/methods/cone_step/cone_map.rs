@@ -5,8 +5,8 @@
 use super::Cones;
 use crate::contract::{BuildInputs, Composer};
 use crate::error::Result;
-use crate::gpu::{Context, TableOut, TablePass, TableTarget};
 use crate::gpu::texels::{read_r32, write_r32};
+use crate::gpu::{Context, TableOut, TablePass, TableTarget};
 use crate::heightmap::{max_offset_table, top_maxmip_level};
 use crate::progress;
 

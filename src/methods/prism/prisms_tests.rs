@@ -61,9 +61,7 @@ fn the_prism_texture_holds_every_prism_where_the_shader_looks() {
                 let o = oct_decode(c);
                 (0..3).all(|i| (o[i] - v[i]).abs() < 5e-5)
             };
-            assert!(
-                back(t[at + 8 + k][0], d.normal[k]) && back(t[at + 8 + k][1], d.tangent[k])
-            );
+            assert!(back(t[at + 8 + k][0], d.normal[k]) && back(t[at + 8 + k][1], d.tangent[k]));
             assert_eq!(f32::from_bits(t[at + 8 + k][2]).abs(), d.uv[k][2]);
             assert_eq!(f32::from_bits(t[at + 8 + k][3]), d.uv[k][3]);
         }

@@ -385,7 +385,6 @@ impl<'a> Object<'a> {
             c: DVec2::new(s.x * hm.width as f64, s.y * hm.height as f64),
         }
     }
-
 }
 
 #[cfg(test)]

@@ -6,7 +6,15 @@ use super::*;
 
 impl<'a> Object<'a> {
     /// The walk of the ray o + lam d (object space) from `at` in prism `tri` at `lam0`.
-    pub(super) fn walk(&self, o: DVec3, d: DVec3, tri: u32, lam0: f64, at: Local, lift: f64) -> Walk {
+    pub(super) fn walk(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        tri: u32,
+        lam0: f64,
+        at: Local,
+        lift: f64,
+    ) -> Walk {
         let (mut tri, mut lam, mut at) = (tri, lam0, at);
         if !(self.depth > 0.0) {
             // no shell: the base surface itself
