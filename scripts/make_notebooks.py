@@ -72,6 +72,8 @@ NB = {
 ("code", "fig, ax = plt.subplots(figsize=(6, 3.5))\nfor path in pk.bench.PATHS:\n    xs = [x for x in rows if x['path'] == path]\n    ax.plot([x['swimming'] for x in xs], [x['jod'] for x in xs], 'o', label=path)\nax.set_xlabel('swimming (texels a frame)'); ax.set_ylabel('JOD'); ax.legend()"),
 ("md", "## The videos\nThe oracle's video and a method's along the dolly, side by side (frame 0 and the last)."),
 ("code", "path = pk.bench.camera_path(scene, 'dolly', 8)\nm = methods[0]\nfig, ax = plt.subplots(2, 2, figsize=(6, 6))\nfor i, k in enumerate((0, 7)):\n    ax[i, 0].imshow(r.render(path[k], m).to_srgb8()); ax[i, 0].set_title(f'{m.name}, frame {k}')\n    ax[i, 1].imshow(pk.oracle.image(path[k], spp=1, shadows=False).to_srgb8()); ax[i, 1].set_title(f'oracle, frame {k}')\nfor a in ax.flat: a.axis('off')"),
+("md", "## The loop\nThe same path as the demo page plays it: the method | the oracle's image | their error, looping (WebM by PyAV, else an animated WebP)."),
+("code", "import tempfile\nfrom pathlib import Path\nfrom IPython.display import Image, Video\nfrom pomkit.apps import loops\nfile, how = loops.encode(loops.clip(r, scene, methods[0], 'dolly', 8, 1), Path(tempfile.mkdtemp()) / 'loop')\nVideo(str(file), embed=True, html_attributes='loop autoplay muted') if how == 'video' else Image(filename=str(file))"),
 ],
 }
 

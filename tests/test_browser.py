@@ -4,7 +4,7 @@
 
 - The page loads with no console error, no failed request and no broken image; its chart is
   interactive (hovering a point shows its method and settings) and needs no CDN; the choose
-  answer has no "nan".
+  answer has no "nan"; its motion loops play (each video loads and its time moves on).
 - The widget, served with a kernel by Voilà, turns a drag on its frame into a new frame.
 """
 
@@ -128,6 +128,28 @@ def test_the_chart_is_readable_and_tells_each_point(browser, demo_page):
             seen.append(t.split("(")[0].strip())
             pg.mouse.move(5, 5)
         assert len(set(seen)) == 3, seen
+        assert not watch.errors, watch.errors
+
+
+def test_the_motion_loops_play(browser, demo_page):
+    """Each loop of the "In motion" section loads and advances once it is in view (Chromium
+    holds muted autoplay videos off screen): a <video> (WebM) whose time moves on, in headless
+    Chromium."""
+    with _serve(demo_page) as url:
+        pg = browser.new_page(viewport={"width": 1400, "height": 1000})
+        watch = _Watch(pg, url)
+        pg.goto(url + "/index.html", wait_until="networkidle")
+        videos = pg.locator("video")
+        assert videos.count() == 3, videos.count()
+        for i in range(videos.count()):
+            v = videos.nth(i)
+            v.scroll_into_view_if_needed()
+            v.evaluate("v => new Promise(ok => v.readyState >= 2 ? ok() : v.addEventListener('loadeddata', ok))")
+            t0 = v.evaluate("v => v.currentTime")
+            pg.wait_for_timeout(700)
+            t1, paused, w, h = v.evaluate("v => [v.currentTime, v.paused, v.videoWidth, v.videoHeight]")
+            assert t1 != t0 and not paused, (i, t0, t1, paused)
+            assert w == 3 * h and h > 0, (w, h)
         assert not watch.errors, watch.errors
 
 

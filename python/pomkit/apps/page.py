@@ -3,7 +3,8 @@ method on a planar and on a curved scene and the curved methods on an asset (a g
 UV atlas, its report from `pk.check_asset`), framed on the surface, with the Mitsuba reference
 beside them (renders shipped with the package, made by scripts/make_demo_refs.py, so the demo
 needs no Mitsuba), uv-error and FLIP heat maps, the speed/accuracy chart of the methods shown,
-a `pk.choose` answer for one built-in map, and the LOD as a false-colour overlay with its legend.
+a `pk.choose` answer for one built-in map, loops in motion beside their motion tables (loops.py),
+and the LOD as a false-colour overlay with its legend.
 """
 
 from __future__ import annotations
@@ -272,6 +273,15 @@ def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
     parts.append("<h2>Explore these scenes live</h2><p>In a notebook (JupyterLab, Notebook 7, VS Code, Colab; the "
                  "<code>notebooks</code> extra), orbit either scene, switch methods and views, and compare with the "
                  "reference:</p><pre>" + html.escape(EXPLORE_COMMAND) + "</pre>")
+    # in motion: loops of the plane, the torus and a pull-back into minification, each beside
+    # its motion table
+    from . import loops
+    small = 96
+    parts.append(loops.section(r, outdir, [
+        ("plane", planar_scene(small), "orbit", [pk.POM(), pk.Exact(), pk.presets.playcanvas_pom()]),
+        ("torus", curved_scene(small), "orbit", [pk.Prism(), pk.NCS(), pk.Prism(exact=True)]),
+        ("plane", planar_scene(small), "pullback", [pk.POM(mip_filtering=True), pk.POM(), pk.Exact()]),
+    ]))
     # the LOD, at a glance
     pom = r.render(planar, pk.POM(mip_filtering=True))
     levels = float(np.log2(256))
