@@ -24,12 +24,15 @@ s = pk.Scene(mesh=pk.Mesh.plane(2.0), material=pk.Material(pk.textures.bricks(64
 f = pk.Renderer().render(s, pk.POM())
 assert f.color.shape == (32, 32, 3) and f.mask.mean() > 0.5 and np.isfinite(f.color).all()
 print("[dist] renders:", pk.__file__)'
+# the sdist compiles from its own files, in a target directory of its own per sdist content:
+# its files carry the tarball's fixed timestamps, so cargo cannot tell a changed source from an
+# old build by time (cold for each new sdist: about 3 minutes; kept for the same sources)
+BUILD="$PWD/target/sdist-build-$(sha256sum "$SDIST" | cut -c1-12)"
+find target -maxdepth 1 -name 'sdist-build*' ! -path "$BUILD" -exec rm -rf {} +
 for what in "$WHEEL" "$SDIST"; do
   d=$(mktemp -d /tmp/pomkit-dist-XXXX)
   python -m venv "$d"
-  # the sdist compiles from its own files, in a target directory of its own (cold the first
-  # time: about 3 minutes; kept between runs of a checkout)
-  CARGO_TARGET_DIR="$PWD/target/sdist-build" "$d/bin/pip" install -q --no-cache-dir "$what"
+  CARGO_TARGET_DIR="$BUILD" "$d/bin/pip" install -q --no-cache-dir "$what"
   (cd "$d" && "$d/bin/python" -c "$smoke")
   rm -rf "$d"
 done

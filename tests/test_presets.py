@@ -81,3 +81,22 @@ def test_hdrp_takes_its_steps_and_fades_past_its_lod_threshold(renderer):
         f, flat = renderer.render(sc, pk.presets.hdrp_pom()), renderer.render(sc, pk.Flat())
         m = f.mask & flat.mask
         assert (np.abs(f.uv - flat.uv)[m].max() > 1e-3) == moved, tiling
+
+
+def test_godot_as_shipped_slides_at_most_one_depth_and_pr_97646_follows_the_ray(renderer):
+    """Godot 4's shipped deep parallax slides `view_dir.xy * scale` (V.xy): at 80° the hit's uv
+    moves from the entry's by at most one depth (0.04 of uv on the 2-unit plane at depth 0.08),
+    and the relief is flattened; PR #97646's Z correction (V.xy / V.z) slides as far as the ray
+    does (up to tan 80° = 5.7 depths) and lands nearer the oracle's hits (uv p95 against
+    `pk.oracle.hits`, lower at 60° and 80°)."""
+    for theta in (60.0, 80.0):
+        sc = pk.scenes.tilted_plane(pk.textures.real("gravel", 128), theta, 64)
+        flat = renderer.render(sc, pk.Flat())
+        shipped, pr = (renderer.render(sc, m()) for m in (pk.presets.godot_deep_parallax, pk.presets.godot_deep_parallax_97646))
+        m = shipped.mask & pr.mask & flat.mask
+        s_shipped = np.linalg.norm(shipped.uv[m] - flat.uv[m], axis=-1).max()
+        s_pr = np.linalg.norm(pr.uv[m] - flat.uv[m], axis=-1).max()
+        assert s_shipped <= 0.04 * 1.01 and s_pr > 1.5 * s_shipped, (theta, s_shipped, s_pr)
+        oracle = pk.oracle.hits(sc)
+        e_shipped, e_pr = (pk.metrics.uv_error(f, oracle, sc)["p95"] for f in (shipped, pr))
+        assert e_pr < e_shipped, (theta, e_shipped, e_pr)

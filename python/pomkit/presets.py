@@ -10,7 +10,7 @@ from importlib.resources import files
 
 from ._methods import POM, Custom, Relief
 
-__all__ = ["bevy_pom", "bevy_relief", "godot_deep_parallax", "engine_pom", "playcanvas_pom", "silhouette_pom", "hdrp_pom", "ALL_PRESETS"]
+__all__ = ["bevy_pom", "bevy_relief", "godot_deep_parallax", "godot_deep_parallax_97646", "engine_pom", "playcanvas_pom", "silhouette_pom", "hdrp_pom", "ALL_PRESETS"]
 
 NO_LOD = 1000.0  # engines without a POM -> bump hand-over
 
@@ -30,11 +30,32 @@ def bevy_relief() -> Relief:
     return Relief(linear_steps=16, binary_steps=5, mip_filtering=False)
 
 
-def godot_deep_parallax() -> POM:
-    """Godot's StandardMaterial3D `heightmap_deep_parallax`: layers interpolated between
-    `heightmap_min_layers` (8) and `heightmap_max_layers` (32) by the view angle, linear
-    interpolation between the last two layers, hardware mip selection, no self-shadowing."""
-    return POM(min_steps=8, max_steps=32, shadows="none", lod_threshold=NO_LOD, mip_filtering=True)
+def _engine_loop(name: str, min_layers: float, max_layers: float, divide_by_z: bool, mip_filtering: bool) -> Custom:
+    src = (files("pomkit") / "wgsl" / "engine_pom.wgsl").read_text()
+    return Custom(wgsl=src, name=name, mip_filtering=mip_filtering,
+                  params={"min_layers": min_layers, "max_layers": max_layers, "divide_by_z": float(divide_by_z)})
+
+
+def godot_deep_parallax() -> Custom:
+    """Godot 4's StandardMaterial3D `heightmap_deep_parallax` as it ships (material.cpp): layers
+    mixed between `heightmap_max_layers` (32) and `heightmap_min_layers` (8) by |V.z|, the
+    depth accumulated layer by layer, the slide `view_dir.xy * heightmap_scale` (V.xy, not
+    V.xy / V.z: the offset stays within one depth at grazing angles, which flattens the relief
+    there), one interpolation between the last two layers, the footprint's mip level
+    (`texture()`), no self-shadowing. The engine loop of pomkit/wgsl/engine_pom.wgsl with
+    divide_by_z = 0."""
+    return _engine_loop("godot_deep_parallax", 8.0, 32.0, divide_by_z=False, mip_filtering=True)
+
+
+def godot_deep_parallax_97646() -> Custom:
+    """Godot's reworked deep parallax (godotengine/godot PR #97646, open): the same loop with its
+    "Z correction" (the slide divided by V.z, the ray's own slope), "Write Depth" (the depth of
+    the displaced point) and "Correct Shadow Receive" (the shadow map read at the displaced
+    point). pomkit writes the displaced point's depth and reads a casting light's shadow map
+    there for every per-pixel method, so those two are what any method here does; the preset
+    differs from `godot_deep_parallax` by the Z correction alone. The PR's built-in
+    interpolation between layers is the loop's own."""
+    return _engine_loop("godot_deep_parallax_97646", 8.0, 32.0, divide_by_z=True, mip_filtering=True)
 
 
 def engine_pom() -> Custom:
@@ -42,8 +63,7 @@ def engine_pom() -> Custom:
     count blended by the view angle between 8 and 32, one interpolation between the last two
     layers, level-0 sampling), as a `pk.Custom` method: pomkit/wgsl/engine_pom.wgsl, our own
     adaptation of the common description (docs/custom_methods.md)."""
-    src = (files("pomkit") / "wgsl" / "engine_pom.wgsl").read_text()
-    return Custom(wgsl=src, name="engine_pom", params={"min_layers": 8.0, "max_layers": 32.0}, mip_filtering=False)
+    return _engine_loop("engine_pom", 8.0, 32.0, divide_by_z=True, mip_filtering=False)
 
 
 def playcanvas_pom() -> Custom:
@@ -83,7 +103,8 @@ def hdrp_pom() -> Custom:
 #: name -> factory. Unreal's ParallaxOcclusionMapping material function is not included: its
 #: algorithm is only available in the engine's own sources, which are not public material we can
 #: verify here.
-ALL_PRESETS = {"bevy_pom": bevy_pom, "bevy_relief": bevy_relief, "godot_deep_parallax": godot_deep_parallax, "engine_pom": engine_pom,
+ALL_PRESETS = {"bevy_pom": bevy_pom, "bevy_relief": bevy_relief, "godot_deep_parallax": godot_deep_parallax,
+               "godot_deep_parallax_97646": godot_deep_parallax_97646, "engine_pom": engine_pom,
                "playcanvas_pom": playcanvas_pom, "silhouette_pom": silhouette_pom,
                "hdrp_pom": hdrp_pom}
 
