@@ -100,21 +100,26 @@ impl Bvh {
     }
 
     /// Calls `f` with each item whose box the ray o + lam d meets for lam in [lam_min,
-    /// lam_max] and which it does not face away from, until `f` returns false.
+    /// lam_max] and which it does not face away from, nearer boxes first, until `f` returns
+    /// false; `f` may lower lam_max (a hit found), and boxes beyond it are then left out.
     pub(crate) fn visit(
         &self,
         o: DVec3,
         d: DVec3,
         lam_min: f64,
         lam_max: f64,
-        mut f: impl FnMut(u32) -> bool,
+        mut f: impl FnMut(u32, &mut f64) -> bool,
     ) {
         if self.order.is_empty() {
             return;
         }
         let inv = d.recip();
         let du = d.normalize_or_zero();
-        let meets = |n: &Node| {
+        // where the ray enters the node's box, if it meets it within [lam_min, lam_max]
+        let meets = |n: &Node, lam_max: f64| -> Option<f64> {
+            if du.dot(n.axis) >= n.sin_half {
+                return None;
+            }
             let t0 = (n.lo - o) * inv;
             let t1 = (n.hi - o) * inv;
             // a zero direction component gives NaN or +-inf; NaN (origin on the slab) passes
@@ -122,27 +127,48 @@ impl Bvh {
             let far = t0.max(t1);
             let tn = near.x.max(near.y).max(near.z).max(lam_min);
             let tf = far.x.min(far.y).min(far.z).min(lam_max);
-            !(tn > tf * (1.0 + 1e-12) + 1e-12)
+            (!(tn > tf * (1.0 + 1e-12) + 1e-12)).then_some(tn)
+        };
+        let mut lam_max = lam_max;
+        let Some(t_root) = meets(&self.nodes[0], lam_max) else {
+            return;
         };
         // the tree is balanced (median splits): fewer than 64 nodes wait at a time
-        let mut stack = [0u32; 64];
+        let mut stack = [(0u32, 0f64); 64];
+        stack[0] = (0, t_root);
         let mut top = 1;
         while top > 0 {
             top -= 1;
-            let n = &self.nodes[stack[top] as usize];
-            if du.dot(n.axis) >= n.sin_half || !meets(n) {
+            let (ni, tn) = stack[top];
+            if tn > lam_max * (1.0 + 1e-12) + 1e-12 {
                 continue;
             }
+            let n = &self.nodes[ni as usize];
             if n.count > 0 {
                 for &i in &self.order[n.first as usize..(n.first + n.count) as usize] {
-                    if !f(i) {
+                    if !f(i, &mut lam_max) {
                         return;
                     }
                 }
-            } else {
-                stack[top] = n.first;
-                stack[top + 1] = n.first + 1;
-                top += 2;
+                continue;
+            }
+            let (a, b) = (n.first, n.first + 1);
+            let (ta, tb) = (
+                meets(&self.nodes[a as usize], lam_max),
+                meets(&self.nodes[b as usize], lam_max),
+            );
+            // the farther child waits below the nearer
+            let mut kids = [(a, ta), (b, tb)];
+            if let (Some(x), Some(y)) = (ta, tb) {
+                if y < x {
+                    kids.swap(0, 1);
+                }
+            }
+            for (k, t) in kids.into_iter().rev() {
+                if let Some(t) = t {
+                    stack[top] = (k, t);
+                    top += 1;
+                }
             }
         }
     }

@@ -111,7 +111,9 @@ impl<'a> Shell<'a> {
     }
 
     /// The first hit of the ray eye + lam dir over lam > lam_min with any object's displaced
-    /// surface (with `any`, the first found): object, triangle, lam, point, cells walked.
+    /// surface (with `any`, the first found): object, triangle, lam, point, cells walked. Each
+    /// start of a walk (where the ray enters a shell) is walked as the bounding volumes give it,
+    /// nearer first; a hit bounds the rest of the search.
     fn first(
         &self,
         eye: DVec3,
@@ -119,18 +121,15 @@ impl<'a> Shell<'a> {
         lam_min: f64,
         any: bool,
     ) -> Option<(usize, u32, f64, Local, u32)> {
-        let mut entries: Vec<(f64, usize, u32, Local)> = Vec::new();
-        let mut found: Option<(usize, u32, f64, Local, u32)> = None;
+        let mut best: Option<(usize, u32, f64, Local)> = None;
+        let mut cells = 0u32;
+        let mut bound = f64::INFINITY;
         for (oi, ob) in self.objects.iter().enumerate() {
             let o = ob.to_obj.transform_point3(eye);
             let d = ob.to_obj.transform_vector3(dir);
-            // a start of the walk: walked at once for `any`, else kept in order
-            let mut start = |t: u32, lam: f64, at: Local| -> bool {
-                if !(lam > lam_min) {
-                    return true;
-                }
-                if !any {
-                    entries.push((lam, oi, t, at));
+            // a start of the walk: walked unless a hit already lies before it; false to stop
+            let mut start = |t: u32, lam: f64, at: Local, bound: &mut f64| -> bool {
+                if !(lam > lam_min) || lam >= *bound {
                     return true;
                 }
                 match ob.walk(o, d, t, lam, at, 0.0) {
@@ -138,20 +137,29 @@ impl<'a> Shell<'a> {
                         tri,
                         lam,
                         at,
-                        cells,
+                        cells: c,
                     } => {
-                        found = Some((oi, tri, lam, at, cells));
-                        false
+                        cells += c;
+                        if lam < *bound {
+                            *bound = lam;
+                            best = Some((oi, tri, lam, at));
+                        }
+                        !any
                     }
-                    Walk::Left { .. } => true,
+                    Walk::Left { cells: c, .. } => {
+                        cells += c;
+                        true
+                    }
                 }
             };
-            ob.bvh.visit(o, d, lam_min, f64::INFINITY, |t| {
+            let mut go_on = true;
+            ob.bvh.visit(o, d, lam_min, bound, |t, lam_max| {
                 let Some(p) = ob.prisms[t as usize].as_ref() else {
                     return true;
                 };
                 if let Some((lam, b)) = p.entry(o, d) {
-                    if !start(t, lam, entry_at(b)) {
+                    if !start(t, lam, entry_at(b), lam_max) {
+                        go_on = false;
                         return false;
                     }
                 }
@@ -172,37 +180,14 @@ impl<'a> Shell<'a> {
                         });
                     }
                 }
-                walls.iter().flatten().all(|c| start(t, c.lam, c.at))
+                go_on = walls.iter().flatten().all(|c| start(t, c.lam, c.at, lam_max));
+                go_on
             });
-            if found.is_some() {
-                return found;
+            if let Some(b) = best {
+                bound = bound.min(b.2);
             }
-        }
-        entries.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut best: Option<(usize, u32, f64, Local)> = None;
-        let mut cells = 0u32;
-        for (lam, oi, t, start) in entries {
-            if best.is_some_and(|h| h.2 <= lam) {
+            if !go_on {
                 break;
-            }
-            let ob = &self.objects[oi];
-            let (o, d) = (
-                ob.to_obj.transform_point3(eye),
-                ob.to_obj.transform_vector3(dir),
-            );
-            match ob.walk(o, d, t, lam, start, 0.0) {
-                Walk::Hit {
-                    tri,
-                    lam,
-                    at,
-                    cells: c,
-                } => {
-                    cells += c;
-                    if best.is_none_or(|h| lam < h.2) {
-                        best = Some((oi, tri, lam, at));
-                    }
-                }
-                Walk::Left { cells: c, .. } => cells += c,
             }
         }
         best.map(|(oi, tri, lam, at)| (oi, tri, lam, at, cells))

@@ -202,7 +202,12 @@ impl<'a> Object<'a> {
             Some((hm.sample(x.s.x, x.s.y) - x.h, a))
         };
         let span = (v.lam - u.lam).abs();
-        let mut delta = 1e-6 * span + 1e-15;
+        // the chord lies within TOL_TEXELS of the path: its hit is about as near the path's,
+        // so the first bracket tried spans twice that (wider ones follow where it does not)
+        let run = (v.c - u.c).length();
+        let mut delta = (span * 2.0 * TOL_TEXELS / run.max(1e-300))
+            .min(span)
+            .max(1e-6 * span + 1e-15);
         while delta <= span {
             let (lo, hi) = ((lam - delta).max(u.lam), (lam + delta).min(v.lam));
             match (g(lo, at), g(hi, at)) {
@@ -221,6 +226,10 @@ impl<'a> Object<'a> {
                             0.5 * (lo.0 + hi.0)
                         };
                         let Some((gm, am)) = g(mid, hi.2) else { break };
+                        // on the surface to rounding (1e-12 of the depth): the path's point
+                        if (0.0..=1e-12).contains(&gm) {
+                            return (mid, am);
+                        }
                         if gm >= 0.0 {
                             hi = (mid, gm, am);
                             if side == 1 {
