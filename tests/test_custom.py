@@ -35,7 +35,7 @@ def test_engine_style_pom_converges_toward_the_oracle(renderer):
     o = pk.oracle.hits(scene)
     errs = []
     for n in (8.0, 64.0):
-        f = renderer.render(scene, pk.Custom(wgsl=ENGINE, name="engine_pom", params={"min_layers": n, "max_layers": n}))
+        f = renderer.render(scene, pk.Custom(wgsl=ENGINE, name="engine_pom", params={"min_layers": n, "max_layers": n, "divide_by_z": 1.0}))
         m = f.mask & o.mask
         assert m.sum() > 0.9 * o.mask.sum()
         errs.append(np.percentile(np.linalg.norm((f.uv[m] - o.uv[m]) * 128, axis=-1), 95))

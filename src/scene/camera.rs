@@ -51,29 +51,7 @@ pub struct CameraBasis {
 
 impl Camera {
     pub fn validate(&self) -> Result<()> {
-        let all = self
-            .eye
-            .iter()
-            .chain(self.target.iter())
-            .chain(self.up.iter());
-        if all.clone().any(|x| !x.is_finite()) {
-            return Err(Error::arg("camera", "eye, target and up must be finite"));
-        }
-        if self.width == 0 || self.height == 0 {
-            return Err(Error::arg(
-                "width",
-                format!(
-                    "image size must be positive, got {}x{}",
-                    self.width, self.height
-                ),
-            ));
-        }
-        if !(self.fov_y > 0.0 && self.fov_y < 180.0) {
-            return Err(Error::arg(
-                "fov_y",
-                format!("must lie in (0, 180) degrees, got {}", self.fov_y),
-            ));
-        }
+        self.check_fields()?;
         let eye = DVec3::from(self.eye);
         let target = DVec3::from(self.target);
         let fwd = target - eye;

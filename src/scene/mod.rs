@@ -226,21 +226,9 @@ crate::schema! {
 }
 
 impl Material {
+    /// Its fields against the table (the height map and albedo were checked when shared).
     pub fn validate(&self) -> Result<()> {
-        if !self.depth.is_finite() || self.depth < 0.0 {
-            return Err(Error::arg(
-                "depth",
-                format!("must be a finite number >= 0, got {}", self.depth),
-            ));
-        }
-        if !self.tiling.is_finite() || self.tiling <= 0.0 {
-            return Err(Error::arg(
-                "tiling",
-                format!("must be a finite number > 0, got {}", self.tiling),
-            ));
-        }
-        // the height map and albedo were checked when they were shared
-        Ok(())
+        self.check_fields()
     }
 }
 
@@ -309,40 +297,12 @@ impl Light {
     pub fn validate(&self) -> Result<()> {
         match self {
             Light::Directional(l) => {
-                let d = DVec3::from(l.direction);
-                if !d.is_finite() || d.length() < 1e-12 {
-                    return Err(Error::arg("direction", "must be a finite non-zero vector"));
-                }
-                if l.irradiance.iter().any(|x| !x.is_finite() || *x < 0.0) {
-                    return Err(Error::arg("irradiance", "must be finite and >= 0"));
-                }
-                if l.color.iter().any(|x| !x.is_finite() || *x < 0.0) {
-                    return Err(Error::arg("color", "must be finite and >= 0"));
-                }
-                if !(l.angular_diameter.is_finite()
-                    && l.angular_diameter >= 0.0
-                    && l.angular_diameter < 180.0)
-                {
-                    return Err(Error::arg(
-                        "angular_diameter",
-                        "must lie in [0, 180) degrees",
-                    ));
+                l.check_fields()?;
+                if DVec3::from(l.direction).length() < 1e-12 {
+                    return Err(Error::arg("direction", "must be a non-zero vector"));
                 }
             }
-            Light::Sphere(l) => {
-                if !DVec3::from(l.position).is_finite() {
-                    return Err(Error::arg("position", "must be finite"));
-                }
-                if !(l.radius.is_finite() && l.radius >= 0.0) {
-                    return Err(Error::arg("radius", "must be finite and >= 0"));
-                }
-                if l.intensity.iter().any(|x| !x.is_finite() || *x < 0.0) {
-                    return Err(Error::arg("intensity", "must be finite and >= 0"));
-                }
-                if l.color.iter().any(|x| !x.is_finite() || *x < 0.0) {
-                    return Err(Error::arg("color", "must be finite and >= 0"));
-                }
-            }
+            Light::Sphere(l) => l.check_fields()?,
         }
         Ok(())
     }

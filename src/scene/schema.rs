@@ -54,6 +54,79 @@ pub struct Field {
     pub doc: &'static str,
 }
 
+/// A field's value checked against its kind (the same rules Python applies when it builds the
+/// class): finite vectors, colours >= 0, numbers within their range.
+pub trait CheckValue {
+    fn check(&self, name: &str, kind: Kind) -> crate::error::Result<()>;
+}
+
+fn out_of(name: &str, v: f64, kind: Kind) -> crate::error::Result<()> {
+    match kind.range() {
+        Some((lo, hi)) if !(v >= lo && v <= hi) => Err(crate::error::Error::arg(
+            name,
+            format!("must lie in [{lo}, {hi}], got {v}"),
+        )),
+        _ => Ok(()),
+    }
+}
+
+impl CheckValue for f64 {
+    fn check(&self, name: &str, kind: Kind) -> crate::error::Result<()> {
+        out_of(name, *self, kind)
+    }
+}
+
+impl CheckValue for f32 {
+    fn check(&self, name: &str, kind: Kind) -> crate::error::Result<()> {
+        out_of(name, *self as f64, kind)
+    }
+}
+
+impl CheckValue for u32 {
+    fn check(&self, name: &str, kind: Kind) -> crate::error::Result<()> {
+        out_of(name, *self as f64, kind)
+    }
+}
+
+impl CheckValue for bool {
+    fn check(&self, _: &str, _: Kind) -> crate::error::Result<()> {
+        Ok(())
+    }
+}
+
+impl CheckValue for [f64; 3] {
+    fn check(&self, name: &str, _: Kind) -> crate::error::Result<()> {
+        if self.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            Err(crate::error::Error::arg(name, "must be finite"))
+        }
+    }
+}
+
+impl CheckValue for [f32; 3] {
+    fn check(&self, name: &str, _: Kind) -> crate::error::Result<()> {
+        if self.iter().all(|x| x.is_finite() && *x >= 0.0) {
+            Ok(())
+        } else {
+            Err(crate::error::Error::arg(name, "must be finite and >= 0"))
+        }
+    }
+}
+
+/// Height maps and albedos are checked when they are shared (`shared`).
+impl<T> CheckValue for super::Shared<T> {
+    fn check(&self, _: &str, _: Kind) -> crate::error::Result<()> {
+        Ok(())
+    }
+}
+
+impl<T> CheckValue for Option<super::Shared<T>> {
+    fn check(&self, _: &str, _: Kind) -> crate::error::Result<()> {
+        Ok(())
+    }
+}
+
 /// A class declared by `schema!`: its name and fields, in order.
 pub trait Schema {
     const CLASS: &'static str;
@@ -116,6 +189,21 @@ macro_rules! schema {
                     $($f: <$t as $crate::fields::FieldValue>::get(src, stringify!($f))?,)*
                     $($($x: $xv,)*)?
                 })
+            }
+        }
+
+        impl $name {
+            /// Each field against its kind and range (the table's; rules across fields are
+            /// the type's own `validate`).
+            pub fn check_fields(&self) -> $crate::error::Result<()> {
+                $(
+                    $crate::scene::schema::CheckValue::check(
+                        &self.$f,
+                        stringify!($f),
+                        $crate::schema_kind!($kind $(($lo, $hi))?),
+                    )?;
+                )*
+                Ok(())
             }
         }
 
@@ -233,6 +321,24 @@ mod tests {
         assert_eq!(l.position, [0.5; 3]);
         let short = Pairs(vec![("position", 1.0)]);
         let e = super::super::SphereLight::from_fields(&short).unwrap_err();
+        assert!(e.to_string().contains("radius"), "{e}");
+    }
+
+    #[test]
+    fn the_core_checks_fields_by_the_same_table() {
+        let mut l = super::super::SphereLight {
+            position: [0.0, 1.0, 0.0],
+            radius: 0.05,
+            intensity: [1.0; 3],
+            color: [1.0, -0.5, 0.0],
+        };
+        let e = super::super::Light::Sphere(l.clone())
+            .validate()
+            .unwrap_err();
+        assert!(e.to_string().contains("color"), "{e}");
+        l.color = [1.0; 3];
+        l.radius = f64::NAN;
+        let e = super::super::Light::Sphere(l).validate().unwrap_err();
         assert!(e.to_string().contains("radius"), "{e}");
     }
 

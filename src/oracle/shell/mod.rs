@@ -180,7 +180,10 @@ impl<'a> Shell<'a> {
                         });
                     }
                 }
-                go_on = walls.iter().flatten().all(|c| start(t, c.lam, c.at, lam_max));
+                go_on = walls
+                    .iter()
+                    .flatten()
+                    .all(|c| start(t, c.lam, c.at, lam_max));
                 go_on
             });
             if let Some(b) = best {
