@@ -1,0 +1,56 @@
+#!/usr/bin/env python
+"""The oracle on curved meshes against the planar one (issue 49's goal: within 3x): a 256²
+frame, a 4096² bricks map at depth 0.06, the sphere and the torus (48 x 24) against the plane,
+for `pk.oracle.hits` and `pk.oracle.image(spp=4)` unshadowed, with a sharp light and ambient
+occlusion, and with a 2° light and ambient occlusion. Best of `repeats` runs in one process;
+docs/methods.md ("The oracle on any mesh") holds the table.
+
+    .venv/bin/python tools/oracle_time.py [hits,img,sharp,disk] [repeats]
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+import pomkit as pk
+
+HM = pk.textures.bricks(4096)
+SHARP = [pk.DirectionalLight((-0.4, -1, -0.3), 3.0)]
+DISK = [pk.DirectionalLight((-0.4, -1, -0.3), 3.0, angular_diameter=2.0)]
+MESHES = {"plane": pk.Mesh.plane(2.0), "sphere": pk.Mesh.sphere(segments=48, rings=24),
+          "torus": pk.Mesh.torus(segments=48, tube_segments=24)}
+
+
+def scene(name: str, lights, ambient: float) -> pk.Scene:
+    eye = (0.0, 1.2, 1.2) if name == "plane" else (0.0, 1.0, 2.8)
+    return pk.Scene(mesh=MESHES[name], material=pk.Material(HM, depth=0.06), lights=lights, ambient=ambient,
+                    camera=pk.Camera.look_at(eye, fov_y=40, width=256, height=256))
+
+
+def best(f, repeats: int) -> float:
+    out = float("inf")
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        f()
+        out = min(out, time.perf_counter() - t0)
+    return out
+
+
+def main(cases: list[str], repeats: int) -> None:
+    for case in cases:
+        row = {}
+        for name in MESHES:
+            if case == "hits":
+                s = scene(name, SHARP, 0.0)
+                row[name] = best(lambda: pk.oracle.hits(s), repeats)
+            else:
+                s = scene(name, DISK if case == "disk" else SHARP, 0.0 if case == "img" else 0.1)
+                row[name] = best(lambda: pk.oracle.image(s, spp=4, shadows=case != "img", cache=False), repeats)
+        print(f"{case:6s}", "  ".join(f"{k} {v:.3f} s" for k, v in row.items()),
+              f"  ratios {row['sphere'] / row['plane']:.2f} {row['torus'] / row['plane']:.2f}", flush=True)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1].split(",") if len(sys.argv) > 1 else ["hits", "img", "sharp", "disk"],
+         int(sys.argv[2]) if len(sys.argv) > 2 else 2)
