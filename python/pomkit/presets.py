@@ -84,7 +84,9 @@ def silhouette_pom() -> Custom:
     discarded outside the texture's [0, 1] uv bounds, cutting a planar face's silhouette without
     prisms. A `pk.Custom` method, pomkit/wgsl/silhouette_pom.wgsl, our own writing of that
     description; tests/test_presets.py measures its outline against the oracle's, POM's and
-    Prism's."""
+    Prism's. The curved variant of the kind (the ray bent by the surface's curvature, discarded
+    where it leaves the shell) is curved relief mapping, `pk.CurvedRelief` (Oliveira & Policarpo's
+    per-vertex quadric), measured on the curved suite in docs/tables/silhouettes.md."""
     src = (files("pomkit") / "wgsl" / "silhouette_pom.wgsl").read_text()
     return Custom(wgsl=src, name="silhouette_pom", params={"min_steps": 8.0, "max_steps": 32.0})
 
