@@ -26,18 +26,7 @@ __all__ = ["Mesh", "Material", "Camera", "DirectionalLight", "SphereLight", "Obj
 _vec3, _rgb, _float_array = _v.vec3, _v.rgb, _v.float_array
 
 
-def _handle(obj: Any, name: str, make: Any) -> Any:
-    """The core handle cached on a frozen scene object (made once, on first use)."""
-    h = obj.__dict__.get(name)
-    if h is None:
-        h = make()
-        object.__setattr__(obj, name, h)
-    return h
-
-
-def _without_handles(self: Any) -> dict:
-    """Pickle state without the core handles (they are remade on the first render)."""
-    return {k: v for k, v in self.__dict__.items() if not k.startswith("_core_")}
+_handle, _without_handles = _schema.handle, _schema.without_handles
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:

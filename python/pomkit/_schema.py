@@ -47,6 +47,20 @@ PY_TYPES: dict[str, str] = {
 }
 
 
+def handle(obj: Any, name: str, make: Callable[[], Any]) -> Any:
+    """The core handle cached on a frozen scene object (made once, on first use)."""
+    h = obj.__dict__.get(name)
+    if h is None:
+        h = make()
+        object.__setattr__(obj, name, h)
+    return h
+
+
+def without_handles(obj: Any) -> dict:
+    """Pickle state without the core handles (they are remade on the first render)."""
+    return {k: v for k, v in obj.__dict__.items() if not k.startswith("_core_")}
+
+
 def fields(name: str) -> list[tuple[str, str, str | None, float | None, float | None, str]]:
     """The core's fields of class `name`: (field, kind, default literal or None, lo, hi, doc)."""
     return list(_core.SCHEMA[name][1])
@@ -84,17 +98,10 @@ class SchemaClass:
         value = getattr(self, name)
         if value is None:
             return None
-        key = f"_core_{name}"
-        h = self.__dict__.get(key)
-        if h is None:
-            kind = next(f[1] for f in fields(self._schema) if f[0] == name)
-            h = _HANDLES[kind](value)
-            object.__setattr__(self, key, h)
-        return h
+        kind = next(f[1] for f in fields(self._schema) if f[0] == name)
+        return handle(self, f"_core_{name}", lambda: _HANDLES[kind](value))
 
-    def __getstate__(self) -> dict:
-        """Pickle state without the core's copies (they are remade on first use)."""
-        return {k: v for k, v in self.__dict__.items() if not k.startswith("_core_")}
+    __getstate__ = without_handles
 
 
 def by_value(name: str) -> bool:

@@ -20,9 +20,7 @@ impl<'py> PyFields<'py> {
     }
 
     fn attr(&self, name: &str) -> Result<Bound<'py, PyAny>> {
-        self.ob
-            .getattr(name)
-            .map_err(|_| Error::arg(name, format!("missing: expected {}", self.what)))
+        attr(&self.ob, name, self.what)
     }
 
     fn get<T: for<'a> FromPyObjectOwned<'a>>(&self, name: &str, expected: &str) -> Result<T> {
@@ -88,6 +86,16 @@ impl Fields for PyFields<'_> {
             })
             .collect()
     }
+}
+
+/// Attribute `name` of `ob`, or an error naming it and what `ob` should be ("a pomkit.Scene").
+pub(crate) fn attr<'py>(
+    ob: &Bound<'py, PyAny>,
+    name: &str,
+    what: &str,
+) -> Result<Bound<'py, PyAny>> {
+    ob.getattr(name)
+        .map_err(|_| Error::arg(name, format!("missing: expected {what}")))
 }
 
 /// A schema struct read from a Python object's attributes; errors name `what` and the field.

@@ -2,7 +2,7 @@
 //! materials through the core's schema, fields.rs; meshes and maps as keyed handles,
 //! handles.rs), and meshes generated or made from arrays.
 
-use super::fields::read;
+use super::fields::{attr, read};
 use super::handles::{rows, PyMeshData};
 use super::nd_array;
 use crate::error::Error;
@@ -117,11 +117,6 @@ pub fn mesh_cylinder(
 #[pyfunction]
 pub fn mesh_cube(py: Python<'_>, size: f64, segments: u32) -> PyResult<Bound<'_, PyDict>> {
     mesh_out(py, &Mesh::cube(size, segments)?)
-}
-
-fn attr<'py>(ob: &Bound<'py, PyAny>, name: &str, what: &str) -> PyResult<Bound<'py, PyAny>> {
-    ob.getattr(name)
-        .map_err(|_| Error::arg(name, format!("missing: expected {what}")).into())
 }
 
 /// The mesh's keyed handle, which `pomkit.Mesh` makes once (`Mesh._core_data()`).
