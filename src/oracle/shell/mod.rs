@@ -316,15 +316,19 @@ impl<'a> Object<'a> {
         let (lo, hi) = mesh.bounds();
         let extent = (hi - lo).max_element().max(1e-30);
         let depth = mat.depth as f64;
-        // each prism's box: its top and its floor (depth along each corner's normal, and as
-        // much again for the floor's bulge between corners, where |n(b)| < 1)
+        // each item's box: where a ray can enter the prism. That is its top (the base
+        // triangle); with a wall, the whole prism: its top and its floor (depth along each
+        // corner's normal, and as much again for the floor's bulge between corners, where
+        // |n(b)| < 1)
         let boxes: Vec<Option<(DVec3, DVec3)>> = prisms
             .iter()
-            .map(|p| {
+            .enumerate()
+            .map(|(t, p)| {
                 let p = p.as_ref()?;
+                let floor = if walled[t] { 2.0 * depth } else { 0.0 };
                 let (mut lo, mut hi) = (p.p[0], p.p[0]);
                 for k in 0..3 {
-                    for x in [p.p[k], p.p[k] - p.n[k] * (2.0 * depth)] {
+                    for x in [p.p[k], p.p[k] - p.n[k] * floor] {
                         lo = lo.min(x);
                         hi = hi.max(x);
                     }
