@@ -196,6 +196,24 @@ impl HeightMap {
         let h11 = self.texel(xi + 1, yi + 1);
         (h00 * (1.0 - fx) + h10 * fx) * (1.0 - fy) + (h01 * (1.0 - fx) + h11 * fx) * fy
     }
+
+    /// The bilinear field at (s, t) and its derivatives along s and t (one-sided at a cell's
+    /// edge: those of the cell the point lies in).
+    pub fn sample_grad(&self, s: f64, t: f64) -> (f64, f64, f64) {
+        let x = s * self.width as f64 - 0.5;
+        let y = t * self.height as f64 - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let (xi, yi) = (x0 as i64, y0 as i64);
+        let h00 = self.texel(xi, yi);
+        let h10 = self.texel(xi + 1, yi);
+        let h01 = self.texel(xi, yi + 1);
+        let h11 = self.texel(xi + 1, yi + 1);
+        let v = (h00 * (1.0 - fx) + h10 * fx) * (1.0 - fy) + (h01 * (1.0 - fx) + h11 * fx) * fy;
+        let dx = (h10 - h00) * (1.0 - fy) + (h11 - h01) * fy;
+        let dy = (h01 - h00) * (1.0 - fx) + (h11 - h10) * fx;
+        (v, dx * self.width as f64, dy * self.height as f64)
+    }
 }
 
 /// Linear RGB albedo texture, row-major like the height map.

@@ -112,6 +112,23 @@ impl Prism {
         None
     }
 
+    /// How the prism's point moves along the ray direction `d` at `at`: (db, ds) per unit of
+    /// the ray parameter (the Jacobian of `point` solved for d); None where it is singular.
+    pub(crate) fn velocity(&self, at: Local, d: DVec3) -> Option<(DVec2, f64)> {
+        let c0 = self.p[1] - self.p[0] + (self.n[1] - self.n[0]) * at.s;
+        let c1 = self.p[2] - self.p[0] + (self.n[2] - self.n[0]) * at.s;
+        let n = self.normal(at.b);
+        let c12 = c1.cross(n);
+        let det = c0.dot(c12);
+        if !(det.abs() > 1e-300) {
+            return None;
+        }
+        Some((
+            DVec2::new(d.dot(c12), c0.dot(d.cross(n))) / det,
+            c0.dot(c1.cross(d)) / det,
+        ))
+    }
+
     /// The ray's crossings of side k (corners k and k+1) leaving the prism (entering it, with
     /// `leaving` false), over the whole ray: up to two, with the point there.
     pub(crate) fn crossings(

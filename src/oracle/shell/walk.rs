@@ -163,28 +163,27 @@ impl<'a> Object<'a> {
         let run = (b.c - a.c).length();
         let tol_h = (TOL_TEXELS * (b.h - a.h).abs() / run.max(1e-300)).clamp(1e-9, 1e-3);
         if (dev_c <= TOL_TEXELS && dev_h <= tol_h) || level >= 48 {
-            for (u, v) in [(a, m), (m, b)] {
-                let (hit, n) = walk_cells(&self.field, u.s, u.h, v.s - u.s, v.h - u.h, 1.0);
-                *cells += n;
-                if let Some(mu) = hit {
-                    let lam = u.lam + mu * (v.lam - u.lam);
-                    let g = Local {
-                        b: u.at.b + (v.at.b - u.at.b) * mu,
-                        s: u.at.s + (v.at.s - u.at.s) * mu,
-                    };
-                    let at = p.locate(o + d * lam, g).unwrap_or(g);
-                    return Some(self.refine(p, o, d, (lam, at), (u, v), lift));
-                }
-            }
-            return None;
+            let (u, v) = (a, b);
+            let (hit, n) = walk_cells(&self.field, u.s, u.h, v.s - u.s, v.h - u.h, 1.0);
+            *cells += n;
+            let mu = hit?;
+            let lam = u.lam + mu * (v.lam - u.lam);
+            let g = Local {
+                b: u.at.b + (v.at.b - u.at.b) * mu,
+                s: u.at.s + (v.at.s - u.at.s) * mu,
+            };
+            let at = p.locate(o + d * lam, g).unwrap_or(g);
+            return Some(self.refine(p, o, d, (lam, at), (u, v), lift));
         }
         self.chord(p, o, d, (a, m), lift, level + 1, cells)
             .or_else(|| self.chord(p, o, d, (m, b), lift, level + 1, cells))
     }
 
-    /// The chord's hit `(lam, at)` moved onto the path itself: bisection on the path between a
-    /// point above the field and one at or below it, within the chord `(u, v)` and near the
-    /// chord's answer (where no such pair is found, the chord's answer stands).
+    /// The chord's hit `(lam, at)` (`at` located on the path) moved onto the path itself:
+    /// Newton's method along the path from it, or where that does not settle near it, regula
+    /// falsi on the path between a point above the field and one at or below it, one of them
+    /// the chord's point and the other on the side where the path crosses, within the chord
+    /// `(u, v)` (where no such pair is found, the chord's answer stands).
     pub(super) fn refine(
         &self,
         p: &Prism,
@@ -195,11 +194,14 @@ impl<'a> Object<'a> {
         lift: f64,
     ) -> (f64, Local) {
         let hm = &self.mat.height;
-        // field above the path at lam: >= 0 where met
+        // field above the path at lam, at the located point a: >= 0 where met
+        let g_at = |l: f64, a: Local| -> f64 {
+            let x = self.sample(p, l, a, lift);
+            hm.sample(x.s.x, x.s.y) - x.h
+        };
         let g = |l: f64, guess: Local| -> Option<(f64, Local)> {
             let a = p.locate(o + d * l, guess)?;
-            let x = self.sample(p, l, a, lift);
-            Some((hm.sample(x.s.x, x.s.y) - x.h, a))
+            Some((g_at(l, a), a))
         };
         let span = (v.lam - u.lam).abs();
         // the chord lies within TOL_TEXELS of the path: its hit is about as near the path's,
@@ -208,12 +210,58 @@ impl<'a> Object<'a> {
         let mut delta = (span * 2.0 * TOL_TEXELS / run.max(1e-300))
             .min(span)
             .max(1e-6 * span + 1e-15);
+        // Newton's method on the path from the chord's point, kept within that first bracket's
+        // reach: where it settles on the surface (|g| <= 1e-12 of the depth), that is the hit
+        let slope = |l: f64, a: Local| -> Option<(f64, f64)> {
+            let x = self.sample(p, l, a, lift);
+            let (hv, hs, ht) = hm.sample_grad(x.s.x, x.s.y);
+            let (db, dsv) = p.velocity(a, d)?;
+            let duv = ((p.uv[1] - p.uv[0]) * db.x + (p.uv[2] - p.uv[0]) * db.y) * self.tiling;
+            let n = p.normal(a.b);
+            let nl = n.length();
+            let dn = (p.n[1] - p.n[0]) * db.x + (p.n[2] - p.n[0]) * db.y;
+            let dh = (dsv * nl + a.s * n.dot(dn) / nl) / self.depth;
+            Some((hv - x.h, hs * duv.x + ht * duv.y - dh))
+        };
+        let mut cur = (lam, at);
+        for _ in 0..4 {
+            let Some((gc, sc)) = slope(cur.0, cur.1) else {
+                break;
+            };
+            if gc.abs() <= 1e-12 {
+                return cur;
+            }
+            let t = cur.0 - gc / sc;
+            if !(t.is_finite() && (t - lam).abs() <= delta && t >= u.lam && t <= v.lam) {
+                break;
+            }
+            let Some(a) = p.locate(o + d * t, cur.1) else {
+                break;
+            };
+            cur = (t, a);
+        }
+        // where it does not: regula falsi from the chord's point
+        let g0 = g_at(lam, at);
+        // on the surface to rounding (1e-12 of the depth): the path's point
+        let on = |g: f64| (0.0..=1e-12).contains(&g);
+        if on(g0) {
+            return (lam, at);
+        }
+        let below = g0 >= 0.0;
         while delta <= span {
-            let (lo, hi) = ((lam - delta).max(u.lam), (lam + delta).min(v.lam));
-            match (g(lo, at), g(hi, at)) {
-                (Some((glo, alo)), Some((ghi, ahi))) if glo < 0.0 && ghi >= 0.0 => {
+            let other = if below {
+                (lam - delta).max(u.lam)
+            } else {
+                (lam + delta).min(v.lam)
+            };
+            match g(other, at) {
+                Some((go, ao)) if (go >= 0.0) != below => {
+                    let (mut lo, mut hi) = if below {
+                        ((other, go, ao), (lam, g0, at))
+                    } else {
+                        ((lam, g0, at), (other, go, ao))
+                    };
                     // Illinois: regula falsi that halves a stale end's weight
-                    let (mut lo, mut hi) = ((lo, glo, alo), (hi, ghi, ahi));
                     let mut side = 0;
                     for _ in 0..60 {
                         if hi.0 - lo.0 <= 1e-13 * (1.0 + hi.0.abs()) {
@@ -225,9 +273,14 @@ impl<'a> Object<'a> {
                         } else {
                             0.5 * (lo.0 + hi.0)
                         };
-                        let Some((gm, am)) = g(mid, hi.2) else { break };
-                        // on the surface to rounding (1e-12 of the depth): the path's point
-                        if (0.0..=1e-12).contains(&gm) {
+                        // the point between the ends' points, as a guess
+                        let f = (mid - lo.0) / (hi.0 - lo.0);
+                        let guess = Local {
+                            b: lo.2.b + (hi.2.b - lo.2.b) * f,
+                            s: lo.2.s + (hi.2.s - lo.2.s) * f,
+                        };
+                        let Some((gm, am)) = g(mid, guess) else { break };
+                        if on(gm) {
                             return (mid, am);
                         }
                         if gm >= 0.0 {
