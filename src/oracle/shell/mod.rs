@@ -81,6 +81,16 @@ enum Walk {
     },
 }
 
+/// A ray o + lam d in an object's space, walked `lift` above the field (a light or ambient ray
+/// leaving a hit). `exact`: whether its hit is wanted on the path itself (a camera ray), or
+/// only whether it has one (visibility: the chord's hit answers).
+struct Ray {
+    o: DVec3,
+    d: DVec3,
+    lift: f64,
+    exact: bool,
+}
+
 /// A point of the ray's path in a prism: texture point s = uv * tiling, height h.
 #[derive(Clone, Copy, Debug)]
 struct Sample {
@@ -132,7 +142,13 @@ impl<'a> Shell<'a> {
                 if !(lam > lam_min) || lam >= *bound {
                     return true;
                 }
-                match ob.walk(o, d, t, lam, at, 0.0) {
+                let ray = Ray {
+                    o,
+                    d,
+                    lift: 0.0,
+                    exact: !any,
+                };
+                match ob.walk(&ray, t, lam, at) {
                     Walk::Hit {
                         tri,
                         lam,
@@ -234,7 +250,13 @@ impl Tracer for Shell<'_> {
         let ob = &self.objects[hit.object];
         let d = ob.to_obj.transform_vector3(l);
         let lift = bias.max(1e-9);
-        match ob.walk(hit.at.x, d, hit.at.tri, 0.0, hit.at.at, lift) {
+        let ray = Ray {
+            o: hit.at.x,
+            d,
+            lift,
+            exact: false,
+        };
+        match ob.walk(&ray, hit.at.tri, 0.0, hit.at.at) {
             Walk::Hit { .. } => false,
             Walk::Left { lam, .. } => {
                 // where it left, in the world: the rest of the ray meets no shell again

@@ -5,16 +5,9 @@
 use super::*;
 
 impl<'a> Object<'a> {
-    /// The walk of the ray o + lam d (object space) from `at` in prism `tri` at `lam0`.
-    pub(super) fn walk(
-        &self,
-        o: DVec3,
-        d: DVec3,
-        tri: u32,
-        lam0: f64,
-        at: Local,
-        lift: f64,
-    ) -> Walk {
+    /// The walk of the ray from `at` in prism `tri` at `lam0`.
+    pub(super) fn walk(&self, ray: &Ray, tri: u32, lam0: f64, at: Local) -> Walk {
+        let (o, d, lift) = (ray.o, ray.d, ray.lift);
         let (mut tri, mut lam, mut at) = (tri, lam0, at);
         if !(self.depth > 0.0) {
             // no shell: the base surface itself
@@ -63,7 +56,7 @@ impl<'a> Object<'a> {
                 }
             };
             let start = self.sample(p, lam, at, lift);
-            if let Some((l, a)) = self.chord(p, o, d, (start, end), lift, 0, &mut cells) {
+            if let Some((l, a)) = self.chord(p, ray, (start, end), 0, &mut cells) {
                 return Walk::Hit {
                     tri,
                     lam: l,
@@ -119,17 +112,15 @@ impl<'a> Object<'a> {
     }
 
     /// The first hit on the path from `a` to `b` in prism `p`: its lam and point.
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn chord(
         &self,
         p: &Prism,
-        o: DVec3,
-        d: DVec3,
+        ray: &Ray,
         (a, b): (Sample, Sample),
-        lift: f64,
         level: u32,
         cells: &mut u32,
     ) -> Option<(f64, Local)> {
+        let (o, d, lift) = (ray.o, ray.d, ray.lift);
         *cells += 1;
         let lm = 0.5 * (a.lam + b.lam);
         let guess = Local {
@@ -143,7 +134,7 @@ impl<'a> Object<'a> {
             return if level >= 48 {
                 None
             } else {
-                self.chord(p, o, d, (a, m), lift, level + 1, cells)
+                self.chord(p, ray, (a, m), level + 1, cells)
             };
         };
         let m = self.sample(p, lm, located, lift);
@@ -172,11 +163,14 @@ impl<'a> Object<'a> {
                 b: u.at.b + (v.at.b - u.at.b) * mu,
                 s: u.at.s + (v.at.s - u.at.s) * mu,
             };
+            if !ray.exact {
+                return Some((lam, g));
+            }
             let at = p.locate(o + d * lam, g).unwrap_or(g);
-            return Some(self.refine(p, o, d, (lam, at), (u, v), lift));
+            return Some(self.refine(p, ray, (lam, at), (u, v)));
         }
-        self.chord(p, o, d, (a, m), lift, level + 1, cells)
-            .or_else(|| self.chord(p, o, d, (m, b), lift, level + 1, cells))
+        self.chord(p, ray, (a, m), level + 1, cells)
+            .or_else(|| self.chord(p, ray, (m, b), level + 1, cells))
     }
 
     /// The chord's hit `(lam, at)` (`at` located on the path) moved onto the path itself:
@@ -187,12 +181,11 @@ impl<'a> Object<'a> {
     pub(super) fn refine(
         &self,
         p: &Prism,
-        o: DVec3,
-        d: DVec3,
+        ray: &Ray,
         (lam, at): (f64, Local),
         (u, v): (Sample, Sample),
-        lift: f64,
     ) -> (f64, Local) {
+        let (o, d, lift) = (ray.o, ray.d, ray.lift);
         let hm = &self.mat.height;
         // field above the path at lam, at the located point a: >= 0 where met
         let g_at = |l: f64, a: Local| -> f64 {
