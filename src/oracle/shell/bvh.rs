@@ -133,8 +133,9 @@ impl Bvh {
         let Some(t_root) = meets(&self.nodes[0], lam_max) else {
             return;
         };
-        // the tree is balanced (median splits): fewer than 64 nodes wait at a time
-        let mut stack = [(0u32, 0f64); 64];
+        // the tree is balanced (median splits): under 32 levels for any u32 count of items, and
+        // at most one node a level waits
+        let mut stack = [(0u32, 0f64); 34];
         stack[0] = (0, t_root);
         let mut top = 1;
         while top > 0 {
