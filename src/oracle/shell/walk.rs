@@ -27,9 +27,13 @@ impl<'a> Object<'a> {
         let eps = 1e-12 * self.extent / d.length().max(1e-300);
         for _ in 0..100_000 {
             let p = self.prisms[tri as usize].as_ref().expect("a walked prism");
+            let top = p.top_exit(o, d).filter(|(l, _)| *l >= lam - eps);
+            // a path that stays inside the triangle up to the top leaves there: its middle,
+            // and no side to cross
+            let through = top.and_then(|t| self.through_top(p, ray, (lam, at), t));
             // the first side crossing ahead (those above the top do not bound the prism)
             let mut side: Option<Crossing> = None;
-            for k in 0..3 {
+            for k in (0..3).filter(|_| through.is_none()) {
                 p.crossings(o, d, k, true, &mut |c: Crossing| {
                     if c.lam >= lam - eps
                         && p.offset(c.at) <= 1e-9 * self.depth
@@ -39,7 +43,6 @@ impl<'a> Object<'a> {
                     }
                 });
             }
-            let top = p.top_exit(o, d).filter(|(l, _)| *l >= lam - eps);
             // where the prism ends along the ray (far below the floor where nothing bounds it:
             // the surface is met first)
             let (end, via): (Sample, Option<Crossing>) = match (top, side) {
@@ -56,7 +59,7 @@ impl<'a> Object<'a> {
                 }
             };
             let start = self.sample(p, lam, at, lift);
-            if let Some((l, a)) = self.chord(p, ray, (start, end), 0, &mut cells) {
+            if let Some((l, a)) = self.chord(p, ray, (start, end), through, 0, &mut cells) {
                 return Walk::Hit {
                     tri,
                     lam: l,
@@ -111,33 +114,65 @@ impl<'a> Object<'a> {
         Walk::Left { lam, cells }
     }
 
-    /// The first hit on the path from `a` to `b` in prism `p`: its lam and point.
+    /// The middle of the path from `(lam, at)` to the top exit `(lt, bt)`, where the path stays
+    /// inside the triangle: both ends lie inside by more than three times the middle's
+    /// deviation from the straight way between them in barycentrics (the chords' bound, twice
+    /// the deviation at the middle, on each of the three weights).
+    fn through_top(
+        &self,
+        p: &Prism,
+        ray: &Ray,
+        (lam, at): (f64, Local),
+        (lt, bt): (f64, Local),
+    ) -> Option<Sample> {
+        let margin = |b: DVec2| b.x.min(b.y).min(1.0 - b.x - b.y);
+        let inside = margin(at.b).min(margin(bt.b));
+        if !(inside > 0.0) {
+            return None;
+        }
+        let lm = 0.5 * (lam + lt);
+        let guess = Local {
+            b: 0.5 * (at.b + bt.b),
+            s: 0.5 * (at.s + bt.s),
+        };
+        let am = p.locate(ray.o + ray.d * lm, guess)?;
+        (inside > 3.0 * (am.b - guess.b).length() + 1e-12).then(|| self.sample(p, lm, am, ray.lift))
+    }
+
+    /// The first hit on the path from `a` to `b` in prism `p`: its lam and point. `mid`: the
+    /// path's middle where it is known.
     pub(super) fn chord(
         &self,
         p: &Prism,
         ray: &Ray,
         (a, b): (Sample, Sample),
+        mid: Option<Sample>,
         level: u32,
         cells: &mut u32,
     ) -> Option<(f64, Local)> {
         let (o, d, lift) = (ray.o, ray.d, ray.lift);
         *cells += 1;
-        let lm = 0.5 * (a.lam + b.lam);
-        let guess = Local {
-            b: 0.5 * (a.at.b + b.at.b),
-            s: 0.5 * (a.at.s + b.at.s),
+        let m = match mid {
+            Some(m) => m,
+            None => {
+                let lm = 0.5 * (a.lam + b.lam);
+                let guess = Local {
+                    b: 0.5 * (a.at.b + b.at.b),
+                    s: 0.5 * (a.at.s + b.at.s),
+                };
+                let Some(located) = p.locate(o + d * lm, guess) else {
+                    // the middle lies where the normals cross, far below the floor: the
+                    // surface is met before it
+                    let m = self.sample(p, lm, guess, lift);
+                    return if level >= 48 {
+                        None
+                    } else {
+                        self.chord(p, ray, (a, m), None, level + 1, cells)
+                    };
+                };
+                self.sample(p, lm, located, lift)
+            }
         };
-        let Some(located) = p.locate(o + d * lm, guess) else {
-            // the middle lies where the normals cross, far below the floor: the surface is met
-            // before it
-            let m = self.sample(p, lm, guess, lift);
-            return if level >= 48 {
-                None
-            } else {
-                self.chord(p, ray, (a, m), level + 1, cells)
-            };
-        };
-        let m = self.sample(p, lm, located, lift);
         let (mid_c, mid_h) = (0.5 * (a.c + b.c), 0.5 * (a.h + b.h));
         let (dev_c, dev_h) = ((m.c - mid_c).length(), (m.h - mid_h).abs());
         // the path's bounds: the chord's, widened by twice its deviation at the middle
@@ -169,8 +204,8 @@ impl<'a> Object<'a> {
             let at = p.locate(o + d * lam, g).unwrap_or(g);
             return Some(self.refine(p, ray, (lam, at), (u, v)));
         }
-        self.chord(p, ray, (a, m), level + 1, cells)
-            .or_else(|| self.chord(p, ray, (m, b), level + 1, cells))
+        self.chord(p, ray, (a, m), None, level + 1, cells)
+            .or_else(|| self.chord(p, ray, (m, b), None, level + 1, cells))
     }
 
     /// The chord's hit `(lam, at)` (`at` located on the path) moved onto the path itself:
