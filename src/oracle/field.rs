@@ -84,8 +84,8 @@ impl<'a> Field<'a> {
         if !(x0.is_finite() && x1.is_finite() && y0.is_finite() && y1.is_finite()) {
             return whole();
         }
-        let (cx0, cx1) = (x0.floor() as i64, x1.floor() as i64);
-        let (cy0, cy1) = (y0.floor() as i64, y1.floor() as i64);
+        let (cx0, cx1) = (floor(x0), floor(x1));
+        let (cy0, cy1) = (floor(y0), floor(y1));
         if cx1 - cx0 >= w || cy1 - cy0 >= h || self.levels.is_empty() {
             return whole();
         }
@@ -94,7 +94,11 @@ impl<'a> Field<'a> {
         let k = ((64 - span.leading_zeros()) as usize).clamp(1, self.levels.len());
         let lv = &self.levels[k - 1];
         let block = |c: i64, n: i64| {
-            let (p, l) = (c.div_euclid(n), c.rem_euclid(n));
+            let (p, l) = if (0..n).contains(&c) {
+                (0, c)
+            } else {
+                (c.div_euclid(n), c.rem_euclid(n))
+            };
             let b = l >> k;
             (b as usize, p * n + ((b + 1) << k).min(n))
         };
@@ -193,6 +197,13 @@ impl<'a> Field<'a> {
             (l_exit, cell(x0, dx, x_lo, x_hi), nj)
         })
     }
+}
+
+/// The integer at or below x, for finite x within i64's range (one conversion, not a call).
+#[inline]
+fn floor(x: f64) -> i64 {
+    let t = x as i64;
+    t - ((t as f64) > x) as i64
 }
 
 /// The light ray (s0 + ds*lam, h0 + dh*lam), dh > 0, from a point on the surface up to h = 1:

@@ -18,6 +18,8 @@ pub(crate) struct Prism {
     pub(crate) uv: [DVec2; 3],
     /// the plane's unit normal, on the side the vertex normals point to
     pub(crate) ng: DVec3,
+    /// the longer of the edges from corner 0 (for `locate`'s tolerance)
+    size: f64,
 }
 
 /// A point of a prism: barycentrics of corners 1 and 2, and s along n(b).
@@ -50,6 +52,7 @@ impl Prism {
             ng = -ng;
         }
         Some(Prism {
+            size: (p[1] - p[0]).length().max((p[2] - p[0]).length()),
             v,
             p,
             n,
@@ -88,11 +91,12 @@ impl Prism {
     pub(crate) fn locate(&self, x: DVec3, guess: Local) -> Option<Local> {
         let (e1, e2) = (self.p[1] - self.p[0], self.p[2] - self.p[0]);
         let (d1, d2) = (self.n[1] - self.n[0], self.n[2] - self.n[0]);
-        let tol = 1e-13 * (1.0 + e1.length().max(e2.length()) + x.length());
+        let tol = 1e-13 * (1.0 + self.size + x.length());
+        let tol2 = tol * tol;
         let mut at = guess;
         for _ in 0..40 {
             let f = self.point(at) - x;
-            if f.length() <= tol {
+            if f.length_squared() <= tol2 {
                 return Some(at);
             }
             // the Newton step: the Jacobian's columns c0, c1, c2 solved by Cramer's rule
