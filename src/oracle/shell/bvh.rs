@@ -99,6 +99,39 @@ impl Bvh {
         Bvh { nodes, order }
     }
 
+    /// Whether `item` holds for an item of a node whose box `node` keeps (a node's box, lo and
+    /// hi, that `node` refuses is left out with everything under it).
+    pub(crate) fn any(
+        &self,
+        node: impl Fn(DVec3, DVec3) -> bool,
+        mut item: impl FnMut(u32) -> bool,
+    ) -> bool {
+        if self.order.is_empty() {
+            return false;
+        }
+        // depth first: at most one node a level waits, beside the two just put
+        let mut stack = [0u32; 36];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let n = &self.nodes[stack[top] as usize];
+            if !node(n.lo, n.hi) {
+                continue;
+            }
+            if n.count > 0 {
+                let items = &self.order[n.first as usize..(n.first + n.count) as usize];
+                if items.iter().any(|&i| item(i)) {
+                    return true;
+                }
+                continue;
+            }
+            stack[top] = n.first;
+            stack[top + 1] = n.first + 1;
+            top += 2;
+        }
+        false
+    }
+
     /// Calls `f` with each item whose box the ray o + lam d meets for lam in [lam_min,
     /// lam_max] and which it does not face away from, nearer boxes first, until `f` returns
     /// false; `f` may lower lam_max (a hit found), and boxes beyond it are then left out.

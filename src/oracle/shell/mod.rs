@@ -55,6 +55,12 @@ struct Object<'a> {
     across: Vec<[Option<u32>; 3]>,
     /// the triangles with a wall
     walled: Vec<bool>,
+    /// per triangle: whether any part of the object's shell where a ray can enter it (a top,
+    /// a wall) lies above the triangle's plane, by more than 1e-6 of the object's size (the
+    /// rounding of float32 positions: a quad's two triangles are one plane). Where none does,
+    /// a ray that leaves through the triangle's top, and so is above that plane from then on,
+    /// does not meet this object again
+    overhung: Vec<bool>,
     /// welded id per vertex (the same position)
     weld: Vec<u32>,
     bvh: Bvh,
@@ -78,6 +84,8 @@ enum Walk {
     Left {
         lam: f64,
         cells: u32,
+        /// the triangle through whose top it left, where it did
+        top: Option<u32>,
     },
 }
 
@@ -130,11 +138,15 @@ impl<'a> Shell<'a> {
         dir: DVec3,
         lam_min: f64,
         any: bool,
+        skip: Option<usize>,
     ) -> Option<(usize, u32, f64, Local, u32)> {
         let mut best: Option<(usize, u32, f64, Local)> = None;
         let mut cells = 0u32;
         let mut bound = f64::INFINITY;
         for (oi, ob) in self.objects.iter().enumerate() {
+            if skip == Some(oi) {
+                continue;
+            }
             let o = ob.to_obj.transform_point3(eye);
             let d = ob.to_obj.transform_vector3(dir);
             // a start of the walk: walked unless a hit already lies before it; false to stop
@@ -225,7 +237,7 @@ impl Tracer for Shell<'_> {
     type At = ShellAt;
 
     fn trace(&self, eye: DVec3, dir: DVec3) -> Option<Hit<ShellAt>> {
-        let (oi, tri, lam, at, cells) = self.first(eye, dir, 0.0, false)?;
+        let (oi, tri, lam, at, cells) = self.first(eye, dir, 0.0, false, None)?;
         let ob = &self.objects[oi];
         let p = ob.prisms[tri as usize].as_ref().expect("a hit's prism");
         let uv = p.uv(at.b);
@@ -258,11 +270,14 @@ impl Tracer for Shell<'_> {
         };
         match ob.walk(&ray, hit.at.tri, 0.0, hit.at.at) {
             Walk::Hit { .. } => false,
-            Walk::Left { lam, .. } => {
-                // where it left, in the world: the rest of the ray meets no shell again
+            Walk::Left { lam, top, .. } => {
+                // where it left, in the world: the rest of the ray meets no shell again (this
+                // object's, where it left above all of it, is not looked for)
                 let eye = ob.to_world.transform_point3(hit.at.x);
                 let eps = 1e-9 * (1.0 + lam.abs());
-                self.first(eye, l, lam + eps, true).is_none()
+                let clear = top.is_some_and(|t| !ob.overhung[t as usize]);
+                self.first(eye, l, lam + eps, true, clear.then_some(hit.object))
+                    .is_none()
             }
         }
     }
@@ -363,6 +378,29 @@ impl<'a> Object<'a> {
         let facing: Vec<Option<DVec3>> = (0..n)
             .map(|t| prisms[t].as_ref().filter(|_| !walled[t]).map(|p| p.ng))
             .collect();
+        let bvh = Bvh::new(&boxes, &facing);
+        let floor = |t: usize, k: usize| {
+            let p = prisms[t].as_ref().expect("an item has a prism");
+            p.p[k] - p.n[k] * (2.0 * depth)
+        };
+        let overhung: Vec<bool> = prisms
+            .iter()
+            .map(|p| {
+                let Some(p) = p else { return false };
+                let (ng, base) = (p.ng, p.ng.dot(p.p[0]) + 1e-6 * extent);
+                bvh.any(
+                    // the box's highest point along ng
+                    |lo, hi| 0.5 * ((lo + hi).dot(ng) + (hi - lo).dot(ng.abs())) > base,
+                    |i| {
+                        let q = prisms[i as usize].as_ref().expect("an item has a prism");
+                        (0..3).any(|k| {
+                            q.p[k].dot(ng) > base
+                                || (walled[i as usize] && floor(i as usize, k).dot(ng) > base)
+                        })
+                    },
+                )
+            })
+            .collect();
         let lin = DMat3::from_mat4(m);
         Ok(Object {
             mesh,
@@ -371,8 +409,9 @@ impl<'a> Object<'a> {
             prisms,
             across,
             walled,
+            overhung,
             weld: topo.weld,
-            bvh: Bvh::new(&boxes, &facing),
+            bvh,
             to_obj: m.inverse(),
             to_world: m,
             normal_to_world: lin.inverse().transpose(),

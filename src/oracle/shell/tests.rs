@@ -185,3 +185,83 @@ fn on_a_torus_one_smooth_bump_is_met_where_it_is() {
     );
     hits_lie_on_the_surface(&s, 150);
 }
+
+/// A light or ambient ray that leaves through the top of a triangle with no part of its
+/// object above the triangle's plane skips that object: none of a sphere's triangles has one,
+/// the inner half of a torus's has, and on the torus every ray's visibility is that of the
+/// search that skips nothing.
+#[test]
+fn a_ray_that_leaves_above_its_object_skips_it() {
+    let sphere = scene(
+        Mesh::sphere(1.0, 12, 8).unwrap(),
+        noise(16, 16, 5),
+        0.1,
+        [0.3, 0.8, 3.2],
+        8,
+    );
+    let shell = Shell::new(&sphere).unwrap();
+    assert!(!shell.objects[0].overhung.iter().any(|&o| o));
+
+    let torus = scene(
+        Mesh::torus(1.0, 0.4, 16, 8).unwrap(),
+        noise(16, 16, 7),
+        0.1,
+        [0.4, 1.8, 2.6],
+        32,
+    );
+    let shell = Shell::new(&torus).unwrap();
+    let ob = &shell.objects[0];
+    // a triangle faces the hole where its normal points towards the axis
+    let (mut inner, mut outer) = (0, 0);
+    for (p, &o) in ob.prisms.iter().zip(&ob.overhung) {
+        let Some(p) = p else { continue };
+        let c = (p.p[0] + p.p[1] + p.p[2]) / 3.0;
+        let radial = DVec3::new(c.x, 0.0, c.z).normalize();
+        if p.ng.dot(radial) < -0.2 {
+            assert!(o, "a triangle facing the hole is overhung");
+            inner += 1;
+        } else if p.ng.dot(radial) > 0.2 {
+            assert!(!o, "a triangle facing out is not overhung");
+            outer += 1;
+        }
+    }
+    assert!(inner > 20 && outer > 20, "{inner} {outer}");
+    // visibility against the search over every object
+    let cam = &torus.camera;
+    let basis = cam.basis();
+    let (mut rays, mut blocked) = (0, 0);
+    for i in 0..cam.height {
+        for j in 0..cam.width {
+            let Some(hit) = shell.trace(basis.eye, cam.ray_dir(&basis, i, j)) else {
+                continue;
+            };
+            for l in [
+                DVec3::new(0.3, 1.0, 0.2),
+                DVec3::new(-0.9, 0.3, 0.1),
+                DVec3::new(0.2, -0.2, 1.0),
+                DVec3::new(0.7, 0.1, -0.6),
+            ] {
+                let l = l.normalize();
+                let d = ob.to_obj.transform_vector3(l);
+                let ray = Ray {
+                    o: hit.at.x,
+                    d,
+                    lift: 1e-9,
+                    exact: false,
+                };
+                let full = match ob.walk(&ray, hit.at.tri, 0.0, hit.at.at) {
+                    Walk::Hit { .. } => false,
+                    Walk::Left { lam, .. } => {
+                        let eye = ob.to_world.transform_point3(hit.at.x);
+                        let eps = 1e-9 * (1.0 + lam.abs());
+                        shell.first(eye, l, lam + eps, true, None).is_none()
+                    }
+                };
+                assert_eq!(shell.reaches(&hit, l, 1e-9), full, "pixel ({i}, {j})");
+                rays += 1;
+                blocked += usize::from(!full);
+            }
+        }
+    }
+    assert!(rays > 1000 && blocked > 100, "{rays} {blocked}");
+}

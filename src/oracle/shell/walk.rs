@@ -13,7 +13,11 @@ impl<'a> Object<'a> {
             // no shell: the base surface itself
             let p = self.prisms[tri as usize].as_ref().expect("a walked prism");
             return if lift > 0.0 && d.dot(p.normal(at.b)) > 0.0 {
-                Walk::Left { lam, cells: 0 }
+                Walk::Left {
+                    lam,
+                    cells: 0,
+                    top: None,
+                }
             } else {
                 Walk::Hit {
                     tri,
@@ -45,16 +49,21 @@ impl<'a> Object<'a> {
             }
             // where the prism ends along the ray (far below the floor where nothing bounds it:
             // the surface is met first)
+            let at_top = top.is_some_and(|(lt, _)| side.is_none_or(|s| lt <= s.lam));
             let (end, via): (Sample, Option<Crossing>) = match (top, side) {
-                (Some((lt, bt)), s) if s.is_none_or(|s| lt <= s.lam) => {
-                    (self.sample(p, lt, bt, lift), None)
-                }
+                (Some((lt, bt)), _) if at_top => (self.sample(p, lt, bt, lift), None),
                 (_, Some(s)) => (self.sample(p, s.lam, s.at, lift), Some(s)),
                 _ => {
                     let far = lam + 4.0 * (self.extent + self.depth) / d.length().max(1e-300);
                     match p.locate(o + d * far, at) {
                         Some(a) => (self.sample(p, far, a, lift), None),
-                        None => return Walk::Left { lam: far, cells },
+                        None => {
+                            return Walk::Left {
+                                lam: far,
+                                cells,
+                                top: None,
+                            }
+                        }
                     }
                 }
             };
@@ -71,6 +80,7 @@ impl<'a> Object<'a> {
                 return Walk::Left {
                     lam: end.lam,
                     cells,
+                    top: at_top.then_some(tri),
                 };
             };
             // into the triangle across the side, at the same point
@@ -78,6 +88,7 @@ impl<'a> Object<'a> {
                 return Walk::Left {
                     lam: end.lam,
                     cells,
+                    top: None,
                 };
             };
             let q = self.prisms[next as usize]
@@ -107,11 +118,16 @@ impl<'a> Object<'a> {
                     return Walk::Left {
                         lam: end.lam,
                         cells,
+                        top: None,
                     }
                 }
             }
         }
-        Walk::Left { lam, cells }
+        Walk::Left {
+            lam,
+            cells,
+            top: None,
+        }
     }
 
     /// The middle of the path from `(lam, at)` to the top exit `(lt, bt)`, where the path stays
