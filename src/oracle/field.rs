@@ -102,25 +102,18 @@ impl<'a> Field<'a> {
             let b = l >> k;
             (b as usize, p * n + ((b + 1) << k).min(n))
         };
-        // the blocks on one axis: at most two of a period, and one more where the box crosses
-        // the period's edge
-        let blocks = |c0: i64, c1: i64, n: i64| {
-            let (mut out, mut m, mut c) = ([0usize; 4], 0, c0);
-            while c <= c1 {
-                let (b, next) = block(c, n);
-                out[m] = b;
-                (m, c) = (m + 1, next);
-            }
-            (out, m)
-        };
-        let (xs, nx) = blocks(cx0, cx1, w);
-        let (ys, ny) = blocks(cy0, cy1, h);
         let mut top = 0f32;
-        for &by in &ys[..ny] {
-            let row = &lv.max[by * lv.w..];
-            for &bx in &xs[..nx] {
+        let mut cy = cy0;
+        while cy <= cy1 {
+            let (by, ny) = block(cy, h);
+            let row = &lv.max[by * lv.w..(by + 1) * lv.w];
+            let mut cx = cx0;
+            while cx <= cx1 {
+                let (bx, nx) = block(cx, w);
                 top = top.max(row[bx]);
+                cx = nx;
             }
+            cy = ny;
         }
         top as f64
     }

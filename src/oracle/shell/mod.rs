@@ -99,6 +99,15 @@ struct Ray {
     exact: bool,
 }
 
+/// What a chord knows of the path's middle: nothing, the point, or how far it deviates from
+/// the chord there (in cells, in height), where a chord is half of one whose middle was found.
+#[derive(Clone, Copy)]
+enum Middle {
+    Unknown,
+    Known(Sample),
+    Deviates((f64, f64)),
+}
+
 /// A point of the ray's path in a prism: texture point s = uv * tiling, height h.
 #[derive(Clone, Copy, Debug)]
 struct Sample {

@@ -68,7 +68,14 @@ impl<'a> Object<'a> {
                 }
             };
             let start = self.sample(p, lam, at, lift);
-            if let Some((l, a)) = self.chord(p, ray, (start, end), through, 0, &mut cells) {
+            if let Some((l, a)) = self.chord(
+                p,
+                ray,
+                (start, end),
+                through.map_or(Middle::Unknown, Middle::Known),
+                0,
+                &mut cells,
+            ) {
                 return Walk::Hit {
                     tri,
                     lam: l,
@@ -155,22 +162,26 @@ impl<'a> Object<'a> {
         (inside > 3.0 * (am.b - guess.b).length() + 1e-12).then(|| self.sample(p, lm, am, ray.lift))
     }
 
-    /// The first hit on the path from `a` to `b` in prism `p`: its lam and point. `mid`: the
-    /// path's middle where it is known.
+    /// The first hit on the path from `a` to `b` in prism `p`: its lam and point.
     pub(super) fn chord(
         &self,
         p: &Prism,
         ray: &Ray,
         (a, b): (Sample, Sample),
-        mid: Option<Sample>,
+        mid: Middle,
         level: u32,
         cells: &mut u32,
     ) -> Option<(f64, Local)> {
         let (o, d, lift) = (ray.o, ray.d, ray.lift);
         *cells += 1;
+        if let Middle::Deviates(dev) = mid {
+            if let Some(answer) = self.settle(p, ray, (a, b), None, dev, level, cells) {
+                return answer;
+            }
+        }
         let m = match mid {
-            Some(m) => m,
-            None => {
+            Middle::Known(m) => m,
+            _ => {
                 let lm = 0.5 * (a.lam + b.lam);
                 let guess = Local {
                     b: 0.5 * (a.at.b + b.at.b),
@@ -183,45 +194,74 @@ impl<'a> Object<'a> {
                     return if level >= 48 {
                         None
                     } else {
-                        self.chord(p, ray, (a, m), None, level + 1, cells)
+                        self.chord(p, ray, (a, m), Middle::Unknown, level + 1, cells)
                     };
                 };
                 self.sample(p, lm, located, lift)
             }
         };
         let (mid_c, mid_h) = (0.5 * (a.c + b.c), 0.5 * (a.h + b.h));
-        let (dev_c, dev_h) = ((m.c - mid_c).length(), (m.h - mid_h).abs());
+        let dev = ((m.c - mid_c).length(), (m.h - mid_h).abs());
+        if let Some(answer) = self.settle(p, ray, (a, b), Some(&m), dev, level, cells) {
+            return answer;
+        }
+        // each half of a path deviates from its chord about a quarter as much (a quadratic
+        // path's): tried before the half's own middle is looked for
+        let half = Middle::Deviates((0.25 * dev.0, 0.25 * dev.1));
+        self.chord(p, ray, (a, m), half, level + 1, cells)
+            .or_else(|| self.chord(p, ray, (m, b), half, level + 1, cells))
+    }
+
+    /// The chord from `a` to `b` with the path's middle `m` where known, and the path's
+    /// deviation from the chord at the middle: its answer where the chord settles it (its box
+    /// of cells, widened by twice that deviation, lies under the path: no hit; or it lies
+    /// within `TOL_TEXELS` of the path: the cell walk's hit), or None where it must be halved.
+    #[allow(clippy::too_many_arguments)]
+    fn settle(
+        &self,
+        p: &Prism,
+        ray: &Ray,
+        (a, b): (Sample, Sample),
+        m: Option<&Sample>,
+        (dev_c, dev_h): (f64, f64),
+        level: u32,
+        cells: &mut u32,
+    ) -> Option<Option<(f64, Local)>> {
         // the path's bounds: the chord's, widened by twice its deviation at the middle
         let (ec, eh) = (2.0 * dev_c + 1e-6, 2.0 * dev_h + 1e-9);
-        let low = a.h.min(b.h).min(m.h) - eh;
-        let (clo, chi) = (a.c.min(b.c).min(m.c) - ec, a.c.max(b.c).max(m.c) + ec);
+        let (mut low, mut clo, mut chi) = (a.h.min(b.h), a.c.min(b.c), a.c.max(b.c));
+        if let Some(m) = m {
+            (low, clo, chi) = (low.min(m.h), clo.min(m.c), chi.max(m.c));
+        }
+        let (low, clo, chi) = (low - eh, clo - ec, chi + ec);
         // cells: texel centres at integers (x - 0.5)
         let top = self
             .field
             .max_in((clo.x - 0.5, chi.x - 0.5), (clo.y - 0.5, chi.y - 0.5));
         if low > top + 1e-12 {
-            return None;
+            return Some(None);
         }
         let run = (b.c - a.c).length();
         let tol_h = (TOL_TEXELS * (b.h - a.h).abs() / run.max(1e-300)).clamp(1e-9, 1e-3);
-        if (dev_c <= TOL_TEXELS && dev_h <= tol_h) || level >= 48 {
-            let (u, v) = (a, b);
-            let (hit, n) = walk_cells(&self.field, u.s, u.h, v.s - u.s, v.h - u.h, 1.0);
-            *cells += n;
-            let mu = hit?;
-            let lam = u.lam + mu * (v.lam - u.lam);
-            let g = Local {
-                b: u.at.b + (v.at.b - u.at.b) * mu,
-                s: u.at.s + (v.at.s - u.at.s) * mu,
-            };
-            if !ray.exact {
-                return Some((lam, g));
-            }
-            let at = p.locate(o + d * lam, g).unwrap_or(g);
-            return Some(self.refine(p, ray, (lam, at), (u, v)));
+        if !((dev_c <= TOL_TEXELS && dev_h <= tol_h) || level >= 48) {
+            return None;
         }
-        self.chord(p, ray, (a, m), None, level + 1, cells)
-            .or_else(|| self.chord(p, ray, (m, b), None, level + 1, cells))
+        let (u, v) = (a, b);
+        let (hit, n) = walk_cells(&self.field, u.s, u.h, v.s - u.s, v.h - u.h, 1.0);
+        *cells += n;
+        let Some(mu) = hit else {
+            return Some(None);
+        };
+        let lam = u.lam + mu * (v.lam - u.lam);
+        let g = Local {
+            b: u.at.b + (v.at.b - u.at.b) * mu,
+            s: u.at.s + (v.at.s - u.at.s) * mu,
+        };
+        if !ray.exact {
+            return Some(Some((lam, g)));
+        }
+        let at = p.locate(ray.o + ray.d * lam, g).unwrap_or(g);
+        Some(Some(self.refine(p, ray, (lam, at), (u, v))))
     }
 
     /// The chord's hit `(lam, at)` (`at` located on the path) moved onto the path itself:
