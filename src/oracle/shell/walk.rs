@@ -32,12 +32,13 @@ impl<'a> Object<'a> {
         for _ in 0..100_000 {
             let p = self.prisms[tri as usize].as_ref().expect("a walked prism");
             let top = p.top_exit(o, d).filter(|(l, _)| *l >= lam - eps);
-            // a path that stays inside the triangle up to the top leaves there: its middle,
-            // and no side to cross
-            let through = top.and_then(|t| self.through_top(p, ray, (lam, at), t));
+            // where the path reaches the top inside the triangle: its middle, and the sides it
+            // cannot cross on the way
+            let toward = top.and_then(|t| self.toward_top(p, ray, (lam, at), t));
+            let safe = toward.map_or([false; 3], |(_, safe)| safe);
             // the first side crossing ahead (those above the top do not bound the prism)
             let mut side: Option<Crossing> = None;
-            for k in (0..3).filter(|_| through.is_none()) {
+            for k in (0..3).filter(|&k| !safe[k]) {
                 p.crossings(o, d, k, true, &mut |c: Crossing| {
                     if c.lam >= lam - eps
                         && p.offset(c.at) <= 1e-9 * self.depth
@@ -72,7 +73,10 @@ impl<'a> Object<'a> {
                 p,
                 ray,
                 (start, end),
-                through.map_or(Middle::Unknown, Middle::Known),
+                match toward {
+                    Some((m, _)) if at_top => Middle::Known(m),
+                    _ => Middle::Unknown,
+                },
                 0,
                 &mut cells,
             ) {
@@ -137,20 +141,20 @@ impl<'a> Object<'a> {
         }
     }
 
-    /// The middle of the path from `(lam, at)` to the top exit `(lt, bt)`, where the path stays
-    /// inside the triangle: both ends lie inside by more than three times the middle's
-    /// deviation from the straight way between them in barycentrics (the chords' bound, twice
-    /// the deviation at the middle, on each of the three weights).
-    fn through_top(
+    /// The middle of the path from `(lam, at)` to the top exit `(lt, bt)`, where that lies in
+    /// the triangle, and per side (corners k, k+1) whether the path cannot cross it on the way:
+    /// where the side's weight at both ends exceeds three times the middle's deviation from
+    /// the straight way between them in barycentrics (the chords' bound, twice the deviation at
+    /// the middle, on one weight).
+    fn toward_top(
         &self,
         p: &Prism,
         ray: &Ray,
         (lam, at): (f64, Local),
         (lt, bt): (f64, Local),
-    ) -> Option<Sample> {
-        let margin = |b: DVec2| b.x.min(b.y).min(1.0 - b.x - b.y);
-        let inside = margin(at.b).min(margin(bt.b));
-        if !(inside > 0.0) {
+    ) -> Option<(Sample, [bool; 3])> {
+        let (wa, wb) = (Prism::weights(at.b), Prism::weights(bt.b));
+        if wb.iter().any(|&w| !(w >= 0.0)) {
             return None;
         }
         let lm = 0.5 * (lam + lt);
@@ -159,7 +163,10 @@ impl<'a> Object<'a> {
             s: 0.5 * (at.s + bt.s),
         };
         let am = p.locate(ray.o + ray.d * lm, guess)?;
-        (inside > 3.0 * (am.b - guess.b).length() + 1e-12).then(|| self.sample(p, lm, am, ray.lift))
+        let margin = 3.0 * (am.b - guess.b).length() + 1e-12;
+        // side k is the one where corner k + 2's weight vanishes
+        let safe = std::array::from_fn(|k| wa[(k + 2) % 3].min(wb[(k + 2) % 3]) > margin);
+        Some((self.sample(p, lm, am, ray.lift), safe))
     }
 
     /// The first hit on the path from `a` to `b` in prism `p`: its lam and point.
