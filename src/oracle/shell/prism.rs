@@ -20,6 +20,9 @@ pub(crate) struct Prism {
     pub(crate) ng: DVec3,
     /// the longer of the edges from corner 0 (for `locate`'s tolerance)
     size: f64,
+    /// the plane's dual basis: a point x of the plane has barycentrics
+    /// ((x - p0) . dual[0], (x - p0) . dual[1])
+    dual: [DVec3; 2],
 }
 
 /// A point of a prism: barycentrics of corners 1 and 2, and s along n(b).
@@ -51,8 +54,12 @@ impl Prism {
         if ng.dot(n[0] + n[1] + n[2]) < 0.0 {
             ng = -ng;
         }
+        let (u, w) = (p[1] - p[0], p[2] - p[0]);
+        let (uu, uw, ww) = (u.dot(u), u.dot(w), w.dot(w));
+        let det = uu * ww - uw * uw;
         Some(Prism {
-            size: (p[1] - p[0]).length().max((p[2] - p[0]).length()),
+            size: u.length().max(w.length()),
+            dual: [(u * ww - w * uw) / det, (w * uu - u * uw) / det],
             v,
             p,
             n,
@@ -223,12 +230,8 @@ impl Prism {
 
     /// Barycentrics (b1, b2) of a point of the triangle's plane.
     pub(crate) fn plane_barycentrics(&self, x: DVec3) -> DVec2 {
-        let (u, v) = (self.p[1] - self.p[0], self.p[2] - self.p[0]);
         let r = x - self.p[0];
-        let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
-        let det = uu * vv - uv * uv;
-        let (ru, rv) = (r.dot(u), r.dot(v));
-        DVec2::new(vv * ru - uv * rv, uu * rv - uv * ru) / det
+        DVec2::new(r.dot(self.dual[0]), r.dot(self.dual[1]))
     }
 
     /// The ray's crossing of the top going in (front-facing: against the plane's normal), with
