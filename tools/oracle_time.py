@@ -1,11 +1,12 @@
 #!/usr/bin/env python
 """The oracle on curved meshes against the planar one (issue 49's goal: within 3x): a 256²
 frame, a 4096² bricks map at depth 0.06, the sphere and the torus (48 x 24) against the plane,
-for `pk.oracle.hits` and `pk.oracle.image(spp=4)` unshadowed, with a sharp light and ambient
-occlusion, and with a 2° light and ambient occlusion. Best of `repeats` runs in one process;
-docs/methods.md ("The oracle on any mesh") holds the table.
+for `pk.oracle.hits` and `pk.oracle.image(spp=spp)` (4 unless given; `render_exact`'s default
+is 16) unshadowed, with a sharp light and ambient occlusion, and with a 2° light and ambient
+occlusion. Best of `repeats` runs in one process, in turn; docs/methods.md ("The oracle on any
+mesh") holds the table.
 
-    .venv/bin/python tools/oracle_time.py [hits,img,sharp,disk] [repeats]
+    .venv/bin/python tools/oracle_time.py [hits,img,sharp,disk] [repeats] [spp]
 """
 
 from __future__ import annotations
@@ -37,20 +38,23 @@ def best(f, repeats: int) -> float:
     return out
 
 
-def main(cases: list[str], repeats: int) -> None:
+def main(cases: list[str], repeats: int, spp: int) -> None:
     for case in cases:
-        row = {}
-        for name in MESHES:
-            if case == "hits":
-                s = scene(name, SHARP, 0.0)
-                row[name] = best(lambda: pk.oracle.hits(s), repeats)
-            else:
-                s = scene(name, DISK if case == "disk" else SHARP, 0.0 if case == "img" else 0.1)
-                row[name] = best(lambda: pk.oracle.image(s, spp=4, shadows=case != "img", cache=False), repeats)
+        lights = DISK if case == "disk" else SHARP
+        scenes = {name: scene(name, lights, 0.0 if case in ("hits", "img") else 0.1) for name in MESHES}
+        if case == "hits":
+            run = {name: (lambda s=s: pk.oracle.hits(s)) for name, s in scenes.items()}
+        else:
+            run = {name: (lambda s=s: pk.oracle.image(s, spp=spp, shadows=case != "img", cache=False))
+                   for name, s in scenes.items()}
+        row = {name: float("inf") for name in MESHES}
+        for _ in range(repeats):
+            for name, f in run.items():
+                row[name] = min(row[name], best(f, 1))
         print(f"{case:6s}", "  ".join(f"{k} {v:.3f} s" for k, v in row.items()),
               f"  ratios {row['sphere'] / row['plane']:.2f} {row['torus'] / row['plane']:.2f}", flush=True)
 
 
 if __name__ == "__main__":
     main(sys.argv[1].split(",") if len(sys.argv) > 1 else ["hits", "img", "sharp", "disk"],
-         int(sys.argv[2]) if len(sys.argv) > 2 else 2)
+         int(sys.argv[2]) if len(sys.argv) > 2 else 2, int(sys.argv[3]) if len(sys.argv) > 3 else 4)
