@@ -145,7 +145,11 @@ impl<'a> Field<'a> {
         let (w, h) = (self.hm.width as i64, self.hm.height as i64);
         // the block's cell range in unwrapped cell indices: [lo, hi)
         let range = |c: i64, n: i64| {
-            let (p, l) = (c.div_euclid(n), c.rem_euclid(n));
+            let (p, l) = if (0..n).contains(&c) {
+                (0, c)
+            } else {
+                (c.div_euclid(n), c.rem_euclid(n))
+            };
             let b = l >> k;
             (b, p * n + (b << k), p * n + ((b + 1) << k).min(n))
         };

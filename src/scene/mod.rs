@@ -176,8 +176,10 @@ impl HeightMap {
     pub fn texel(&self, x: i64, y: i64) -> f64 {
         let w = self.width as i64;
         let h = self.height as i64;
-        let xi = x.rem_euclid(w) as usize;
-        let yi = y.rem_euclid(h) as usize;
+        // (no division inside the period)
+        let wrap = |i: i64, n: i64| if (0..n).contains(&i) { i } else { i.rem_euclid(n) };
+        let xi = wrap(x, w) as usize;
+        let yi = wrap(y, h) as usize;
         self.data[yi * self.width as usize + xi] as f64
     }
 
