@@ -177,7 +177,13 @@ impl HeightMap {
         let w = self.width as i64;
         let h = self.height as i64;
         // (no division inside the period)
-        let wrap = |i: i64, n: i64| if (0..n).contains(&i) { i } else { i.rem_euclid(n) };
+        let wrap = |i: i64, n: i64| {
+            if (0..n).contains(&i) {
+                i
+            } else {
+                i.rem_euclid(n)
+            }
+        };
         let xi = wrap(x, w) as usize;
         let yi = wrap(y, h) as usize;
         self.data[yi * self.width as usize + xi] as f64

@@ -182,7 +182,7 @@ impl<'a> Object<'a> {
         let (o, d, lift) = (ray.o, ray.d, ray.lift);
         *cells += 1;
         if let Middle::Deviates(dev) = mid {
-            if let Some(answer) = self.settle(p, ray, (a, b), None, dev, level, cells) {
+            if let Some(answer) = self.settle(p, ray, (a, b), None, dev, true, level, cells) {
                 return answer;
             }
         }
@@ -209,7 +209,12 @@ impl<'a> Object<'a> {
         };
         let (mid_c, mid_h) = (0.5 * (a.c + b.c), 0.5 * (a.h + b.h));
         let dev = ((m.c - mid_c).length(), (m.h - mid_h).abs());
-        if let Some(answer) = self.settle(p, ray, (a, b), Some(&m), dev, level, cells) {
+        // a box that holds the one the estimate failed with fails too
+        let boxed = match mid {
+            Middle::Deviates(e) => dev.0 < e.0 || dev.1 < e.1,
+            _ => true,
+        };
+        if let Some(answer) = self.settle(p, ray, (a, b), Some(&m), dev, boxed, level, cells) {
             return answer;
         }
         // each half of a path deviates from its chord about a quarter as much (a quadratic
@@ -221,8 +226,9 @@ impl<'a> Object<'a> {
 
     /// The chord from `a` to `b` with the path's middle `m` where known, and the path's
     /// deviation from the chord at the middle: its answer where the chord settles it (its box
-    /// of cells, widened by twice that deviation, lies under the path: no hit; or it lies
-    /// within `TOL_TEXELS` of the path: the cell walk's hit), or None where it must be halved.
+    /// of cells, widened by twice that deviation, lies under the path: no hit, tested where
+    /// `boxed`; or it lies within `TOL_TEXELS` of the path: the cell walk's hit), or None
+    /// where it must be halved.
     #[allow(clippy::too_many_arguments)]
     fn settle(
         &self,
@@ -231,6 +237,7 @@ impl<'a> Object<'a> {
         (a, b): (Sample, Sample),
         m: Option<&Sample>,
         (dev_c, dev_h): (f64, f64),
+        boxed: bool,
         level: u32,
         cells: &mut u32,
     ) -> Option<Option<(f64, Local)>> {
@@ -241,11 +248,18 @@ impl<'a> Object<'a> {
             (low, clo, chi) = (low.min(m.h), clo.min(m.c), chi.max(m.c));
         }
         let (low, clo, chi) = (low - eh, clo - ec, chi + ec);
+        // a chord from a light or ambient ray's start, on the surface, holds the surface there
+        // in its box: its box cannot clear it
+        let from_hit = a.lam == 0.0 && ray.lift > 0.0 && eh >= ray.lift;
         // cells: texel centres at integers (x - 0.5)
-        let top = self
-            .field
-            .max_in((clo.x - 0.5, chi.x - 0.5), (clo.y - 0.5, chi.y - 0.5));
-        if low > top + 1e-12 {
+        if boxed
+            && !from_hit
+            && low
+                > self
+                    .field
+                    .max_in((clo.x - 0.5, chi.x - 0.5), (clo.y - 0.5, chi.y - 0.5))
+                    + 1e-12
+        {
             return Some(None);
         }
         let run = (b.c - a.c).length();
