@@ -19,6 +19,7 @@
 //! the world and in Mitsuba's reference).
 
 mod bvh;
+mod grid;
 pub(crate) mod prism;
 mod walk;
 
@@ -122,6 +123,8 @@ struct Sample {
 /// The scene's objects, ready for exact rays on any mesh.
 pub(crate) struct Shell<'a> {
     objects: Vec<Object<'a>>,
+    /// the camera rays' candidates
+    grid: grid::Grid,
 }
 
 impl<'a> Shell<'a> {
@@ -134,14 +137,32 @@ impl<'a> Shell<'a> {
         if objects.is_empty() {
             return Err(Error::arg("scene", "has no objects; add one"));
         }
-        Ok(Shell { objects })
+        let grid = grid::Grid::new(&scene.camera, &objects);
+        Ok(Shell { objects, grid })
     }
 
     /// The first hit of the ray eye + lam dir over lam > lam_min with any object's displaced
     /// surface (with `any`, the first found): object, triangle, lam, point, cells walked. Each
-    /// start of a walk (where the ray enters a shell) is walked as the bounding volumes give it,
-    /// nearer first; a hit bounds the rest of the search.
+    /// start of a walk (where the ray enters a shell) is walked as the camera's tile or the
+    /// bounding volumes give it, nearer first; a hit bounds the rest of the search.
     fn first(
+        &self,
+        eye: DVec3,
+        dir: DVec3,
+        lam_min: f64,
+        any: bool,
+        skip: Option<usize>,
+    ) -> Option<(usize, u32, f64, Local, u32)> {
+        if !any && lam_min == 0.0 && skip.is_none() {
+            if let Some((tile, always)) = self.grid.candidates(eye, dir) {
+                return self.first_of(tile.iter().chain(always), eye, dir);
+            }
+        }
+        self.search(eye, dir, lam_min, any, skip)
+    }
+
+    /// `first` through the bounding volumes.
+    fn search(
         &self,
         eye: DVec3,
         dir: DVec3,
@@ -191,36 +212,7 @@ impl<'a> Shell<'a> {
             };
             let mut go_on = true;
             ob.bvh.visit(o, d, lam_min, bound, |t, lam_max| {
-                let Some(p) = ob.prisms[t as usize].as_ref() else {
-                    return true;
-                };
-                if let Some((lam, b)) = p.entry(o, d) {
-                    if !start(t, lam, entry_at(b), lam_max) {
-                        go_on = false;
-                        return false;
-                    }
-                }
-                if !ob.walled[t as usize] {
-                    return true;
-                }
-                // through a wall, into the shell and above the surface
-                let mut walls: [Option<Crossing>; 6] = [None; 6];
-                let mut i = 0;
-                for k in 0..3 {
-                    if ob.across[t as usize][k].is_none() {
-                        p.crossings(o, d, k, false, &mut |c: Crossing| {
-                            let off = p.offset(c.at);
-                            if off <= 0.0 && off >= -ob.depth && ob.above(p, c.at) {
-                                walls[i] = Some(c);
-                                i += 1;
-                            }
-                        });
-                    }
-                }
-                go_on = walls
-                    .iter()
-                    .flatten()
-                    .all(|c| start(t, c.lam, c.at, lam_max));
+                go_on = ob.starts(t, o, d, |lam, at| start(t, lam, at, lam_max));
                 go_on
             });
             if let Some(b) = best {
@@ -231,6 +223,94 @@ impl<'a> Shell<'a> {
             }
         }
         best.map(|(oi, tri, lam, at)| (oi, tri, lam, at, cells))
+    }
+}
+
+impl Shell<'_> {
+    /// A camera ray's first hit among the starts of the triangles `candidates`, walked nearer
+    /// first until a hit bounds the rest.
+    fn first_of<'c>(
+        &self,
+        candidates: impl Iterator<Item = &'c (u32, u32)>,
+        eye: DVec3,
+        dir: DVec3,
+    ) -> Option<(usize, u32, f64, Local, u32)> {
+        let mut starts: Vec<(f64, u32, u32, Local)> = Vec::new();
+        for &(oi, t) in candidates {
+            let ob = &self.objects[oi as usize];
+            let (o, d) = (
+                ob.to_obj.transform_point3(eye),
+                ob.to_obj.transform_vector3(dir),
+            );
+            ob.starts(t, o, d, |lam, at| {
+                if lam > 0.0 {
+                    starts.push((lam, oi, t, at));
+                }
+                true
+            });
+        }
+        starts.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        let (mut best, mut cells) = (None, 0u32);
+        for (lam, oi, t, at) in starts {
+            if best.is_some_and(|(_, _, b, _): (usize, u32, f64, Local)| lam >= b) {
+                break;
+            }
+            let ob = &self.objects[oi as usize];
+            let ray = Ray {
+                o: ob.to_obj.transform_point3(eye),
+                d: ob.to_obj.transform_vector3(dir),
+                lift: 0.0,
+                exact: true,
+            };
+            match ob.walk(&ray, t, lam, at) {
+                Walk::Hit {
+                    tri,
+                    lam,
+                    at,
+                    cells: c,
+                } => {
+                    cells += c;
+                    if best.is_none_or(|(_, _, b, _)| lam < b) {
+                        best = Some((oi as usize, tri, lam, at));
+                    }
+                }
+                Walk::Left { cells: c, .. } => cells += c,
+            }
+        }
+        best.map(|(oi, tri, lam, at)| (oi, tri, lam, at, cells))
+    }
+}
+
+impl Object<'_> {
+    /// The starts of a walk in triangle `t` along the ray o + lam d (object space): where it
+    /// enters through the top, and through a wall, into the shell above the surface. `f` is
+    /// called with each (lam, point) until it returns false; false when it did.
+    fn starts(&self, t: u32, o: DVec3, d: DVec3, mut f: impl FnMut(f64, Local) -> bool) -> bool {
+        let Some(p) = self.prisms[t as usize].as_ref() else {
+            return true;
+        };
+        if let Some((lam, b)) = p.entry(o, d) {
+            if !f(lam, entry_at(b)) {
+                return false;
+            }
+        }
+        if !self.walled[t as usize] {
+            return true;
+        }
+        let mut walls: [Option<Crossing>; 6] = [None; 6];
+        let mut i = 0;
+        for k in 0..3 {
+            if self.across[t as usize][k].is_none() {
+                p.crossings(o, d, k, false, &mut |c: Crossing| {
+                    let off = p.offset(c.at);
+                    if off <= 0.0 && off >= -self.depth && self.above(p, c.at) {
+                        walls[i] = Some(c);
+                        i += 1;
+                    }
+                });
+            }
+        }
+        walls.iter().flatten().all(|c| f(c.lam, c.at))
     }
 }
 

@@ -265,3 +265,46 @@ fn a_ray_that_leaves_above_its_object_skips_it() {
     }
     assert!(rays > 1000 && blocked > 100, "{rays} {blocked}");
 }
+
+/// Camera rays find their starts through the camera's tiles: the same hits as through the
+/// bounding volumes, on two transformed objects (a torus through a sphere) seen from close by,
+/// where some triangles reach behind the eye.
+#[test]
+fn camera_tiles_find_what_the_bounding_volumes_find() {
+    let mut s = scene(
+        Mesh::torus(1.0, 0.4, 16, 8).unwrap(),
+        noise(16, 16, 9),
+        0.1,
+        [0.2, 0.9, 1.3],
+        40,
+    );
+    let mut other = s.objects[0].clone();
+    other.mesh = shared(Mesh::sphere(0.6, 12, 8).unwrap()).unwrap();
+    other.transform.m = DMat4::from_scale_rotation_translation(
+        DVec3::new(1.0, 1.4, 1.0),
+        glam::DQuat::from_rotation_z(0.5),
+        DVec3::new(0.9, 0.1, 0.0),
+    );
+    s.objects.push(other);
+    let shell = Shell::new(&s).unwrap();
+    let cam = &s.camera;
+    let basis = cam.basis();
+    let mut hits = [0usize; 2];
+    for i in 0..cam.height {
+        for j in 0..cam.width {
+            let dir = cam.ray_dir(&basis, i, j);
+            let a = shell.first(basis.eye, dir, 0.0, false, None);
+            let b = shell.search(basis.eye, dir, 0.0, false, None);
+            match (a, b) {
+                (None, None) => {}
+                (Some(a), Some(b)) => {
+                    assert_eq!((a.0, a.1), (b.0, b.1), "pixel ({i}, {j})");
+                    assert!((a.2 - b.2).abs() <= 1e-12 * b.2, "pixel ({i}, {j})");
+                    hits[a.0] += 1;
+                }
+                _ => panic!("pixel ({i}, {j}): {a:?} against {b:?}"),
+            }
+        }
+    }
+    assert!(hits[0] > 200 && hits[1] > 100, "{hits:?}");
+}
