@@ -170,7 +170,7 @@ impl<'a> Shell<'a> {
         any: bool,
         skip: Option<usize>,
     ) -> Option<(usize, u32, f64, Local, u32)> {
-        let mut best: Option<(usize, u32, f64, Local)> = None;
+        let mut best: Best = None;
         let mut cells = 0u32;
         let mut bound = f64::INFINITY;
         for (oi, ob) in self.objects.iter().enumerate() {
@@ -190,25 +190,11 @@ impl<'a> Shell<'a> {
                     lift: 0.0,
                     exact: !any,
                 };
-                match ob.walk(&ray, t, lam, at) {
-                    Walk::Hit {
-                        tri,
-                        lam,
-                        at,
-                        cells: c,
-                    } => {
-                        cells += c;
-                        if lam < *bound {
-                            *bound = lam;
-                            best = Some((oi, tri, lam, at));
-                        }
-                        !any
-                    }
-                    Walk::Left { cells: c, .. } => {
-                        cells += c;
-                        true
-                    }
+                let hit = ob.walk_start(oi, &ray, (t, lam, at), &mut best, &mut cells);
+                if let Some((_, _, l, _)) = best {
+                    *bound = bound.min(l);
                 }
+                !(any && hit)
             };
             let mut go_on = true;
             ob.bvh.visit(o, d, lam_min, bound, |t, lam_max| {
@@ -250,9 +236,9 @@ impl Shell<'_> {
             });
         }
         starts.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-        let (mut best, mut cells) = (None, 0u32);
+        let (mut best, mut cells): (Best, u32) = (None, 0);
         for (lam, oi, t, at) in starts {
-            if best.is_some_and(|(_, _, b, _): (usize, u32, f64, Local)| lam >= b) {
+            if best.is_some_and(|(_, _, b, _)| lam >= b) {
                 break;
             }
             let ob = &self.objects[oi as usize];
@@ -262,26 +248,46 @@ impl Shell<'_> {
                 lift: 0.0,
                 exact: true,
             };
-            match ob.walk(&ray, t, lam, at) {
-                Walk::Hit {
-                    tri,
-                    lam,
-                    at,
-                    cells: c,
-                } => {
-                    cells += c;
-                    if best.is_none_or(|(_, _, b, _)| lam < b) {
-                        best = Some((oi as usize, tri, lam, at));
-                    }
-                }
-                Walk::Left { cells: c, .. } => cells += c,
-            }
+            ob.walk_start(oi as usize, &ray, (t, lam, at), &mut best, &mut cells);
         }
         best.map(|(oi, tri, lam, at)| (oi, tri, lam, at, cells))
     }
 }
 
+/// A search's nearest hit: object, triangle, lam, point.
+type Best = Option<(usize, u32, f64, Local)>;
+
 impl Object<'_> {
+    /// The walk of object `oi`'s `ray` from a start (triangle, lam, point): its hit kept in
+    /// `best` where nearer, its cells added; whether it hit.
+    fn walk_start(
+        &self,
+        oi: usize,
+        ray: &Ray,
+        (t, lam, at): (u32, f64, Local),
+        best: &mut Best,
+        cells: &mut u32,
+    ) -> bool {
+        match self.walk(ray, t, lam, at) {
+            Walk::Hit {
+                tri,
+                lam,
+                at,
+                cells: c,
+            } => {
+                *cells += c;
+                if best.is_none_or(|(_, _, b, _)| lam < b) {
+                    *best = Some((oi, tri, lam, at));
+                }
+                true
+            }
+            Walk::Left { cells: c, .. } => {
+                *cells += c;
+                false
+            }
+        }
+    }
+
     /// The starts of a walk in triangle `t` along the ray o + lam d (object space): where it
     /// enters through the top, and through a wall, into the shell above the surface. `f` is
     /// called with each (lam, point) until it returns false; false when it did.
