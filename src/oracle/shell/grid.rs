@@ -1,13 +1,11 @@
 //! Camera rays' candidates: the camera's image plane cut into tiles, each listing the triangles
 //! whose entry region (the top, front-facing from the eye; a prism with a wall whole) projects
-//! onto it. A camera ray tests its tile's few triangles instead of walking the bounding volumes.
+//! onto it, clipped to the part in front of the eye (1e-9 of its distance from it). A camera
+//! ray tests its tile's few triangles instead of walking the bounding volumes.
 
 use super::Object;
 use crate::scene::Camera;
 use glam::DVec3;
-
-/// (object, triangle) pairs.
-type Items<'g> = &'g [(u32, u32)];
 
 /// Tiles over the camera's full image plane, as (object, triangle) lists.
 pub(super) struct Grid {
@@ -24,8 +22,6 @@ pub(super) struct Grid {
     /// tile k's candidates: items[starts[k]..starts[k + 1]]
     starts: Vec<u32>,
     items: Vec<(u32, u32)>,
-    /// those that reach behind the eye's plane: candidates of every camera ray
-    always: Vec<(u32, u32)>,
 }
 
 impl Grid {
@@ -53,7 +49,6 @@ impl Grid {
             ny,
             starts: vec![0; nx * ny + 1],
             items: Vec::new(),
-            always: Vec::new(),
         };
         // each candidate's tile range
         let mut spans: Vec<((u32, u32), [usize; 4])> = Vec::new();
@@ -67,31 +62,33 @@ impl Grid {
                     continue;
                 }
                 let id = (oi as u32, t as u32);
-                let (mut lo, mut hi) = (
-                    (f64::INFINITY, f64::INFINITY),
-                    (f64::NEG_INFINITY, f64::NEG_INFINITY),
-                );
-                let mut behind = false;
+                // the entry region's corners in camera space (the region lies in their hull)
+                let floor = if walled { 2.0 * ob.depth } else { 0.0 };
+                let mut pts = [DVec3::ZERO; 6];
                 for k in 0..3 {
-                    let floor = if walled { 2.0 * ob.depth } else { 0.0 };
-                    for q in [p.p[k], p.p[k] - p.n[k] * floor] {
+                    for (m, q) in [p.p[k], p.p[k] - p.n[k] * floor].into_iter().enumerate() {
                         let v = ob.to_world.transform_point3(q) - b.eye;
-                        let z = v.dot(b.forward);
-                        if !(z > 1e-9 * (1.0 + v.length())) {
-                            behind = true;
-                        }
-                        let (x, y) = (v.dot(b.right) / z, v.dot(b.up) / z);
-                        lo = (lo.0.min(x), lo.1.min(y));
-                        hi = (hi.0.max(x), hi.1.max(y));
+                        pts[2 * k + m] = DVec3::new(v.dot(b.right), v.dot(b.up), v.dot(b.forward));
                     }
                 }
-                if behind
-                    || !(lo.0.is_finite()
-                        && hi.0.is_finite()
-                        && lo.1.is_finite()
-                        && hi.1.is_finite())
-                {
-                    g.always.push(id);
+                // the hull's part in front of the eye: its corners there, and where the
+                // segments between a corner in front and one behind cross z = near
+                let near = 1e-9 * (1.0 + pts.iter().map(|v| v.length()).fold(0.0, f64::max));
+                let mut lo = (f64::INFINITY, f64::INFINITY);
+                let mut hi = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+                let mut put = |v: DVec3| {
+                    let (x, y) = (v.x / v.z, v.y / v.z);
+                    lo = (lo.0.min(x), lo.1.min(y));
+                    hi = (hi.0.max(x), hi.1.max(y));
+                };
+                for &f in pts.iter().filter(|v| v.z >= near) {
+                    put(f);
+                    for &r in pts.iter().filter(|v| v.z < near) {
+                        put(f + (r - f) * ((f.z - near) / (f.z - r.z)));
+                    }
+                }
+                // (nothing in front: no camera ray meets it)
+                if !(lo.0.is_finite() && hi.0.is_finite() && lo.1.is_finite() && hi.1.is_finite()) {
                     continue;
                 }
                 let Some(span) = g.tiles(lo, hi) else {
@@ -148,9 +145,9 @@ impl Grid {
         ])
     }
 
-    /// A camera ray's candidates (those of its tile, and those of every ray), or None where the
-    /// ray is not from the eye or leaves the grid.
-    pub(super) fn candidates(&self, eye: DVec3, dir: DVec3) -> Option<(Items<'_>, Items<'_>)> {
+    /// A camera ray's candidates (those of its tile), or None where the ray is not from the eye
+    /// or leaves the grid.
+    pub(super) fn candidates(&self, eye: DVec3, dir: DVec3) -> Option<&[(u32, u32)]> {
         if eye != self.eye {
             return None;
         }
@@ -164,9 +161,6 @@ impl Grid {
             return None;
         }
         let k = y as usize * self.nx + x as usize;
-        Some((
-            &self.items[self.starts[k] as usize..self.starts[k + 1] as usize],
-            &self.always,
-        ))
+        Some(&self.items[self.starts[k] as usize..self.starts[k + 1] as usize])
     }
 }

@@ -154,8 +154,8 @@ impl<'a> Shell<'a> {
         skip: Option<usize>,
     ) -> Option<(usize, u32, f64, Local, u32)> {
         if !any && lam_min == 0.0 && skip.is_none() {
-            if let Some((tile, always)) = self.grid.candidates(eye, dir) {
-                return self.first_of(tile.iter().chain(always), eye, dir);
+            if let Some(tile) = self.grid.candidates(eye, dir) {
+                return self.first_of(tile, eye, dir);
             }
         }
         self.search(eye, dir, lam_min, any, skip)
@@ -215,9 +215,9 @@ impl<'a> Shell<'a> {
 impl Shell<'_> {
     /// A camera ray's first hit among the starts of the triangles `candidates`, walked nearer
     /// first until a hit bounds the rest.
-    fn first_of<'c>(
+    fn first_of(
         &self,
-        candidates: impl Iterator<Item = &'c (u32, u32)>,
+        candidates: &[(u32, u32)],
         eye: DVec3,
         dir: DVec3,
     ) -> Option<(usize, u32, f64, Local, u32)> {

@@ -266,6 +266,48 @@ fn a_ray_that_leaves_above_its_object_skips_it() {
     assert!(rays > 1000 && blocked > 100, "{rays} {blocked}");
 }
 
+/// The camera's tiles give the hits the bounding volumes give, pixel by pixel; the number of
+/// hits per object.
+fn tiles_against_bounding_volumes(s: &Scene) -> Vec<usize> {
+    let shell = Shell::new(s).unwrap();
+    let cam = &s.camera;
+    let basis = cam.basis();
+    let mut hits = vec![0usize; s.objects.len()];
+    for i in 0..cam.height {
+        for j in 0..cam.width {
+            let dir = cam.ray_dir(&basis, i, j);
+            assert!(shell.grid.candidates(basis.eye, dir).is_some());
+            let a = shell.first(basis.eye, dir, 0.0, false, None);
+            let b = shell.search(basis.eye, dir, 0.0, false, None);
+            match (a, b) {
+                (None, None) => {}
+                (Some(a), Some(b)) => {
+                    assert_eq!((a.0, a.1), (b.0, b.1), "pixel ({i}, {j})");
+                    assert!((a.2 - b.2).abs() <= 1e-12 * b.2, "pixel ({i}, {j})");
+                    hits[a.0] += 1;
+                }
+                _ => panic!("pixel ({i}, {j}): {a:?} against {b:?}"),
+            }
+        }
+    }
+    hits
+}
+
+/// A plane that reaches far behind the eye, seen from low above it: its triangles across the
+/// eye's plane are clipped there.
+#[test]
+fn camera_tiles_clip_what_reaches_behind_the_eye() {
+    let s = scene(
+        Mesh::plane(6.0, 24).unwrap(),
+        noise(16, 16, 11),
+        0.1,
+        [0.3, 0.25, 1.0],
+        40,
+    );
+    let hits = tiles_against_bounding_volumes(&s);
+    assert!(hits[0] > 1000, "{hits:?}");
+}
+
 /// Camera rays find their starts through the camera's tiles: the same hits as through the
 /// bounding volumes, on two transformed objects (a torus through a sphere) seen from close by,
 /// where some triangles reach behind the eye.
@@ -286,25 +328,6 @@ fn camera_tiles_find_what_the_bounding_volumes_find() {
         DVec3::new(0.9, 0.1, 0.0),
     );
     s.objects.push(other);
-    let shell = Shell::new(&s).unwrap();
-    let cam = &s.camera;
-    let basis = cam.basis();
-    let mut hits = [0usize; 2];
-    for i in 0..cam.height {
-        for j in 0..cam.width {
-            let dir = cam.ray_dir(&basis, i, j);
-            let a = shell.first(basis.eye, dir, 0.0, false, None);
-            let b = shell.search(basis.eye, dir, 0.0, false, None);
-            match (a, b) {
-                (None, None) => {}
-                (Some(a), Some(b)) => {
-                    assert_eq!((a.0, a.1), (b.0, b.1), "pixel ({i}, {j})");
-                    assert!((a.2 - b.2).abs() <= 1e-12 * b.2, "pixel ({i}, {j})");
-                    hits[a.0] += 1;
-                }
-                _ => panic!("pixel ({i}, {j}): {a:?} against {b:?}"),
-            }
-        }
-    }
+    let hits = tiles_against_bounding_volumes(&s);
     assert!(hits[0] > 200 && hits[1] > 100, "{hits:?}");
 }
