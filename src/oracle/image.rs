@@ -233,11 +233,13 @@ fn shade<T: Tracer>(
             }
             None => std::slice::from_ref(&to_light),
         };
-        let (mut lit, mut all) = (0usize, 0usize);
-        for d in share(set, q, n) {
+        let mut dirs = [DVec3::ZERO; DIRECTIONS];
+        let mut all = 0;
+        for (slot, d) in dirs.iter_mut().zip(share(set, q, n)) {
+            *slot = *d;
             all += 1;
-            lit += o.reaches(hit, *d, 0.0) as usize;
         }
+        let lit = o.reaches_all(hit, to_light, &dirs[..all], 0.0);
         direct += e * ndl * (lit as f64 / all.max(1) as f64);
     }
     let mut ao = 1.0;

@@ -65,6 +65,12 @@ pub(crate) trait Tracer: Sync {
     /// Whether the ray from the hit along the world direction `l` leaves the displaced surface
     /// unblocked (a blocker must rise more than `bias` shell depths above it).
     fn reaches(&self, hit: &Hit<Self::At>, l: DVec3, bias: f64) -> bool;
+    /// How many of the world directions `dirs` (a light's disk about the unit `axis`) reach
+    /// from the hit, each as `reaches` answers it.
+    fn reaches_all(&self, hit: &Hit<Self::At>, axis: DVec3, dirs: &[DVec3], bias: f64) -> usize {
+        let _ = axis;
+        dirs.iter().filter(|l| self.reaches(hit, **l, bias)).count()
+    }
     /// The reference shading normal at the hit (docs/conventions.md), world space.
     fn normal(&self, hit: &Hit<Self::At>) -> DVec3;
     fn material(&self, object: usize) -> &crate::scene::Material;
@@ -314,6 +320,7 @@ pub(crate) fn oracle_hits<T: Tracer>(scene: &Scene, oracle: &T, light_bias: f64)
         object: vec![-1; n],
     };
     let light_dirs = first_light_directions(scene);
+    let axis = light_dirs.iter().sum::<DVec3>().normalize_or_zero();
     let light_bias = light_bias.max(0.0);
     // per pixel of each row: (uv, distance, cells, visibility, object) where it hits
     let rows = par_rows(h as usize, |i| {
@@ -324,10 +331,7 @@ pub(crate) fn oracle_hits<T: Tracer>(scene: &Scene, oracle: &T, light_bias: f64)
                 let vis = if light_dirs.is_empty() {
                     f64::NAN
                 } else {
-                    let lit = light_dirs
-                        .iter()
-                        .filter(|l| oracle.reaches(&hit, **l, light_bias))
-                        .count();
+                    let lit = oracle.reaches_all(&hit, axis, &light_dirs, light_bias);
                     lit as f64 / light_dirs.len() as f64
                 };
                 Some((hit.uv, hit.dist, hit.cells, vis, hit.object))

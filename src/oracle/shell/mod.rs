@@ -18,6 +18,7 @@
 //! without meeting the surface and meets no object's shell again (every object occludes, as in
 //! the world and in Mitsuba's reference).
 
+mod bundle;
 mod bvh;
 mod grid;
 pub(crate) mod prism;
@@ -64,6 +65,9 @@ struct Object<'a> {
     overhung: Vec<bool>,
     /// welded id per vertex (the same position)
     weld: Vec<u32>,
+    /// per triangle: whether every triangle that shares a corner with it has the same uv there
+    /// (no uv seam meets it), so that texture space goes on smoothly around it
+    seam_free: Vec<bool>,
     bvh: Bvh,
     to_obj: DMat4,
     to_world: DMat4,
@@ -92,12 +96,16 @@ enum Walk {
 
 /// A ray o + lam d in an object's space, walked `lift` above the field (a light or ambient ray
 /// leaving a hit). `exact`: whether its hit is wanted on the path itself (a camera ray), or
-/// only whether it has one (visibility: the chord's hit answers).
+/// only whether it has one (visibility: the chord's hit answers). `part` > 0 makes it the axis
+/// of a bundle of rays from o whose directions differ from d by at most `part` (bundle.rs):
+/// its chords' boxes are widened by as far as the rays part, and a chord that its box does
+/// not clear counts as a hit (the bundle then shows nothing).
 struct Ray {
     o: DVec3,
     d: DVec3,
     lift: f64,
     exact: bool,
+    part: f64,
 }
 
 /// What a chord knows of the path's middle: nothing, the point, or how far it deviates from
@@ -189,6 +197,7 @@ impl<'a> Shell<'a> {
                     d,
                     lift: 0.0,
                     exact: !any,
+                    part: 0.0,
                 };
                 let hit = ob.walk_start(oi, &ray, (t, lam, at), &mut best, &mut cells);
                 if let Some((_, _, l, _)) = best {
@@ -247,6 +256,7 @@ impl Shell<'_> {
                 d: ob.to_obj.transform_vector3(dir),
                 lift: 0.0,
                 exact: true,
+                part: 0.0,
             };
             ob.walk_start(oi as usize, &ray, (t, lam, at), &mut best, &mut cells);
         }
@@ -362,6 +372,7 @@ impl Tracer for Shell<'_> {
             d,
             lift,
             exact: false,
+            part: 0.0,
         };
         match ob.walk(&ray, hit.at.tri, 0.0, hit.at.at) {
             Walk::Hit { .. } => false,
@@ -375,6 +386,28 @@ impl Tracer for Shell<'_> {
                     .is_none()
             }
         }
+    }
+
+    fn reaches_all(&self, hit: &Hit<ShellAt>, axis: DVec3, dirs: &[DVec3], bias: f64) -> usize {
+        let bundle = if dirs.len() > 1 {
+            self.bundle(hit, axis, dirs, bias.max(1e-9))
+        } else {
+            None
+        };
+        let Some(search_own) = bundle else {
+            return dirs.iter().filter(|l| self.reaches(hit, **l, bias)).count();
+        };
+        // every ray left the object's shell unblocked: the other objects' shells remain, and
+        // this one's where anything of it lies above where the rays left (searched from the
+        // start: a ray inside the shell enters no top or wall of it)
+        if self.objects.len() == 1 && !search_own {
+            return dirs.len();
+        }
+        let eye = self.objects[hit.object].to_world.transform_point3(hit.at.x);
+        let skip = (!search_own).then_some(hit.object);
+        dirs.iter()
+            .filter(|l| self.first(eye, **l, 1e-9, true, skip).is_none())
+            .count()
     }
 
     fn normal(&self, hit: &Hit<ShellAt>) -> DVec3 {
@@ -496,6 +529,23 @@ impl<'a> Object<'a> {
                 )
             })
             .collect();
+        // the welded corners where uvs differ
+        let mut first_uv: Vec<Option<DVec2>> = vec![None; mesh.positions.len()];
+        let mut seam = vec![false; mesh.positions.len()];
+        for &v in &mesh.indices {
+            let (w, uv) = (topo.weld[v as usize] as usize, mesh.uv_f64(v));
+            match first_uv[w] {
+                None => first_uv[w] = Some(uv),
+                Some(u) => seam[w] |= (u - uv).length() > 1e-9,
+            }
+        }
+        let seam_free: Vec<bool> = (0..n)
+            .map(|t| {
+                prisms[t]
+                    .as_ref()
+                    .is_some_and(|p| p.v.iter().all(|&v| !seam[topo.weld[v as usize] as usize]))
+            })
+            .collect();
         let lin = DMat3::from_mat4(m);
         Ok(Object {
             mesh,
@@ -505,6 +555,7 @@ impl<'a> Object<'a> {
             across,
             walled,
             overhung,
+            seam_free,
             weld: topo.weld,
             bvh,
             to_obj: m.inverse(),

@@ -140,6 +140,20 @@ impl Prism {
         ))
     }
 
+    /// The Jacobian of (b1, b2, s) by the point at `at`, as rows: the change of each per unit
+    /// displacement δ is row . δ; None where it is singular.
+    pub(crate) fn rows(&self, at: Local) -> Option<[DVec3; 3]> {
+        let c0 = self.p[1] - self.p[0] + (self.n[1] - self.n[0]) * at.s;
+        let c1 = self.p[2] - self.p[0] + (self.n[2] - self.n[0]) * at.s;
+        let n = self.normal(at.b);
+        let c12 = c1.cross(n);
+        let det = c0.dot(c12);
+        if !(det.abs() > 1e-300) {
+            return None;
+        }
+        Some([c12 / det, n.cross(c0) / det, c0.cross(c1) / det])
+    }
+
     /// The ray's crossings of side k (corners k and k+1) leaving the prism (entering it, with
     /// `leaving` false), over the whole ray: up to two, with the point there.
     pub(crate) fn crossings(

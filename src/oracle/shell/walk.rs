@@ -31,6 +31,15 @@ impl<'a> Object<'a> {
         let eps = 1e-12 * self.extent / d.length().max(1e-300);
         for _ in 0..100_000 {
             let p = self.prisms[tri as usize].as_ref().expect("a walked prism");
+            if ray.part > 0.0 && !self.seam_free[tri as usize] {
+                // a bundle's rays may part across a uv seam: it shows nothing there
+                return Walk::Hit {
+                    tri,
+                    lam,
+                    at,
+                    cells,
+                };
+            }
             let top = p.top_exit(o, d).filter(|(l, _)| *l >= lam - eps);
             // where the path reaches the top inside the triangle: its middle, and the sides it
             // cannot cross on the way
@@ -241,8 +250,16 @@ impl<'a> Object<'a> {
         level: u32,
         cells: &mut u32,
     ) -> Option<Option<(f64, Local)>> {
-        // the path's bounds: the chord's, widened by twice its deviation at the middle
-        let (ec, eh) = (2.0 * dev_c + 1e-6, 2.0 * dev_h + 1e-9);
+        // the path's bounds: the chord's, widened by twice its deviation at the middle (and for
+        // a bundle, by how far its rays part by the chord's end)
+        let (mut ec, mut eh) = (2.0 * dev_c + 1e-6, 2.0 * dev_h + 1e-9);
+        if ray.part > 0.0 {
+            let Some((gc, gh)) = self.spread(p, [a.at, b.at]) else {
+                return Some(Some((a.lam, a.at)));
+            };
+            let far = bundle::SLACK * ray.part * a.lam.max(b.lam);
+            (ec, eh) = (bundle::SLACK * ec + gc * far, bundle::SLACK * eh + gh * far);
+        }
         let (mut low, mut clo, mut chi) = (a.h.min(b.h), a.c.min(b.c), a.c.max(b.c));
         if let Some(m) = m {
             (low, clo, chi) = (low.min(m.h), clo.min(m.c), chi.max(m.c));
@@ -266,6 +283,9 @@ impl<'a> Object<'a> {
         let tol_h = (TOL_TEXELS * (b.h - a.h).abs() / run.max(1e-300)).clamp(1e-9, 1e-3);
         if !((dev_c <= TOL_TEXELS && dev_h <= tol_h) || level >= 48) {
             return None;
+        }
+        if ray.part > 0.0 {
+            return Some(Some((a.lam, a.at)));
         }
         let (u, v) = (a, b);
         let (hit, n) = walk_cells(&self.field, u.s, u.h, v.s - u.s, v.h - u.h, 1.0);

@@ -1,0 +1,189 @@
+//! A light's disk from one hit, as one bundle. The rays of a directional or sphere light's disk
+//! leave a hit within a narrow cone. Near the hit each is walked along its own tangent; beyond,
+//! one walk of the cone's axis, its chords' boxes widened by as far as the rays part, shows
+//! that none of them meets the surface before it leaves the shell.
+
+use super::*;
+
+/// The allowance on what the axis shows of every ray's path: on the deviations from chords
+/// (a path's higher terms, the rays' paths beside the axis's) and on how far the rays part
+/// (the Jacobian between the points where it is taken, and across a side, the neighbour's
+/// coordinates beside the prism's).
+pub(super) const SLACK: f64 = 1.25;
+
+impl Object<'_> {
+    /// The Jacobian of (texture point, height) by the object-space point in prism `p` at
+    /// `at`: its rows for s.x, s.y and h.
+    fn jacobian(&self, p: &Prism, at: Local) -> Option<[DVec3; 3]> {
+        let [r1, r2, rs] = p.rows(at)?;
+        let (du1, du2) = (
+            (p.uv[1] - p.uv[0]) * self.tiling,
+            (p.uv[2] - p.uv[0]) * self.tiling,
+        );
+        let n = p.normal(at.b);
+        let nl = n.length();
+        let rh = (rs * nl
+            + (r1 * n.dot(p.n[1] - p.n[0]) + r2 * n.dot(p.n[2] - p.n[0])) * (at.s / nl))
+            / self.depth;
+        Some([r1 * du1.x + r2 * du2.x, r1 * du1.y + r2 * du2.y, rh])
+    }
+
+    /// How far (in cells, on either axis, and in height) two points of prism `p` part per unit
+    /// of object-space distance between them, near the points `ats`: the Jacobian's largest
+    /// rows there.
+    pub(super) fn spread(&self, p: &Prism, ats: [Local; 2]) -> Option<(f64, f64)> {
+        let hm = &self.mat.height;
+        let (w, h) = (hm.width as f64, hm.height as f64);
+        let (mut gc, mut gh) = (0.0f64, 0.0f64);
+        for at in ats {
+            let [sx, sy, rh] = self.jacobian(p, at)?;
+            gc = gc.max(sx.length() * w).max(sy.length() * h);
+            gh = gh.max(rh.length());
+        }
+        Some((gc, gh))
+    }
+}
+
+impl Shell<'_> {
+    /// Whether every ray from the hit along the world directions `dirs` (a disk about the unit
+    /// `axis`, at most 64), walked `lift` above the field, leaves the hit's object's shell
+    /// without meeting the surface, shown for all of them at once: Some(whether the object
+    /// must still be searched where the rays left, as `reaches` searches it), or None where
+    /// the bundle shows nothing.
+    ///
+    /// - The rays share the start. Over the first fraction f of the axis's way through the hit's
+    ///   prism, each follows its own tangent (the Jacobian at the start, applied to its
+    ///   direction) within 4 f² of the axis's deviation from that chord, as on a quadratic path:
+    ///   f keeps this within `TOL_TEXELS` (in height, what that makes along the chord), and each
+    ///   tangent is walked cell by cell.
+    /// - From there the axis is walked as one ray whose chords' boxes are widened by twice
+    ///   their deviation and by how far the rays part by the chord's end (their directions'
+    ///   largest difference times lam, through the Jacobian's largest rows at the chord's ends).
+    ///   It must leave through a top with every box clear, and meet no triangle that a uv seam
+    ///   meets (rays beside the axis could cross the seam where it does not).
+    /// - A ray whose tangent meets the field near the start, or a tangent that leaves the
+    ///   triangle before l0, shows nothing (each ray is then walked on its own): a tangent
+    ///   lies on the other side of the path from a walk's chords, and a grazing ray could be
+    ///   answered otherwise.
+    pub(super) fn bundle(
+        &self,
+        hit: &Hit<ShellAt>,
+        axis: DVec3,
+        dirs: &[DVec3],
+        lift: f64,
+    ) -> Option<bool> {
+        let ob = &self.objects[hit.object];
+        let (tri, at, o) = (hit.at.tri, hit.at.at, hit.at.x);
+        if !(ob.depth > 0.0) || dirs.len() > 64 || !ob.seam_free[tri as usize] {
+            return None;
+        }
+        let p = ob.prisms[tri as usize].as_ref().expect("a hit's prism");
+        let da = ob.to_obj.transform_vector3(axis);
+        let mut ds = [DVec3::ZERO; 64];
+        let mut part = 0.0f64;
+        for (d, l) in ds.iter_mut().zip(dirs) {
+            *d = ob.to_obj.transform_vector3(*l);
+            part = part.max((*d - da).length());
+        }
+        let ds = &ds[..dirs.len()];
+        // where the axis leaves the prism: through the top inside the triangle, or else the
+        // first side below the top
+        let eps = 1e-12 * ob.extent / da.length().max(1e-300);
+        let mut end = p
+            .top_exit(o, da)
+            .filter(|(l, b)| *l >= -eps && Prism::inside(b.b, 0.0))
+            .map(|(l, b)| (l, b, None));
+        if end.is_none() {
+            for k in 0..3 {
+                p.crossings(o, da, k, true, &mut |c: Crossing| {
+                    if c.lam >= -eps
+                        && p.offset(c.at) <= 1e-9 * ob.depth
+                        && end.is_none_or(|(l, _, _)| c.lam < l)
+                    {
+                        end = Some((c.lam, c.at, Some(k)));
+                    }
+                });
+            }
+        }
+        let (le, guess_e, side) = end?;
+        if !(le > 0.0) {
+            return None;
+        }
+        let a = ob.sample(p, 0.0, at, lift);
+        let e_at = p.locate(o + da * le, guess_e)?;
+        let e = ob.sample(p, le, e_at, lift);
+        let mid = Local {
+            b: 0.5 * (at.b + e_at.b),
+            s: 0.5 * (at.s + e_at.s),
+        };
+        let m_at = p.locate(o + da * (0.5 * le), mid)?;
+        let m = ob.sample(p, 0.5 * le, m_at, lift);
+        let dev_c = SLACK * (m.c - 0.5 * (a.c + e.c)).length();
+        let dev_h = SLACK * (m.h - 0.5 * (a.h + e.h)).abs();
+        let run = (e.c - a.c).length();
+        let tol_h = (TOL_TEXELS * (e.h - a.h).abs() / run.max(1e-300)).clamp(1e-9, 1e-3);
+        let r = (dev_c / TOL_TEXELS).max(dev_h / tol_h);
+        let f = if r > 0.0 {
+            (0.4 / r.sqrt()).min(1.0)
+        } else {
+            1.0
+        };
+        let l0 = f * le;
+        // each ray's tangent, from the start to l0: inside the triangle by more than the
+        // path's deviation from it (where it runs to the axis's exit through a side, it may
+        // reach past that side where the neighbour's uvs go on from it), and clear of the
+        // field cell by cell
+        let [sx, sy, sh] = ob.jacobian(p, at)?;
+        let [rb1, rb2, _] = p.rows(at)?;
+        let margin = 3.0 * SLACK * 4.0 * f * f * (m_at.b - mid.b).length() + 1e-12;
+        let past = side.filter(|_| f >= 1.0);
+        for d in ds {
+            let w = Prism::weights(at.b + DVec2::new(rb1.dot(*d), rb2.dot(*d)) * l0);
+            // corner c's weight vanishes on side c + 1
+            if (0..3).any(|c| w[c] <= margin && past != Some((c + 1) % 3)) {
+                return None;
+            }
+            let step = DVec2::new(sx.dot(*d), sy.dot(*d)) * l0;
+            if walk_cells(&ob.field, a.s, a.h, step, sh.dot(*d) * l0, 1.0)
+                .0
+                .is_some()
+            {
+                return None;
+            }
+        }
+        // beyond: the axis from its point at l0, as the bundle's
+        let q =
+            |x: f64, y: f64, z: f64| x + f * (z - x) + 4.0 * f * (1.0 - f) * (y - 0.5 * (x + z));
+        let guess = Local {
+            b: DVec2::new(q(at.b.x, m_at.b.x, e_at.b.x), q(at.b.y, m_at.b.y, e_at.b.y)),
+            s: q(at.s, m_at.s, e_at.s),
+        };
+        let c_at = if f >= 1.0 {
+            e_at
+        } else {
+            p.locate(o + da * l0, guess)?
+        };
+        let ray = Ray {
+            o,
+            d: da,
+            lift,
+            exact: false,
+            part,
+        };
+        match ob.walk(&ray, tri, l0, c_at) {
+            Walk::Left { top: Some(t), .. } => {
+                // where anything of the object lies above the triangles it left by or began in,
+                // or their neighbours, it is searched
+                let near = |t: u32| {
+                    ob.overhung[t as usize]
+                        || ob.across[t as usize]
+                            .iter()
+                            .flatten()
+                            .any(|&u| ob.overhung[u as usize])
+                };
+                Some(near(t) || near(tri))
+            }
+            _ => None,
+        }
+    }
+}
