@@ -44,11 +44,101 @@ impl Object<'_> {
     }
 }
 
+impl Object<'_> {
+    /// Whether every ray from the hit (triangle `tri`, point `at`, object-space `o`) whose
+    /// direction differs from `da` by at most `part` meets the surface: the axis's walk meets
+    /// it, and a quarter to two texels past that its point lies below the field's lowest
+    /// within how far the rays part there, by more than they part in height. A
+    /// ray that began on the surface and is under it has met it; the object must be closed
+    /// (no wall), and the point's triangle free of uv seams.
+    fn all_blocked(&self, tri: u32, at: Local, o: DVec3, da: DVec3, part: f64, lift: f64) -> bool {
+        if self.walled.iter().any(|&w| w) {
+            return false;
+        }
+        let ray = Ray {
+            o,
+            d: da,
+            lift,
+            exact: false,
+            part: 0.0,
+        };
+        let Walk::Hit {
+            tri: t,
+            lam,
+            at: ah,
+            ..
+        } = self.walk(&ray, tri, 0.0, at)
+        else {
+            return false;
+        };
+        if !self.seam_free[t as usize] {
+            return false;
+        }
+        let q = self.prisms[t as usize].as_ref().expect("a walked prism");
+        let hm = &self.mat.height;
+        // steps of a quarter to two texels along the axis past the hit
+        let Some((gc, _)) = self.spread(q, [ah, ah]) else {
+            return false;
+        };
+        let texel = 1.0 / (gc * da.length()).max(1e-300);
+        for k in [0.25, 0.5, 1.0, 2.0] {
+            let l = lam + k * texel;
+            let Some(x) = q.locate(o + da * l, ah) else {
+                return false;
+            };
+            if !Prism::inside(x.b, 0.0) {
+                return false;
+            }
+            let smp = self.sample(q, l, x, lift);
+            let Some((gc, gh)) = self.spread(q, [ah, x]) else {
+                return false;
+            };
+            let far = SLACK * part * l;
+            let (ec, eh) = (gc * far + 1e-6, gh * far + 1e-9);
+            // the field's lowest within ec of the point: its value there less its steepest
+            // texel step on each axis (the bilinear field's slope bound) times ec, over the
+            // cells the box meets (cell (i, j) spans texel centres i..i+1)
+            let (lo, hi) = (smp.c - (ec + 0.5), smp.c + (ec - 0.5));
+            let (x0, x1) = (lo.x.floor() as i64, hi.x.floor() as i64 + 1);
+            let (y0, y1) = (lo.y.floor() as i64, hi.y.floor() as i64 + 1);
+            if x1 - x0 > 8 || y1 - y0 > 8 {
+                return false;
+            }
+            let (mut sx, mut sy) = (0.0f64, 0.0f64);
+            for j in y0..=y1 {
+                for i in x0..=x1 {
+                    let t = hm.texel(i, j);
+                    if i < x1 {
+                        sx = sx.max((hm.texel(i + 1, j) - t).abs());
+                    }
+                    if j < y1 {
+                        sy = sy.max((hm.texel(i, j + 1) - t).abs());
+                    }
+                }
+            }
+            let low = hm.sample(smp.s.x, smp.s.y) - (sx + sy) * ec;
+            if smp.h + eh < low {
+                return true;
+            }
+        }
+        false
+    }
+}
+
+/// What a bundle shows of its rays.
+pub(super) enum Bundle {
+    /// every one meets the surface
+    Blocked,
+    /// every one leaves the object's shell unblocked through a top; true where the object
+    /// must still be searched there (anything of it lies above the triangles the bundle left
+    /// by or began in, or their neighbours)
+    Left(bool),
+}
+
 impl Shell<'_> {
     /// Whether every ray from the hit along the world directions `dirs` (a disk about the unit
     /// `axis`, at most 64), walked `lift` above the field, leaves the hit's object's shell
-    /// without meeting the surface, shown for all of them at once: Some(whether the object
-    /// must still be searched where the rays left, as `reaches` searches it), or None where
+    /// without meeting the surface, or meets it, shown for all of them at once; None where
     /// the bundle shows nothing.
     ///
     /// - The rays share the start. Over the first fraction f of the axis's way through the hit's
@@ -61,23 +151,23 @@ impl Shell<'_> {
     ///   largest difference times lam, through the Jacobian's largest rows at the chord's ends).
     ///   It must leave through a top with every box clear, and meet no triangle that a uv seam
     ///   meets (rays beside the axis could cross the seam where it does not).
-    /// - A ray whose tangent meets the field near the start, or a tangent that leaves the
-    ///   triangle before l0, shows nothing (each ray is then walked on its own): a tangent
-    ///   lies on the other side of the path from a walk's chords, and a grazing ray could be
-    ///   answered otherwise.
+    /// - Where a tangent meets the field or leaves the triangle before l0, or the axis's walk
+    ///   does not clear, the bundle shows that every ray is blocked where
+    ///   `Object::all_blocked` does, and else nothing: each ray is then walked on its own (a
+    ///   tangent lies on the other side of the path from a walk's chords, so that a grazing
+    ///   ray could be answered otherwise).
     pub(super) fn bundle(
         &self,
         hit: &Hit<ShellAt>,
         axis: DVec3,
         dirs: &[DVec3],
         lift: f64,
-    ) -> Option<bool> {
+    ) -> Option<Bundle> {
         let ob = &self.objects[hit.object];
         let (tri, at, o) = (hit.at.tri, hit.at.at, hit.at.x);
-        if !(ob.depth > 0.0) || dirs.len() > 64 || !ob.seam_free[tri as usize] {
+        if !(ob.depth > 0.0) || dirs.len() > 64 {
             return None;
         }
-        let p = ob.prisms[tri as usize].as_ref().expect("a hit's prism");
         let da = ob.to_obj.transform_vector3(axis);
         let mut ds = [DVec3::ZERO; 64];
         let mut part = 0.0f64;
@@ -86,6 +176,29 @@ impl Shell<'_> {
             part = part.max((*d - da).length());
         }
         let ds = &ds[..dirs.len()];
+        self.bundle_left(hit, da, ds, part, lift)
+            .map(Bundle::Left)
+            .or_else(|| {
+                ob.all_blocked(tri, at, o, da, part, lift)
+                    .then_some(Bundle::Blocked)
+            })
+    }
+
+    /// `bundle`'s answer where every ray leaves: whether the object must still be searched.
+    fn bundle_left(
+        &self,
+        hit: &Hit<ShellAt>,
+        da: DVec3,
+        ds: &[DVec3],
+        part: f64,
+        lift: f64,
+    ) -> Option<bool> {
+        let ob = &self.objects[hit.object];
+        let (tri, at, o) = (hit.at.tri, hit.at.at, hit.at.x);
+        if !ob.seam_free[tri as usize] {
+            return None;
+        }
+        let p = ob.prisms[tri as usize].as_ref().expect("a hit's prism");
         // where the axis leaves the prism: through the top inside the triangle, or else the
         // first side below the top
         let eps = 1e-12 * ob.extent / da.length().max(1e-300);
@@ -129,12 +242,12 @@ impl Shell<'_> {
             1.0
         };
         let l0 = f * le;
+        let [sx, sy, sh] = ob.jacobian(p, at)?;
+        let [rb1, rb2, _] = p.rows(at)?;
         // each ray's tangent, from the start to l0: inside the triangle by more than the
         // path's deviation from it (where it runs to the axis's exit through a side, it may
         // reach past that side where the neighbour's uvs go on from it), and clear of the
         // field cell by cell
-        let [sx, sy, sh] = ob.jacobian(p, at)?;
-        let [rb1, rb2, _] = p.rows(at)?;
         let margin = 3.0 * SLACK * 4.0 * f * f * (m_at.b - mid.b).length() + 1e-12;
         let past = side.filter(|_| f >= 1.0);
         for d in ds {

@@ -394,8 +394,10 @@ impl Tracer for Shell<'_> {
         } else {
             None
         };
-        let Some(search_own) = bundle else {
-            return dirs.iter().filter(|l| self.reaches(hit, **l, bias)).count();
+        let search_own = match bundle {
+            None => return dirs.iter().filter(|l| self.reaches(hit, **l, bias)).count(),
+            Some(bundle::Bundle::Blocked) => return 0,
+            Some(bundle::Bundle::Left(search)) => search,
         };
         // every ray left the object's shell unblocked: the other objects' shells remain, and
         // this one's where anything of it lies above where the rays left (searched from the

@@ -377,6 +377,7 @@ fn a_bundle_answers_as_its_rays() {
         let shell = Shell::new(s).unwrap();
         let basis = s.camera.basis();
         let (mut bundles, mut tried, mut lit) = (0, 0, 0);
+        let (mut shadows, mut dark) = (0, 0);
         for axis in [
             DVec3::new(0.3, 1.0, 0.2),
             DVec3::new(-0.9, 0.35, 0.1),
@@ -398,9 +399,14 @@ fn a_bundle_answers_as_its_rays() {
                             "pixel ({i}, {j}), axis {axis}"
                         );
                         tried += 1;
+                        let b = shell.bundle(&hit, axis, set, 1e-9);
                         if one == set.len() {
                             lit += 1;
-                            bundles += usize::from(shell.bundle(&hit, axis, set, 1e-9).is_some());
+                            bundles += usize::from(matches!(b, Some(bundle::Bundle::Left(_))));
+                        }
+                        if one == 0 {
+                            dark += 1;
+                            shadows += usize::from(matches!(b, Some(bundle::Bundle::Blocked)));
                         }
                     }
                 }
@@ -409,5 +415,6 @@ fn a_bundle_answers_as_its_rays() {
         // the bundle answers for more than a third of the disks that every ray clears (on
         // bricks, two thirds: docs/methods.md)
         assert!(tried > 3000 && bundles * 3 > lit, "{tried} {lit} {bundles}");
+        eprintln!("{tried} {lit} {bundles} {dark} {shadows}");
     }
 }

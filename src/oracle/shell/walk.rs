@@ -57,12 +57,20 @@ impl<'a> Object<'a> {
                     }
                 });
             }
-            // where the prism ends along the ray (far below the floor where nothing bounds it:
-            // the surface is met first)
+            // where the prism ends along the ray: its top, a side, or where the path is below
+            // the floor (the surface is met by then). A path the depth below the triangle's
+            // plane is there (h <= 0 where the normal leans from the plane's); where nothing
+            // bounds it, far below
             let at_top = top.is_some_and(|(lt, _)| side.is_none_or(|s| lt <= s.lam));
-            let (end, via): (Sample, Option<Crossing>) = match (top, side) {
-                (Some((lt, bt)), _) if at_top => (self.sample(p, lt, bt, lift), None),
-                (_, Some(s)) => (self.sample(p, s.lam, s.at, lift), Some(s)),
+            let dn = d.dot(p.ng);
+            let floor = (!at_top && dn < 0.0)
+                .then(|| ((self.depth - (p.p[0] - o).dot(p.ng)) / -dn).max(lam))
+                .filter(|&f| side.is_none_or(|s| f < s.lam))
+                .and_then(|f| Some((f, p.locate(o + d * f, at)?)));
+            let (end, via): (Sample, Option<Crossing>) = match (top, side, floor) {
+                (Some((lt, bt)), _, _) if at_top => (self.sample(p, lt, bt, lift), None),
+                (_, _, Some((f, a))) => (self.sample(p, f, a, lift), None),
+                (_, Some(s), _) => (self.sample(p, s.lam, s.at, lift), Some(s)),
                 _ => {
                     let far = lam + 4.0 * (self.extent + self.depth) / d.length().max(1e-300);
                     match p.locate(o + d * far, at) {
