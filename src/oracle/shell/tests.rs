@@ -412,9 +412,9 @@ fn a_bundle_answers_as_its_rays() {
                 }
             }
         }
-        // the bundle answers for more than a third of the disks that every ray clears (on
-        // bricks, two thirds: docs/methods.md)
+        // the bundle answers for more than a third of the disks that every ray clears, and of
+        // those that none clears (here 45% and 35% of the lit, 84% and 58% of the dark)
         assert!(tried > 3000 && bundles * 3 > lit, "{tried} {lit} {bundles}");
-        eprintln!("{tried} {lit} {bundles} {dark} {shadows}");
+        assert!(dark > 1000 && shadows * 3 > dark, "{dark} {shadows}");
     }
 }
