@@ -126,18 +126,8 @@ impl Prism {
     /// How the prism's point moves along the ray direction `d` at `at`: (db, ds) per unit of
     /// the ray parameter (the Jacobian of `point` solved for d); None where it is singular.
     pub(crate) fn velocity(&self, at: Local, d: DVec3) -> Option<(DVec2, f64)> {
-        let c0 = self.p[1] - self.p[0] + (self.n[1] - self.n[0]) * at.s;
-        let c1 = self.p[2] - self.p[0] + (self.n[2] - self.n[0]) * at.s;
-        let n = self.normal(at.b);
-        let c12 = c1.cross(n);
-        let det = c0.dot(c12);
-        if !(det.abs() > 1e-300) {
-            return None;
-        }
-        Some((
-            DVec2::new(d.dot(c12), c0.dot(d.cross(n))) / det,
-            c0.dot(c1.cross(d)) / det,
-        ))
+        let [r1, r2, rs] = self.rows(at)?;
+        Some((DVec2::new(r1.dot(d), r2.dot(d)), rs.dot(d)))
     }
 
     /// The Jacobian of (b1, b2, s) by the point at `at`, as rows: the change of each per unit
