@@ -309,6 +309,19 @@ fn camera_tiles_clip_what_reaches_behind_the_eye() {
     assert!(hits[0] > 1000, "{hits:?}");
 }
 
+/// A second object with the first's material: `mesh` stretched 1.4 times along y, turned 0.5
+/// about z and moved to (0.9, y, 0), through the first one's side.
+fn through(s: &mut Scene, mesh: Mesh, y: f64) {
+    let mut other = s.objects[0].clone();
+    other.mesh = shared(mesh).unwrap();
+    other.transform.m = DMat4::from_scale_rotation_translation(
+        DVec3::new(1.0, 1.4, 1.0),
+        glam::DQuat::from_rotation_z(0.5),
+        DVec3::new(0.9, y, 0.0),
+    );
+    s.objects.push(other);
+}
+
 /// Camera rays find their starts through the camera's tiles: the same hits as through the
 /// bounding volumes, on two transformed objects (a torus through a sphere) seen from close by,
 /// where some triangles reach behind the eye.
@@ -321,14 +334,7 @@ fn camera_tiles_find_what_the_bounding_volumes_find() {
         [0.2, 0.9, 1.3],
         40,
     );
-    let mut other = s.objects[0].clone();
-    other.mesh = shared(Mesh::sphere(0.6, 12, 8).unwrap()).unwrap();
-    other.transform.m = DMat4::from_scale_rotation_translation(
-        DVec3::new(1.0, 1.4, 1.0),
-        glam::DQuat::from_rotation_z(0.5),
-        DVec3::new(0.9, 0.1, 0.0),
-    );
-    s.objects.push(other);
+    through(&mut s, Mesh::sphere(0.6, 12, 8).unwrap(), 0.1);
     let hits = tiles_against_bounding_volumes(&s);
     assert!(hits[0] > 200 && hits[1] > 100, "{hits:?}");
 }
@@ -365,14 +371,7 @@ fn a_bundle_answers_as_its_rays() {
         [0.2, 1.6, 2.4],
         48,
     );
-    let mut other = pair.objects[0].clone();
-    other.mesh = shared(Mesh::sphere(0.5, 16, 8).unwrap()).unwrap();
-    other.transform.m = DMat4::from_scale_rotation_translation(
-        DVec3::new(1.0, 1.4, 1.0),
-        glam::DQuat::from_rotation_z(0.5),
-        DVec3::new(0.9, 0.3, 0.0),
-    );
-    pair.objects.push(other);
+    through(&mut pair, Mesh::sphere(0.5, 16, 8).unwrap(), 0.3);
     for s in [&sphere, &pair] {
         let shell = Shell::new(s).unwrap();
         let basis = s.camera.basis();
