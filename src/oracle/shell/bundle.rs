@@ -14,7 +14,7 @@ pub(super) const SLACK: f64 = 1.25;
 impl Object<'_> {
     /// The Jacobian of (texture point, height) by the object-space point in prism `p` at
     /// `at`: its rows for s.x, s.y and h.
-    fn jacobian(&self, p: &Prism, at: Local) -> Option<[DVec3; 3]> {
+    pub(super) fn jacobian(&self, p: &Prism, at: Local) -> Option<[DVec3; 3]> {
         let [r1, r2, rs] = p.rows(at)?;
         let (du1, du2) = (
             (p.uv[1] - p.uv[0]) * self.tiling,
@@ -52,7 +52,7 @@ impl Object<'_> {
     /// ray that began on the surface and is under it has met it; the object must be closed
     /// (no wall), and the point's triangle free of uv seams.
     fn all_blocked(&self, tri: u32, at: Local, o: DVec3, da: DVec3, part: f64, lift: f64) -> bool {
-        if self.walled.iter().any(|&w| w) {
+        if !self.closed {
             return false;
         }
         let ray = Ray {

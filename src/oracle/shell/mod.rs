@@ -57,6 +57,8 @@ struct Object<'a> {
     across: Vec<[Option<u32>; 3]>,
     /// the triangles with a wall
     walled: Vec<bool>,
+    /// whether no triangle has one (the shell closes round a solid)
+    closed: bool,
     /// per triangle: whether any part of the object's shell where a ray can enter it (a top,
     /// a wall) lies above the triangle's plane, by more than 1e-6 of the object's size (the
     /// rounding of float32 positions: a quad's two triangles are one plane). Where none does,
@@ -555,6 +557,7 @@ impl<'a> Object<'a> {
             field: Field::new(&mat.height),
             prisms,
             across,
+            closed: !walled.iter().any(|&w| w),
             walled,
             overhung,
             seam_free,

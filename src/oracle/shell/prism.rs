@@ -123,13 +123,6 @@ impl Prism {
         None
     }
 
-    /// How the prism's point moves along the ray direction `d` at `at`: (db, ds) per unit of
-    /// the ray parameter (the Jacobian of `point` solved for d); None where it is singular.
-    pub(crate) fn velocity(&self, at: Local, d: DVec3) -> Option<(DVec2, f64)> {
-        let [r1, r2, rs] = self.rows(at)?;
-        Some((DVec2::new(r1.dot(d), r2.dot(d)), rs.dot(d)))
-    }
-
     /// The Jacobian of (b1, b2, s) by the point at `at`, as rows: the change of each per unit
     /// displacement δ is row . δ; None where it is singular.
     pub(crate) fn rows(&self, at: Local) -> Option<[DVec3; 3]> {

@@ -348,13 +348,8 @@ impl<'a> Object<'a> {
         let slope = |l: f64, a: Local| -> Option<(f64, f64)> {
             let x = self.sample(p, l, a, lift);
             let (hv, hs, ht) = hm.sample_grad(x.s.x, x.s.y);
-            let (db, dsv) = p.velocity(a, d)?;
-            let duv = ((p.uv[1] - p.uv[0]) * db.x + (p.uv[2] - p.uv[0]) * db.y) * self.tiling;
-            let n = p.normal(a.b);
-            let nl = n.length();
-            let dn = (p.n[1] - p.n[0]) * db.x + (p.n[2] - p.n[0]) * db.y;
-            let dh = (dsv * nl + a.s * n.dot(dn) / nl) / self.depth;
-            Some((hv - x.h, hs * duv.x + ht * duv.y - dh))
+            let [sx, sy, sh] = self.jacobian(p, a)?;
+            Some((hv - x.h, hs * sx.dot(d) + ht * sy.dot(d) - sh.dot(d)))
         };
         let mut cur = (lam, at);
         for _ in 0..4 {
