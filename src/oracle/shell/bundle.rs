@@ -210,7 +210,7 @@ impl Shell<'_> {
             for k in 0..3 {
                 p.crossings(o, da, k, true, &mut |c: Crossing| {
                     if c.lam >= -eps
-                        && p.offset(c.at) <= 1e-9 * ob.depth
+                        && p.offset_at_most(c.at, 1e-9 * ob.depth)
                         && end.is_none_or(|(l, _, _)| c.lam < l)
                     {
                         end = Some((c.lam, c.at, Some(k)));

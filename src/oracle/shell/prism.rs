@@ -77,11 +77,14 @@ impl Prism {
         self.n[0] + (self.n[1] - self.n[0]) * b.x + (self.n[2] - self.n[0]) * b.y
     }
 
+    #[cfg(test)]
     pub(crate) fn point(&self, at: Local) -> DVec3 {
-        self.p[0]
-            + (self.p[1] - self.p[0]) * at.b.x
-            + (self.p[2] - self.p[0]) * at.b.y
-            + self.normal(at.b) * at.s
+        self.point_along(at, self.normal(at.b))
+    }
+
+    /// The point at `at`, given n(b) there.
+    fn point_along(&self, at: Local, n: DVec3) -> DVec3 {
+        self.p[0] + (self.p[1] - self.p[0]) * at.b.x + (self.p[2] - self.p[0]) * at.b.y + n * at.s
     }
 
     pub(crate) fn uv(&self, b: DVec2) -> DVec2 {
@@ -93,6 +96,11 @@ impl Prism {
         at.s * self.normal(at.b).length()
     }
 
+    /// Whether the offset at `at` is at most `eps` >= 0 (at or below the top, within `eps`).
+    pub(crate) fn offset_at_most(&self, at: Local, eps: f64) -> bool {
+        at.s <= 0.0 || self.offset(at) <= eps
+    }
+
     /// The prism's point at `x` by Newton's method from `guess`: None where it does not
     /// converge (a point far outside the shell, where the normals cross).
     pub(crate) fn locate(&self, x: DVec3, guess: Local) -> Option<Local> {
@@ -102,12 +110,13 @@ impl Prism {
         let tol2 = tol * tol;
         let mut at = guess;
         for _ in 0..40 {
-            let f = self.point(at) - x;
+            let n = self.normal(at.b);
+            let f = self.point_along(at, n) - x;
             if f.length_squared() <= tol2 {
                 return Some(at);
             }
             // the Newton step: the Jacobian's columns c0, c1, c2 solved by Cramer's rule
-            let (c0, c1, n) = (e1 + d1 * at.s, e2 + d2 * at.s, self.normal(at.b));
+            let (c0, c1) = (e1 + d1 * at.s, e2 + d2 * at.s);
             let c12 = c1.cross(n);
             let det = c0.dot(c12);
             if !(det.abs() > 1e-300) {

@@ -417,3 +417,58 @@ fn a_bundle_answers_as_its_rays() {
         assert!(dark > 1000 && shadows * 3 > dark, "{dark} {shadows}");
     }
 }
+
+/// A light or ambient ray that reaches its prism's floor is answered blocked there; walked on
+/// to its first hit as a camera ray is, it meets the surface too. Rays from every hit of a
+/// sphere and a torus, heading below, along and above the triangle's plane; the maps are
+/// texel noise and noise with zero texels (where the floor itself is the surface).
+#[test]
+fn a_ray_at_the_floor_has_met_the_surface() {
+    let zeros = {
+        let n = noise(24, 24, 11);
+        let data = n
+            .data
+            .iter()
+            .map(|&h| if h < 0.4 { 0.0 } else { h })
+            .collect();
+        HeightMap::new(24, 24, data).unwrap()
+    };
+    let (mut down, mut agreed) = (0, 0);
+    for (mesh, hm) in [
+        (Mesh::sphere(1.0, 16, 8).unwrap(), noise(32, 32, 5)),
+        (Mesh::torus(1.0, 0.4, 16, 8).unwrap(), zeros),
+    ] {
+        let s = scene(mesh, hm, 0.1, [0.4, 1.8, 2.6], 32);
+        let shell = Shell::new(&s).unwrap();
+        let ob = &shell.objects[0];
+        let cam = &s.camera;
+        let basis = cam.basis();
+        for i in 0..cam.height {
+            for j in 0..cam.width {
+                let Some(hit) = shell.trace(basis.eye, cam.ray_dir(&basis, i, j)) else {
+                    continue;
+                };
+                let p = ob.prisms[hit.at.tri as usize].as_ref().unwrap();
+                let (t, b) = crate::oracle::perpendiculars(p.ng, p.ng.x.abs() >= 0.9);
+                for (k, z) in [-0.6, -0.2, -0.02, 0.0, 0.05, 0.4].into_iter().enumerate() {
+                    let a = 0.7 * k as f64 + 0.1 * (i + j) as f64;
+                    let d = (t * a.cos() + b * a.sin() + p.ng * z).normalize();
+                    let walk = |exact: bool| {
+                        let ray = Ray {
+                            o: hit.at.x,
+                            d,
+                            lift: 1e-9,
+                            exact,
+                            part: 0.0,
+                        };
+                        matches!(ob.walk(&ray, hit.at.tri, 0.0, hit.at.at), Walk::Hit { .. })
+                    };
+                    assert_eq!(walk(false), walk(true), "pixel ({i}, {j}), dir {d}");
+                    down += usize::from(z < 0.0);
+                    agreed += 1;
+                }
+            }
+        }
+    }
+    assert!(down > 1000 && agreed > 2000, "{down} {agreed}");
+}

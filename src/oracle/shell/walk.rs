@@ -50,7 +50,7 @@ impl<'a> Object<'a> {
             for k in (0..3).filter(|&k| !safe[k]) {
                 p.crossings(o, d, k, true, &mut |c: Crossing| {
                     if c.lam >= lam - eps
-                        && p.offset(c.at) <= 1e-9 * self.depth
+                        && p.offset_at_most(c.at, 1e-9 * self.depth)
                         && side.is_none_or(|s| c.lam < s.lam)
                     {
                         side = Some(c);
@@ -58,15 +58,25 @@ impl<'a> Object<'a> {
                 });
             }
             // where the prism ends along the ray: its top, a side, or where the path is below
-            // the floor (the surface is met by then). A path the depth below the triangle's
-            // plane is there (h <= 0 where the normal leans from the plane's); where nothing
-            // bounds it, far below
+            // the floor (the surface is met by then). A path (1 + lift) depths below the
+            // triangle's plane is there (h <= 0 where the normal leans from the plane's); where
+            // nothing bounds it, far below
             let at_top = top.is_some_and(|(lt, _)| side.is_none_or(|s| lt <= s.lam));
             let dn = d.dot(p.ng);
             let floor = (!at_top && dn < 0.0)
-                .then(|| ((self.depth - (p.p[0] - o).dot(p.ng)) / -dn).max(lam))
+                .then(|| ((self.depth * (1.0 + lift) - (p.p[0] - o).dot(p.ng)) / -dn).max(lam))
                 .filter(|&f| side.is_none_or(|s| f < s.lam))
                 .and_then(|f| Some((f, p.locate(o + d * f, at)?)));
+            if let Some((f, a)) = floor.filter(|_| !ray.exact && ray.part == 0.0) {
+                // a visibility ray: it began at or above the field and is below it at the
+                // floor, so it meets the surface on the way (where first does not matter)
+                return Walk::Hit {
+                    tri,
+                    lam: f,
+                    at: a,
+                    cells,
+                };
+            }
             let (end, via): (Sample, Option<Crossing>) = match (top, side, floor) {
                 (Some((lt, bt)), _, _) if at_top => (self.sample(p, lt, bt, lift), None),
                 (_, _, Some((f, a))) => (self.sample(p, f, a, lift), None),
