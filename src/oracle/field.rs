@@ -18,6 +18,8 @@ pub struct Field<'a> {
     pub hm: &'a HeightMap,
     /// levels[k - 1] is level k
     levels: Vec<MaxLevel>,
+    /// the lowest texel (no point of the bilinear field lies below it)
+    pub low: f64,
 }
 
 struct MaxLevel {
@@ -33,7 +35,8 @@ impl<'a> Field<'a> {
         // texels 2bx..=min(2bx + 2, w) (texel w is texel 0 of the next period); rows in parallel
         let (w1, h1) = (w.div_ceil(2), h.div_ceil(2));
         let wrap = |i: usize, n: usize| if i == n { 0 } else { i };
-        let max = super::par_rows(h1, |by| {
+        // (with each block row, the lowest texel of its own texel rows 2by and 2by + 1)
+        let rows = super::par_rows(h1, |by| {
             let mut out = vec![0f32; w1];
             for y in 2 * by..=(2 * by + 2).min(h) {
                 let row = &hm.data[wrap(y, h) * w..][..w];
@@ -43,9 +46,14 @@ impl<'a> Field<'a> {
                     }
                 }
             }
-            out
-        })
-        .concat();
+            let low = hm.data[2 * by * w..((2 * by + 2).min(h)) * w]
+                .iter()
+                .copied()
+                .fold(f32::INFINITY, f32::min);
+            (out, low)
+        });
+        let low = rows.iter().map(|r| r.1).fold(f32::INFINITY, f32::min) as f64;
+        let max = rows.into_iter().flat_map(|r| r.0).collect();
         let mut levels = vec![MaxLevel { w: w1, h: h1, max }];
         loop {
             let p = levels.last().expect("level 1");
@@ -67,7 +75,7 @@ impl<'a> Field<'a> {
             }
             levels.push(MaxLevel { w: nw, h: nh, max });
         }
-        Field { hm, levels }
+        Field { hm, levels, low }
     }
 
     /// The highest texel of the cells that meet the box [x0, x1] x [y0, y1] in cell coordinates
@@ -124,6 +132,7 @@ impl<'a> Field<'a> {
         Field {
             hm,
             levels: Vec::new(),
+            low: 0.0,
         }
     }
 

@@ -418,24 +418,22 @@ fn a_bundle_answers_as_its_rays() {
     }
 }
 
-/// A light or ambient ray that reaches its prism's floor is answered blocked there; walked on
-/// to its first hit as a camera ray is, it meets the surface too. Rays from every hit of a
-/// sphere and a torus, heading below, along and above the triangle's plane; the maps are
-/// texel noise and noise with zero texels (where the floor itself is the surface).
+/// A light or ambient ray that reaches the depth of the field's lowest texel within its prism
+/// is answered blocked there; walked on to its first hit as a camera ray is, it meets the
+/// surface too. Rays from every hit of a sphere and a torus, heading below, along and above the
+/// triangle's plane; the maps are texel noise between 0.45 and 1, and noise with zero texels
+/// (where the floor itself is the surface).
 #[test]
-fn a_ray_at_the_floor_has_met_the_surface() {
-    let zeros = {
-        let n = noise(24, 24, 11);
-        let data = n
-            .data
-            .iter()
-            .map(|&h| if h < 0.4 { 0.0 } else { h })
-            .collect();
-        HeightMap::new(24, 24, data).unwrap()
+fn a_ray_below_the_lowest_texel_has_met_the_surface() {
+    let remap = |n: HeightMap, f: &dyn Fn(f32) -> f32| {
+        let data = n.data.iter().map(|&h| f(h)).collect();
+        HeightMap::new(n.width, n.height, data).unwrap()
     };
+    let high = remap(noise(32, 32, 5), &|h| 0.45 + 0.55 * h);
+    let zeros = remap(noise(24, 24, 11), &|h| if h < 0.4 { 0.0 } else { h });
     let (mut down, mut agreed) = (0, 0);
     for (mesh, hm) in [
-        (Mesh::sphere(1.0, 16, 8).unwrap(), noise(32, 32, 5)),
+        (Mesh::sphere(1.0, 16, 8).unwrap(), high),
         (Mesh::torus(1.0, 0.4, 16, 8).unwrap(), zeros),
     ] {
         let s = scene(mesh, hm, 0.1, [0.4, 1.8, 2.6], 32);

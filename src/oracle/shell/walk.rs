@@ -58,18 +58,23 @@ impl<'a> Object<'a> {
                 });
             }
             // where the prism ends along the ray: its top, a side, or where the path is below
-            // the floor (the surface is met by then). A path (1 + lift) depths below the
-            // triangle's plane is there (h <= 0 where the normal leans from the plane's); where
-            // nothing bounds it, far below
+            // the field's lowest texel (the surface is met by then; for a camera ray, the
+            // floor h = 0). A path (1 + lift - low) depths below the triangle's plane is there
+            // (h <= low where the normal leans from the plane's); where nothing bounds it, far
+            // below
+            let visibility = !ray.exact && ray.part == 0.0;
+            let low = if visibility { self.field.low } else { 0.0 };
             let at_top = top.is_some_and(|(lt, _)| side.is_none_or(|s| lt <= s.lam));
             let dn = d.dot(p.ng);
             let floor = (!at_top && dn < 0.0)
-                .then(|| ((self.depth * (1.0 + lift) - (p.p[0] - o).dot(p.ng)) / -dn).max(lam))
+                .then(|| {
+                    ((self.depth * (1.0 + lift - low) - (p.p[0] - o).dot(p.ng)) / -dn).max(lam)
+                })
                 .filter(|&f| side.is_none_or(|s| f < s.lam))
                 .and_then(|f| Some((f, p.locate(o + d * f, at)?)));
-            if let Some((f, a)) = floor.filter(|_| !ray.exact && ray.part == 0.0) {
-                // a visibility ray: it began at or above the field and is below it at the
-                // floor, so it meets the surface on the way (where first does not matter)
+            if let Some((f, a)) = floor.filter(|_| visibility) {
+                // a visibility ray: it began at or above the field and is below it there, so
+                // it meets the surface on the way (where first does not matter)
                 return Walk::Hit {
                     tri,
                     lam: f,
