@@ -146,8 +146,22 @@ impl Bvh {
         if self.order.is_empty() {
             return;
         }
-        let inv = d.recip();
+        // 1 / d, a zero component taken as 1e-300 of its sign: the slabs' parameters are then
+        // never NaN, so that plain comparisons order them (a box that the ray runs along within
+        // 1e-8 of a face of is kept, as with any box it may meet)
+        let recip = |x: f64| {
+            if x.abs() >= 1e-300 {
+                1.0 / x
+            } else {
+                1e300f64.copysign(x)
+            }
+        };
+        let inv = DVec3::new(recip(d.x), recip(d.y), recip(d.z));
         let du = d.normalize_or_zero();
+        let (min, max) = (
+            |a: f64, b: f64| if a < b { a } else { b },
+            |a: f64, b: f64| if a > b { a } else { b },
+        );
         // where the ray enters the node's box, if it meets it within [lam_min, lam_max]
         let meets = |n: &Node, lam_max: f64| -> Option<f64> {
             if du.dot(n.axis) >= n.sin_half {
@@ -155,11 +169,14 @@ impl Bvh {
             }
             let t0 = (n.lo - o) * inv;
             let t1 = (n.hi - o) * inv;
-            // a zero direction component gives NaN or +-inf; NaN (origin on the slab) passes
-            let near = t0.min(t1);
-            let far = t0.max(t1);
-            let tn = near.x.max(near.y).max(near.z).max(lam_min);
-            let tf = far.x.min(far.y).min(far.z).min(lam_max);
+            let tn = max(
+                max(min(t0.x, t1.x), min(t0.y, t1.y)),
+                max(min(t0.z, t1.z), lam_min),
+            );
+            let tf = min(
+                min(max(t0.x, t1.x), max(t0.y, t1.y)),
+                min(max(t0.z, t1.z), lam_max),
+            );
             (!(tn > tf * (1.0 + 1e-12) + 1e-12)).then_some(tn)
         };
         let mut lam_max = lam_max;

@@ -113,9 +113,9 @@ struct Ray {
 /// What a chord knows of the path's middle: nothing, the point, or how far it deviates from
 /// the chord there (in cells, in height), where a chord is half of one whose middle was found.
 #[derive(Clone, Copy)]
-enum Middle {
+enum Middle<'s> {
     Unknown,
-    Known(Sample),
+    Known(&'s Sample),
     Deviates((f64, f64)),
 }
 

@@ -104,9 +104,9 @@ impl<'a> Object<'a> {
             if let Some((l, a)) = self.chord(
                 p,
                 ray,
-                (start, end),
+                (&start, &end),
                 match toward {
-                    Some((m, _)) if at_top => Middle::Known(m),
+                    Some((ref m, _)) if at_top => Middle::Known(m),
                     _ => Middle::Unknown,
                 },
                 0,
@@ -206,8 +206,8 @@ impl<'a> Object<'a> {
         &self,
         p: &Prism,
         ray: &Ray,
-        (a, b): (Sample, Sample),
-        mid: Middle,
+        (a, b): (&Sample, &Sample),
+        mid: Middle<'_>,
         level: u32,
         cells: &mut u32,
     ) -> Option<(f64, Local)> {
@@ -218,7 +218,8 @@ impl<'a> Object<'a> {
                 return answer;
             }
         }
-        let m = match mid {
+        let located_m;
+        let m: &Sample = match mid {
             Middle::Known(m) => m,
             _ => {
                 let lm = 0.5 * (a.lam + b.lam);
@@ -233,10 +234,11 @@ impl<'a> Object<'a> {
                     return if level >= 48 {
                         None
                     } else {
-                        self.chord(p, ray, (a, m), Middle::Unknown, level + 1, cells)
+                        self.chord(p, ray, (a, &m), Middle::Unknown, level + 1, cells)
                     };
                 };
-                self.sample(p, lm, located, lift)
+                located_m = self.sample(p, lm, located, lift);
+                &located_m
             }
         };
         let (mid_c, mid_h) = (0.5 * (a.c + b.c), 0.5 * (a.h + b.h));
@@ -246,7 +248,7 @@ impl<'a> Object<'a> {
             Middle::Deviates(e) => dev.0 < e.0 || dev.1 < e.1,
             _ => true,
         };
-        if let Some(answer) = self.settle(p, ray, (a, b), Some(&m), dev, boxed, level, cells) {
+        if let Some(answer) = self.settle(p, ray, (a, b), Some(m), dev, boxed, level, cells) {
             return answer;
         }
         // each half of a path deviates from its chord about a quarter as much (a quadratic
@@ -266,7 +268,7 @@ impl<'a> Object<'a> {
         &self,
         p: &Prism,
         ray: &Ray,
-        (a, b): (Sample, Sample),
+        (a, b): (&Sample, &Sample),
         m: Option<&Sample>,
         (dev_c, dev_h): (f64, f64),
         boxed: bool,
@@ -325,7 +327,7 @@ impl<'a> Object<'a> {
             return Some(Some((lam, g)));
         }
         let at = p.locate(ray.o + ray.d * lam, g).unwrap_or(g);
-        Some(Some(self.refine(p, ray, (lam, at), (u, v))))
+        Some(Some(self.refine(p, ray, (lam, at), (*u, *v))))
     }
 
     /// The chord's hit `(lam, at)` (`at` located on the path) moved onto the path itself:
