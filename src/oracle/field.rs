@@ -8,7 +8,7 @@
 //! a block is skipped only when no point of it can be at or above the ray.
 
 use super::MAX_CELLS;
-use crate::scene::HeightMap;
+use crate::scene::{floor, HeightMap};
 use glam::DVec2;
 
 /// The height field with its max pyramid: level k (k >= 1) holds, for each block of 2^k x 2^k
@@ -52,8 +52,9 @@ impl<'a> Field<'a> {
                 .fold(f32::INFINITY, f32::min);
             (out, low)
         });
-        let low = rows.iter().map(|r| r.1).fold(f32::INFINITY, f32::min) as f64;
-        let max = rows.into_iter().flat_map(|r| r.0).collect();
+        let (blocks, lows): (Vec<Vec<f32>>, Vec<f32>) = rows.into_iter().unzip();
+        let low = lows.into_iter().fold(f32::INFINITY, f32::min) as f64;
+        let max = blocks.concat();
         let mut levels = vec![MaxLevel { w: w1, h: h1, max }];
         loop {
             let p = levels.last().expect("level 1");
@@ -101,6 +102,17 @@ impl<'a> Field<'a> {
         // blocks of 2^k cells: the box spans at most three on each axis
         let k = ((64 - span.leading_zeros()) as usize).clamp(1, self.levels.len());
         let lv = &self.levels[k - 1];
+        if cx0 >= 0 && cx1 < w && cy0 >= 0 && cy1 < h {
+            // within one period: cell c lies in block c >> k
+            let (bx0, bx1) = ((cx0 >> k) as usize, (cx1 >> k) as usize);
+            let mut top = 0f32;
+            for by in (cy0 >> k) as usize..=(cy1 >> k) as usize {
+                for &m in &lv.max[by * lv.w + bx0..=by * lv.w + bx1] {
+                    top = top.max(m);
+                }
+            }
+            return top as f64;
+        }
         let block = |c: i64, n: i64| {
             let (p, l) = if (0..n).contains(&c) {
                 (0, c)
@@ -193,8 +205,7 @@ impl<'a> Field<'a> {
         if l_exit >= lam_max {
             return Some((l_exit, ci, cj));
         }
-        let cell =
-            |o: f64, d: f64, lo: i64, hi: i64| ((o + d * l_exit).floor() as i64).clamp(lo, hi - 1);
+        let cell = |o: f64, d: f64, lo: i64, hi: i64| floor(o + d * l_exit).clamp(lo, hi - 1);
         Some(if ex <= ey {
             let ni = if dx > 0.0 { x_hi } else { x_lo - 1 };
             (l_exit, ni, cell(y0, dy, y_lo, y_hi))
@@ -203,13 +214,6 @@ impl<'a> Field<'a> {
             (l_exit, cell(x0, dx, x_lo, x_hi), nj)
         })
     }
-}
-
-/// The integer at or below x, for finite x within i64's range (one conversion, not a call).
-#[inline]
-fn floor(x: f64) -> i64 {
-    let t = x as i64;
-    t - ((t as f64) > x) as i64
 }
 
 /// The light ray (s0 + ds*lam, h0 + dh*lam), dh > 0, from a point on the surface up to h = 1:
@@ -256,8 +260,8 @@ pub(crate) fn walk_cells(
     let y0 = s0.y * hf - 0.5;
     let dx = ds.x * wf;
     let dy = ds.y * hf;
-    let mut ci = x0.floor() as i64;
-    let mut cj = y0.floor() as i64;
+    let mut ci = floor(x0);
+    let mut cj = floor(y0);
     let step_i: i64 = if dx > 0.0 { 1 } else { -1 };
     let step_j: i64 = if dy > 0.0 { 1 } else { -1 };
     // ray parameter of the next x / y cell boundary
@@ -430,6 +434,37 @@ mod tests {
             out.push(HeightMap::new(w, h, cliffs).unwrap());
         }
         out
+    }
+
+    /// `max_in` bounds the texels of every cell a box meets, within one period, across its
+    /// edges and over several; and it is the field's lowest texel that `low` holds.
+    #[test]
+    fn max_in_bounds_the_cells_of_a_box() {
+        let mut r = Lcg(5);
+        for hm in maps() {
+            let f = Field::new(&hm);
+            let (w, h) = (hm.width as f64, hm.height as f64);
+            let lowest = hm.data.iter().copied().fold(f32::INFINITY, f32::min) as f64;
+            assert_eq!(f.low, lowest);
+            for _ in 0..300 {
+                // boxes from under a cell to a few periods, anywhere from one period before
+                let (x0, y0) = (w * (3.0 * r.next() - 1.0), h * (3.0 * r.next() - 1.0));
+                let size = (1.0 + w.max(h)) * r.next().powi(3) * 2.5;
+                let (x1, y1) = (x0 + size * r.next(), y0 + size * r.next());
+                let mut want = 0f64;
+                for j in floor(y0)..=floor(y1) + 1 {
+                    for i in floor(x0)..=floor(x1) + 1 {
+                        want = want.max(hm.texel(i, j));
+                    }
+                }
+                let got = f.max_in((x0, x1), (y0, y1));
+                assert!(
+                    got >= want,
+                    "box ({x0}, {y0})..({x1}, {y1}): {got} < {want}"
+                );
+                assert!(got <= 1.0);
+            }
+        }
     }
 
     #[test]

@@ -119,6 +119,14 @@ pub struct HeightMap {
     pub data: Vec<f32>,
 }
 
+/// The integer at or below x, for finite x within i64's range (one conversion, not a call to
+/// libm, as `f64::floor` is on a baseline x86-64 target).
+#[inline]
+pub(crate) fn floor(x: f64) -> i64 {
+    let t = x as i64;
+    t - ((t as f64) > x) as i64
+}
+
 impl HeightMap {
     pub fn new(width: u32, height: u32, data: Vec<f32>) -> Result<Self> {
         if width == 0 || height == 0 {
@@ -193,11 +201,9 @@ impl HeightMap {
     pub fn sample(&self, s: f64, t: f64) -> f64 {
         let x = s * self.width as f64 - 0.5;
         let y = t * self.height as f64 - 0.5;
-        let x0 = x.floor();
-        let y0 = y.floor();
-        let fx = x - x0;
-        let fy = y - y0;
-        let (xi, yi) = (x0 as i64, y0 as i64);
+        let (xi, yi) = (floor(x), floor(y));
+        let fx = x - xi as f64;
+        let fy = y - yi as f64;
         let h00 = self.texel(xi, yi);
         let h10 = self.texel(xi + 1, yi);
         let h01 = self.texel(xi, yi + 1);
@@ -210,9 +216,8 @@ impl HeightMap {
     pub fn sample_grad(&self, s: f64, t: f64) -> (f64, f64, f64) {
         let x = s * self.width as f64 - 0.5;
         let y = t * self.height as f64 - 0.5;
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let (xi, yi) = (x0 as i64, y0 as i64);
+        let (xi, yi) = (floor(x), floor(y));
+        let (fx, fy) = (x - xi as f64, y - yi as f64);
         let h00 = self.texel(xi, yi);
         let h10 = self.texel(xi + 1, yi);
         let h01 = self.texel(xi, yi + 1);
