@@ -16,17 +16,26 @@ import time
 
 import pomkit as pk
 
-HM = pk.textures.bricks(4096)
+_HM: list = []
+
+
+def height():
+    """The 4096² bricks map (made once; tools/oracle_instructions.py puts its own in)."""
+    if not _HM:
+        _HM.append(pk.textures.bricks(4096))
+    return _HM[0]
+
+
 SHARP = [pk.DirectionalLight((-0.4, -1, -0.3), 3.0)]
 DISK = [pk.DirectionalLight((-0.4, -1, -0.3), 3.0, angular_diameter=2.0)]
 MESHES = {"plane": pk.Mesh.plane(2.0), "sphere": pk.Mesh.sphere(segments=48, rings=24),
           "torus": pk.Mesh.torus(segments=48, tube_segments=24)}
 
 
-def scene(name: str, lights, ambient: float) -> pk.Scene:
+def scene(name: str, lights, ambient: float, size: int = 256) -> pk.Scene:
     eye = (0.0, 1.2, 1.2) if name == "plane" else (0.0, 1.0, 2.8)
-    return pk.Scene(mesh=MESHES[name], material=pk.Material(HM, depth=0.06), lights=lights, ambient=ambient,
-                    camera=pk.Camera.look_at(eye, fov_y=40, width=256, height=256))
+    return pk.Scene(mesh=MESHES[name], material=pk.Material(height(), depth=0.06), lights=lights, ambient=ambient,
+                    camera=pk.Camera.look_at(eye, fov_y=40, width=size, height=size))
 
 
 def best(f, repeats: int) -> float:
