@@ -470,4 +470,3 @@ fn a_ray_below_the_lowest_texel_has_met_the_surface() {
     }
     assert!(down > 1000 && agreed > 2000, "{down} {agreed}");
 }
-
