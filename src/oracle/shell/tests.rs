@@ -470,3 +470,38 @@ fn a_ray_below_the_lowest_texel_has_met_the_surface() {
     }
     assert!(down > 1000 && agreed > 2000, "{down} {agreed}");
 }
+
+/// Over a map of zeros the surface is the shell's floor: a light ray from a hit there that heads
+/// below the triangle's plane is under the surface at once, and blocked; one that heads above
+/// it leaves. (A ray that reached the floor over zero texels once counted as leaving.)
+#[test]
+fn a_ray_into_the_floor_is_blocked() {
+    let s = scene(
+        Mesh::plane(2.0, 3).unwrap(),
+        HeightMap::new(8, 8, vec![0.0; 64]).unwrap(),
+        0.1,
+        [0.3, 1.6, 0.9],
+        24,
+    );
+    let shell = Shell::new(&s).unwrap();
+    let cam = &s.camera;
+    let basis = cam.basis();
+    let mut n = 0;
+    for i in 0..cam.height {
+        for j in 0..cam.width {
+            let Some(hit) = shell.trace(basis.eye, cam.ray_dir(&basis, i, j)) else {
+                continue;
+            };
+            for (x, z) in [(0.0, -1.0), (0.6, -0.3), (-0.9, -0.05)] {
+                let down = DVec3::new(x, z, 0.3).normalize();
+                assert!(
+                    !shell.reaches(&hit, down, 0.0),
+                    "pixel ({i}, {j}) along {down}"
+                );
+            }
+            assert!(shell.reaches(&hit, DVec3::new(0.2, 1.0, 0.1).normalize(), 0.0));
+            n += 1;
+        }
+    }
+    assert!(n > 300, "{n}");
+}
