@@ -80,8 +80,8 @@ impl<'a> Field<'a> {
     }
 
     /// The highest texel of the cells that meet the box [x0, x1] x [y0, y1] in cell coordinates
-    /// (cell (i, j) spans [i, i+1] x [j, j+1]; the field repeats): read from the pyramid level
-    /// whose blocks the box spans at most three of, on each axis.
+    /// (cell (i, j) spans [i, i+1] x [j, j+1]; the field repeats): read from the finest pyramid
+    /// level whose blocks the box spans at most three of, on each axis.
     pub fn max_in(&self, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> f64 {
         let (w, h) = (self.hm.width as i64, self.hm.height as i64);
         let whole = || {
@@ -99,8 +99,8 @@ impl<'a> Field<'a> {
             return whole();
         }
         let span = (cx1 - cx0).max(cy1 - cy0).max(1) as u64;
-        // blocks of 2^k cells: the box spans at most three on each axis
-        let k = ((64 - span.leading_zeros()) as usize).clamp(1, self.levels.len());
+        // blocks of 2^k cells, 2^k > span / 2: the box spans at most three on each axis
+        let k = ((63 - span.leading_zeros()) as usize).clamp(1, self.levels.len());
         let lv = &self.levels[k - 1];
         if cx0 >= 0 && cx1 < w && cy0 >= 0 && cy1 < h {
             // within one period: cell c lies in block c >> k

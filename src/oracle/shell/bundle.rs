@@ -16,15 +16,10 @@ impl Object<'_> {
     /// `at`: its rows for s.x, s.y and h.
     pub(super) fn jacobian(&self, p: &Prism, at: Local) -> Option<[DVec3; 3]> {
         let [r1, r2, rs] = p.rows(at)?;
-        let (du1, du2) = (
-            (p.uv[1] - p.uv[0]) * self.tiling,
-            (p.uv[2] - p.uv[0]) * self.tiling,
-        );
+        let (du1, du2) = (p.duv[0] * self.tiling, p.duv[1] * self.tiling);
         let n = p.normal(at.b);
         let nl = n.length();
-        let rh = (rs * nl
-            + (r1 * n.dot(p.n[1] - p.n[0]) + r2 * n.dot(p.n[2] - p.n[0])) * (at.s / nl))
-            / self.depth;
+        let rh = (rs * nl + (r1 * n.dot(p.dn[0]) + r2 * n.dot(p.dn[1])) * (at.s / nl)) / self.depth;
         Some([r1 * du1.x + r2 * du2.x, r1 * du1.y + r2 * du2.y, rh])
     }
 

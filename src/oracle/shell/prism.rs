@@ -23,6 +23,10 @@ pub(crate) struct Prism {
     /// the plane's dual basis: a point x of the plane has barycentrics
     /// ((x - p0) . dual[0], (x - p0) . dual[1])
     dual: [DVec3; 2],
+    /// the edges from corner 0 (p1 - p0, p2 - p0), and the same differences of n and uv
+    e: [DVec3; 2],
+    pub(crate) dn: [DVec3; 2],
+    pub(crate) duv: [DVec2; 2],
 }
 
 /// A point of a prism: barycentrics of corners 1 and 2, and s along n(b).
@@ -57,13 +61,17 @@ impl Prism {
         let (u, w) = (p[1] - p[0], p[2] - p[0]);
         let (uu, uw, ww) = (u.dot(u), u.dot(w), w.dot(w));
         let det = uu * ww - uw * uw;
+        let uv = v.map(|i| m.uv_f64(i));
         Some(Prism {
+            e: [u, w],
+            dn: [n[1] - n[0], n[2] - n[0]],
+            duv: [uv[1] - uv[0], uv[2] - uv[0]],
             size: u.length().max(w.length()),
             dual: [(u * ww - w * uw) / det, (w * uu - u * uw) / det],
             v,
             p,
             n,
-            uv: v.map(|i| m.uv_f64(i)),
+            uv,
             ng,
         })
     }
@@ -74,7 +82,7 @@ impl Prism {
 
     /// The unnormalised interpolated normal n(b).
     pub(crate) fn normal(&self, b: DVec2) -> DVec3 {
-        self.n[0] + (self.n[1] - self.n[0]) * b.x + (self.n[2] - self.n[0]) * b.y
+        self.n[0] + self.dn[0] * b.x + self.dn[1] * b.y
     }
 
     #[cfg(test)]
@@ -84,11 +92,11 @@ impl Prism {
 
     /// The point at `at`, given n(b) there.
     fn point_along(&self, at: Local, n: DVec3) -> DVec3 {
-        self.p[0] + (self.p[1] - self.p[0]) * at.b.x + (self.p[2] - self.p[0]) * at.b.y + n * at.s
+        self.p[0] + self.e[0] * at.b.x + self.e[1] * at.b.y + n * at.s
     }
 
     pub(crate) fn uv(&self, b: DVec2) -> DVec2 {
-        self.uv[0] + (self.uv[1] - self.uv[0]) * b.x + (self.uv[2] - self.uv[0]) * b.y
+        self.uv[0] + self.duv[0] * b.x + self.duv[1] * b.y
     }
 
     /// The displacement along the unit normal: s |n(b)| (world units of the object).
@@ -104,8 +112,7 @@ impl Prism {
     /// The prism's point at `x` by Newton's method from `guess`: None where it does not
     /// converge (a point far outside the shell, where the normals cross).
     pub(crate) fn locate(&self, x: DVec3, guess: Local) -> Option<Local> {
-        let (e1, e2) = (self.p[1] - self.p[0], self.p[2] - self.p[0]);
-        let (d1, d2) = (self.n[1] - self.n[0], self.n[2] - self.n[0]);
+        let ([e1, e2], [d1, d2]) = (self.e, self.dn);
         let tol = 1e-13 * (1.0 + self.size + x.length());
         let tol2 = tol * tol;
         let mut at = guess;
@@ -135,8 +142,8 @@ impl Prism {
     /// The Jacobian of (b1, b2, s) by the point at `at`, as rows: the change of each per unit
     /// displacement δ is row . δ; None where it is singular.
     pub(crate) fn rows(&self, at: Local) -> Option<[DVec3; 3]> {
-        let c0 = self.p[1] - self.p[0] + (self.n[1] - self.n[0]) * at.s;
-        let c1 = self.p[2] - self.p[0] + (self.n[2] - self.n[0]) * at.s;
+        let c0 = self.e[0] + self.dn[0] * at.s;
+        let c1 = self.e[1] + self.dn[1] * at.s;
         let n = self.normal(at.b);
         let c12 = c1.cross(n);
         let det = c0.dot(c12);
@@ -246,7 +253,7 @@ impl Prism {
         if !(d.dot(self.ng) < 0.0) {
             return None;
         }
-        let (e1, e2) = (self.p[1] - self.p[0], self.p[2] - self.p[0]);
+        let [e1, e2] = self.e;
         let pv = d.cross(e2);
         let det = e1.dot(pv);
         if !(det.abs() > 1e-300) {
