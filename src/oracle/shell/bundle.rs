@@ -128,6 +128,8 @@ pub(super) enum Bundle {
     /// must still be searched there (anything of it lies above the triangles the bundle left
     /// by or began in, or their neighbours)
     Left(bool),
+    /// no ray meets the surface before `lam`, where the axis is at `at` in prism `tri`
+    Cleared { tri: u32, lam: f64, at: Local },
 }
 
 impl Shell<'_> {
@@ -171,12 +173,14 @@ impl Shell<'_> {
             part = part.max((*d - da).length());
         }
         let ds = &ds[..dirs.len()];
-        self.bundle_left(hit, da, ds, part, lift)
+        let mut cleared = None;
+        self.bundle_left(hit, da, ds, part, lift, &mut cleared)
             .map(Bundle::Left)
             .or_else(|| {
                 ob.all_blocked(tri, at, o, da, part, lift)
                     .then_some(Bundle::Blocked)
             })
+            .or(cleared.map(|(tri, lam, at)| Bundle::Cleared { tri, lam, at }))
     }
 
     /// `bundle`'s answer where every ray leaves: whether the object must still be searched.
@@ -187,6 +191,7 @@ impl Shell<'_> {
         ds: &[DVec3],
         part: f64,
         lift: f64,
+        cleared: &mut Option<(u32, f64, Local)>,
     ) -> Option<bool> {
         let ob = &self.objects[hit.object];
         let (tri, at, o) = (hit.at.tri, hit.at.at, hit.at.x);
@@ -290,6 +295,10 @@ impl Shell<'_> {
                             .any(|&u| ob.overhung[u as usize])
                 };
                 Some(near(t) || near(tri))
+            }
+            Walk::Hit { tri, lam, at, .. } => {
+                *cleared = Some((tri, lam, at));
+                None
             }
             _ => None,
         }

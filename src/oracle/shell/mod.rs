@@ -366,28 +366,7 @@ impl Tracer for Shell<'_> {
     }
 
     fn reaches(&self, hit: &Hit<ShellAt>, l: DVec3, bias: f64) -> bool {
-        let ob = &self.objects[hit.object];
-        let d = ob.to_obj.transform_vector3(l);
-        let lift = bias.max(1e-9);
-        let ray = Ray {
-            o: hit.at.x,
-            d,
-            lift,
-            exact: false,
-            part: 0.0,
-        };
-        match ob.walk(&ray, hit.at.tri, 0.0, hit.at.at) {
-            Walk::Hit { .. } => false,
-            Walk::Left { lam, top, .. } => {
-                // where it left, in the world: the rest of the ray meets no shell again (this
-                // object's, where it left above all of it, is not looked for)
-                let eye = ob.to_world.transform_point3(hit.at.x);
-                let eps = 1e-9 * (1.0 + lam.abs());
-                let clear = top.is_some_and(|t| !ob.overhung[t as usize]);
-                self.first(eye, l, lam + eps, true, clear.then_some(hit.object))
-                    .is_none()
-            }
-        }
+        self.reaches_from(hit, l, bias, None)
     }
 
     fn reaches_all(&self, hit: &Hit<ShellAt>, axis: DVec3, dirs: &[DVec3], bias: f64) -> usize {
@@ -400,6 +379,12 @@ impl Tracer for Shell<'_> {
             None => return dirs.iter().filter(|l| self.reaches(hit, **l, bias)).count(),
             Some(bundle::Bundle::Blocked) => return 0,
             Some(bundle::Bundle::Left(search)) => search,
+            Some(bundle::Bundle::Cleared { tri, lam, at }) => {
+                return dirs
+                    .iter()
+                    .filter(|l| self.reaches_from(hit, **l, bias, Some((tri, lam, at))))
+                    .count()
+            }
         };
         // every ray left the object's shell unblocked: the other objects' shells remain, and
         // this one's where anything of it lies above where the rays left (searched from the
@@ -443,6 +428,50 @@ impl Tracer for Shell<'_> {
 
     fn material(&self, object: usize) -> &Material {
         self.objects[object].mat
+    }
+}
+
+impl Shell<'_> {
+    /// `reaches`, its walk begun at `from` (triangle, lam, the axis's point there) where given:
+    /// a bundle showed that no ray meets the surface before that lam. The ray's own point is
+    /// located there; where it lies outside the prism (beside the triangle, or above its top,
+    /// where the ray may have left the shell on the way), the walk begins at the hit.
+    fn reaches_from(
+        &self,
+        hit: &Hit<ShellAt>,
+        l: DVec3,
+        bias: f64,
+        from: Option<(u32, f64, Local)>,
+    ) -> bool {
+        let ob = &self.objects[hit.object];
+        let d = ob.to_obj.transform_vector3(l);
+        let lift = bias.max(1e-9);
+        let ray = Ray {
+            o: hit.at.x,
+            d,
+            lift,
+            exact: false,
+            part: 0.0,
+        };
+        let start = from
+            .and_then(|(t, lam, guess)| {
+                let p = ob.prisms[t as usize].as_ref()?;
+                let at = p.locate(ray.o + d * lam, guess)?;
+                (Prism::inside(at.b, 0.0) && at.s <= 0.0).then_some((t, lam, at))
+            })
+            .unwrap_or((hit.at.tri, 0.0, hit.at.at));
+        match ob.walk(&ray, start.0, start.1, start.2) {
+            Walk::Hit { .. } => false,
+            Walk::Left { lam, top, .. } => {
+                // where it left, in the world: the rest of the ray meets no shell again (this
+                // object's, where it left above all of it, is not looked for)
+                let eye = ob.to_world.transform_point3(hit.at.x);
+                let eps = 1e-9 * (1.0 + lam.abs());
+                let clear = top.is_some_and(|t| !ob.overhung[t as usize]);
+                self.first(eye, l, lam + eps, true, clear.then_some(hit.object))
+                    .is_none()
+            }
+        }
     }
 }
 

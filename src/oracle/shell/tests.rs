@@ -342,6 +342,7 @@ fn camera_tiles_find_what_the_bounding_volumes_find() {
 /// A light's disk walked as one bundle answers as its rays walked one by one: on a sphere, and
 /// on a torus with a transformed sphere through it (the bundle's object searched where
 /// anything of it lies above, the other object always), for lights from steep to grazing.
+/// Where it shows neither, its rays are walked from as far as it cleared the way.
 #[test]
 fn a_bundle_answers_as_its_rays() {
     // bumps a few texels wide, with the noise's sharp texels on them
@@ -377,6 +378,7 @@ fn a_bundle_answers_as_its_rays() {
         let basis = s.camera.basis();
         let (mut bundles, mut tried, mut lit) = (0, 0, 0);
         let (mut shadows, mut dark) = (0, 0);
+        let (mut cleared, mut differ, mut off) = (0, 0, 0);
         for axis in [
             DVec3::new(0.3, 1.0, 0.2),
             DVec3::new(-0.9, 0.35, 0.1),
@@ -392,13 +394,16 @@ fn a_bundle_answers_as_its_rays() {
                     };
                     for set in [&dirs[..], &dirs[5..21]] {
                         let one = set.iter().filter(|l| shell.reaches(&hit, **l, 0.0)).count();
-                        assert_eq!(
-                            shell.reaches_all(&hit, axis, set, 0.0),
-                            one,
-                            "pixel ({i}, {j}), axis {axis}"
-                        );
+                        let all = shell.reaches_all(&hit, axis, set, 0.0);
                         tried += 1;
                         let b = shell.bundle(&hit, axis, set, 1e-9);
+                        if matches!(b, Some(bundle::Bundle::Cleared { .. })) {
+                            cleared += 1;
+                            differ += usize::from(all != one);
+                            off = off.max(all.abs_diff(one));
+                        } else {
+                            assert_eq!(all, one, "pixel ({i}, {j}), axis {axis}");
+                        }
                         if one == set.len() {
                             lit += 1;
                             bundles += usize::from(matches!(b, Some(bundle::Bundle::Left(_))));
@@ -415,6 +420,15 @@ fn a_bundle_answers_as_its_rays() {
         // those that none clears (here 45% and 35% of the lit, 84% and 58% of the dark)
         assert!(tried > 3000 && bundles * 3 > lit, "{tried} {lit} {bundles}");
         assert!(dark > 1000 && shadows * 3 > dark, "{dark} {shadows}");
+        // most of the rest clear the way part of the way, and their rays are walked from there:
+        // as from the hit, but for rays that pass within the chords' tolerance of the surface,
+        // where the two walks' chords differ (here 9 and 7 of 5,600 and 5,700 such disks, by
+        // at most 2 and 4 of 64 rays; none of 10,700 and 8,700 with TOL_TEXELS at 1e-4)
+        assert!(cleared * 2 > tried - bundles - shadows, "{tried} {cleared}");
+        assert!(
+            differ * 100 < cleared && off <= 8,
+            "{cleared} {differ} {off}"
+        );
     }
 }
 
