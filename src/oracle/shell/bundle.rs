@@ -40,13 +40,21 @@ impl Object<'_> {
 }
 
 impl Object<'_> {
-    /// Whether every ray from the hit (triangle `tri`, point `at`, object-space `o`) whose
-    /// direction differs from `da` by at most `part` meets the surface: the axis's walk meets
-    /// it, and a quarter to two texels past that its point lies below the field's lowest
+    /// Whether every ray from the hit (object-space `o`) whose direction differs from `da` by
+    /// at most `part` meets the surface: the axis's walk from (triangle, lam, point) (the hit,
+    /// or as far as the bundle cleared the way) meets it, and a quarter to two texels past
+    /// that its point lies below the field's lowest
     /// within how far the rays part there, by more than they part in height. A
     /// ray that began on the surface and is under it has met it; the object must be closed
     /// (no wall), and the point's triangle free of uv seams.
-    fn all_blocked(&self, tri: u32, at: Local, o: DVec3, da: DVec3, part: f64, lift: f64) -> bool {
+    fn all_blocked(
+        &self,
+        (tri, lam0, at): (u32, f64, Local),
+        o: DVec3,
+        da: DVec3,
+        part: f64,
+        lift: f64,
+    ) -> bool {
         if !self.closed {
             return false;
         }
@@ -62,7 +70,7 @@ impl Object<'_> {
             lam,
             at: ah,
             ..
-        } = self.walk(&ray, tri, 0.0, at)
+        } = self.walk(&ray, tri, lam0, at)
         else {
             return false;
         };
@@ -150,9 +158,12 @@ impl Shell<'_> {
     ///   meets (rays beside the axis could cross the seam where it does not).
     /// - Where a tangent meets the field or leaves the triangle before l0, or the axis's walk
     ///   does not clear, the bundle shows that every ray is blocked where
-    ///   `Object::all_blocked` does, and else nothing: each ray is then walked on its own (a
-    ///   tangent lies on the other side of the path from a walk's chords, so that a grazing
-    ///   ray could be answered otherwise).
+    ///   `Object::all_blocked` does. Else each ray is walked on its own: from the start of the
+    ///   axis's first chord that did not clear, where the axis's walk got past the tangents
+    ///   (`Bundle::Cleared`: no ray meets the surface before it), or from the hit. Its chords
+    ///   then differ from those of a walk from the hit (and a tangent lies on the other side of
+    ///   the path from a walk's chords), so that a ray that passes within the chords'
+    ///   tolerance of the surface may be answered otherwise.
     pub(super) fn bundle(
         &self,
         hit: &Hit<ShellAt>,
@@ -177,7 +188,7 @@ impl Shell<'_> {
         self.bundle_left(hit, da, ds, part, lift, &mut cleared)
             .map(Bundle::Left)
             .or_else(|| {
-                ob.all_blocked(tri, at, o, da, part, lift)
+                ob.all_blocked(cleared.unwrap_or((tri, 0.0, at)), o, da, part, lift)
                     .then_some(Bundle::Blocked)
             })
             .or(cleared.map(|(tri, lam, at)| Bundle::Cleared { tri, lam, at }))
