@@ -43,10 +43,9 @@ impl Object<'_> {
     /// Whether every ray from the hit (object-space `o`) whose direction differs from `da` by
     /// at most `part` meets the surface: the axis's walk from (triangle, lam, point) (the hit,
     /// or as far as the bundle cleared the way) meets it, and a quarter to two texels past
-    /// that its point lies below the field's lowest
-    /// within how far the rays part there, by more than they part in height. A
-    /// ray that began on the surface and is under it has met it; the object must be closed
-    /// (no wall), and the point's triangle free of uv seams.
+    /// that its point lies below the field's lowest within how far the rays part there, by
+    /// more than they part in height. A ray that began on the surface and is under it has met
+    /// it; the object must be closed (no wall), and the point's triangle free of uv seams.
     fn all_blocked(
         &self,
         (tri, lam0, at): (u32, f64, Local),
