@@ -23,6 +23,10 @@ struct Node {
 pub(crate) struct Bvh {
     nodes: Vec<Node>,
     order: Vec<u32>,
+    /// per node: its parent (the root's is 0)
+    parent: Vec<u32>,
+    /// per item: its leaf (u32::MAX for an item left out)
+    leaf: Vec<u32>,
 }
 
 impl Bvh {
@@ -96,7 +100,24 @@ impl Bvh {
             todo.push((first, a, mid));
             todo.push((first + 1, mid, z));
         }
-        Bvh { nodes, order }
+        let mut parent = vec![0u32; nodes.len()];
+        let mut leaf = vec![u32::MAX; boxes.len()];
+        for (ni, n) in nodes.iter().enumerate() {
+            if n.count == 0 {
+                parent[n.first as usize] = ni as u32;
+                parent[n.first as usize + 1] = ni as u32;
+            } else {
+                for &i in &order[n.first as usize..(n.first + n.count) as usize] {
+                    leaf[i as usize] = ni as u32;
+                }
+            }
+        }
+        Bvh {
+            nodes,
+            order,
+            parent,
+            leaf,
+        }
     }
 
     /// Whether `item` holds for an item of a node whose box `node` keeps (a node's box, lo and
@@ -141,6 +162,34 @@ impl Bvh {
         d: DVec3,
         lam_min: f64,
         lam_max: f64,
+        f: impl FnMut(u32, &mut f64) -> bool,
+    ) {
+        self.visit_near(None, o, d, lam_min, lam_max, f);
+    }
+
+    /// `visit` for a ray that starts in item `from`'s box, in another order: the boxes that
+    /// hold `from`'s are not tested (a ray that misses one of them meets none of its items,
+    /// which `f` finds), but from's leaf's items are given first, then the items under the
+    /// other child at each level up, nearer boxes first under each.
+    pub(crate) fn visit_from(
+        &self,
+        from: u32,
+        o: DVec3,
+        d: DVec3,
+        lam_min: f64,
+        lam_max: f64,
+        f: impl FnMut(u32, &mut f64) -> bool,
+    ) {
+        self.visit_near(Some(from), o, d, lam_min, lam_max, f);
+    }
+
+    fn visit_near(
+        &self,
+        from: Option<u32>,
+        o: DVec3,
+        d: DVec3,
+        lam_min: f64,
+        lam_max: f64,
         mut f: impl FnMut(u32, &mut f64) -> bool,
     ) {
         if self.order.is_empty() {
@@ -180,33 +229,69 @@ impl Bvh {
             (!(tn > tf * (1.0 + 1e-12) + 1e-12)).then_some(tn)
         };
         let mut lam_max = lam_max;
-        let Some(t_root) = meets(&self.nodes[0], lam_max) else {
+        let Some(leaf) = from.and_then(|t| self.leaf.get(t as usize).copied()) else {
+            if let Some(t_root) = meets(&self.nodes[0], lam_max) {
+                self.descend((0, t_root), &meets, &mut lam_max, &mut f);
+            }
             return;
         };
+        if leaf == u32::MAX {
+            return self.visit_near(None, o, d, lam_min, lam_max, f);
+        }
+        let n = &self.nodes[leaf as usize];
+        if du.dot(n.axis) < n.sin_half {
+            for &i in &self.order[n.first as usize..(n.first + n.count) as usize] {
+                if !f(i, &mut lam_max) {
+                    return;
+                }
+            }
+        }
+        let mut node = leaf;
+        while node != 0 {
+            let p = &self.nodes[self.parent[node as usize] as usize];
+            let other = if p.first == node { node + 1 } else { node - 1 };
+            if let Some(t) = meets(&self.nodes[other as usize], lam_max) {
+                if !self.descend((other, t), &meets, &mut lam_max, &mut f) {
+                    return;
+                }
+            }
+            node = self.parent[node as usize];
+        }
+    }
+
+    /// The items under node `start` (met at lam start.1) that `meets` keeps, nearer boxes
+    /// first, given to `f`; false where `f` stopped.
+    fn descend(
+        &self,
+        start: (u32, f64),
+        meets: &impl Fn(&Node, f64) -> Option<f64>,
+        lam_max: &mut f64,
+        f: &mut impl FnMut(u32, &mut f64) -> bool,
+    ) -> bool {
         // the tree is balanced (median splits): under 32 levels for any u32 count of items, and
         // at most one node a level waits
         let mut stack = [(0u32, 0f64); 34];
-        stack[0] = (0, t_root);
+        stack[0] = start;
         let mut top = 1;
         while top > 0 {
             top -= 1;
             let (ni, tn) = stack[top];
-            if tn > lam_max * (1.0 + 1e-12) + 1e-12 {
+            if tn > *lam_max * (1.0 + 1e-12) + 1e-12 {
                 continue;
             }
             let n = &self.nodes[ni as usize];
             if n.count > 0 {
                 for &i in &self.order[n.first as usize..(n.first + n.count) as usize] {
-                    if !f(i, &mut lam_max) {
-                        return;
+                    if !f(i, lam_max) {
+                        return false;
                     }
                 }
                 continue;
             }
             let (a, b) = (n.first, n.first + 1);
             let (ta, tb) = (
-                meets(&self.nodes[a as usize], lam_max),
-                meets(&self.nodes[b as usize], lam_max),
+                meets(&self.nodes[a as usize], *lam_max),
+                meets(&self.nodes[b as usize], *lam_max),
             );
             // the farther child waits below the nearer
             let mut kids = [(a, ta), (b, tb)];
@@ -222,5 +307,6 @@ impl Bvh {
                 }
             }
         }
+        true
     }
 }

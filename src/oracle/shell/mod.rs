@@ -168,10 +168,11 @@ impl<'a> Shell<'a> {
                 return self.first_of(tile, eye, dir);
             }
         }
-        self.search(eye, dir, lam_min, any, skip)
+        self.search(eye, dir, lam_min, any, skip, None)
     }
 
-    /// `first` through the bounding volumes.
+    /// `first` through the bounding volumes; `from` (object, triangle): the triangle whose box
+    /// holds the ray's start there (bvh.rs: `visit_from`).
     fn search(
         &self,
         eye: DVec3,
@@ -179,6 +180,7 @@ impl<'a> Shell<'a> {
         lam_min: f64,
         any: bool,
         skip: Option<usize>,
+        from: Option<(usize, u32)>,
     ) -> Option<(usize, u32, f64, Local, u32)> {
         let mut best: Best = None;
         let mut cells = 0u32;
@@ -208,10 +210,14 @@ impl<'a> Shell<'a> {
                 !(any && hit)
             };
             let mut go_on = true;
-            ob.bvh.visit(o, d, lam_min, bound, |t, lam_max| {
+            let each = |t: u32, lam_max: &mut f64| {
                 go_on = ob.starts(t, o, d, |lam, at| start(t, lam, at, lam_max));
                 go_on
-            });
+            };
+            match from {
+                Some((fo, t)) if fo == oi => ob.bvh.visit_from(t, o, d, lam_min, bound, each),
+                _ => ob.bvh.visit(o, d, lam_min, bound, each),
+            }
             if let Some(b) = best {
                 bound = bound.min(b.2);
             }
@@ -468,7 +474,8 @@ impl Shell<'_> {
                 let eye = ob.to_world.transform_point3(hit.at.x);
                 let eps = 1e-9 * (1.0 + lam.abs());
                 let clear = top.is_some_and(|t| !ob.overhung[t as usize]);
-                self.first(eye, l, lam + eps, true, clear.then_some(hit.object))
+                let from = top.map(|t| (hit.object, t));
+                self.search(eye, l, lam + eps, true, clear.then_some(hit.object), from)
                     .is_none()
             }
         }

@@ -267,6 +267,59 @@ fn a_ray_that_leaves_above_its_object_skips_it() {
     assert!(rays > 1000 && blocked > 100, "{rays} {blocked}");
 }
 
+/// A search that starts on a triangle's top, walked from its leaf up (`visit_from`), gives
+/// every item that the walk from the root gives; the items it gives besides are ones that the
+/// ray does not enter. Rays from the middle of every triangle of a torus, going out through
+/// its top in 16 directions.
+#[test]
+fn a_search_from_a_triangle_gives_what_the_search_from_the_root_gives() {
+    let s = scene(
+        Mesh::torus(1.0, 0.4, 24, 12).unwrap(),
+        noise(16, 16, 19),
+        0.1,
+        [0.4, 1.6, 2.4],
+        8,
+    );
+    let shell = Shell::new(&s).unwrap();
+    let ob = &shell.objects[0];
+    let (mut tried, mut extra) = (0, 0);
+    for (t, p) in ob.prisms.iter().enumerate() {
+        let Some(p) = p else { continue };
+        let o = (p.p[0] + p.p[1] + p.p[2]) / 3.0;
+        let (a, b) = crate::oracle::perpendiculars(p.ng, p.ng.x.abs() >= 0.9);
+        for k in 0..16 {
+            let phi = k as f64 * 0.7;
+            let d = p.ng * (0.1 + 0.06 * k as f64) + a * phi.cos() + b * phi.sin();
+            let lam_min = 1e-9;
+            let (mut root, mut near) = (Vec::new(), Vec::new());
+            ob.bvh.visit(o, d, lam_min, f64::INFINITY, |i, _| {
+                root.push(i);
+                true
+            });
+            ob.bvh
+                .visit_from(t as u32, o, d, lam_min, f64::INFINITY, |i, _| {
+                    near.push(i);
+                    true
+                });
+            for i in &root {
+                assert!(
+                    near.contains(i),
+                    "triangle {t}, direction {k}: {i} left out"
+                );
+            }
+            for &i in near.iter().filter(|i| !root.contains(i)) {
+                extra += 1;
+                ob.starts(i, o, d, |lam, _| {
+                    assert!(!(lam > lam_min), "triangle {t}: {i} entered at {lam}");
+                    true
+                });
+            }
+            tried += 1;
+        }
+    }
+    assert!(tried > 1000 && extra > 100, "{tried} {extra}");
+}
+
 /// The camera's tiles give the hits the bounding volumes give, pixel by pixel; the number of
 /// hits per object.
 fn tiles_against_bounding_volumes(s: &Scene) -> Vec<usize> {
@@ -279,7 +332,7 @@ fn tiles_against_bounding_volumes(s: &Scene) -> Vec<usize> {
             let dir = cam.ray_dir(&basis, i, j);
             assert!(shell.grid.candidates(basis.eye, dir).is_some());
             let a = shell.first(basis.eye, dir, 0.0, false, None);
-            let b = shell.search(basis.eye, dir, 0.0, false, None);
+            let b = shell.search(basis.eye, dir, 0.0, false, None, None);
             match (a, b) {
                 (None, None) => {}
                 (Some(a), Some(b)) => {
