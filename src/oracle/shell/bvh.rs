@@ -167,10 +167,11 @@ impl Bvh {
         self.visit_near(None, o, d, lam_min, lam_max, f);
     }
 
-    /// `visit` for a ray that starts in item `from`'s box, in another order: the boxes that
-    /// hold `from`'s are not tested (a ray that misses one of them meets none of its items,
-    /// which `f` finds), but from's leaf's items are given first, then the items under the
-    /// other child at each level up, nearer boxes first under each.
+    /// `visit` for a ray that starts in or near item `from`'s box, in another order: the boxes
+    /// that hold from's leaf are not tested (the ray's start lies in them), but from's leaf's
+    /// items are given first, then the items under the other child at each level up, nearer
+    /// boxes first under each. It gives every item that `visit` gives, and may give others,
+    /// whose boxes the ray does not meet or whose tops it faces away from.
     pub(crate) fn visit_from(
         &self,
         from: u32,

@@ -171,8 +171,9 @@ impl<'a> Shell<'a> {
         self.search(eye, dir, lam_min, any, skip, None)
     }
 
-    /// `first` through the bounding volumes; `from` (object, triangle): the triangle whose box
-    /// holds the ray's start there (bvh.rs: `visit_from`).
+    /// `first` through the bounding volumes; `from` (object, triangle): the triangle the ray
+    /// starts in or left by, whose boxes up to the root hold its start (bvh.rs: `visit_from`;
+    /// any triangle gives the same answer, this one the fewest boxes to test).
     fn search(
         &self,
         eye: DVec3,
@@ -400,8 +401,9 @@ impl Tracer for Shell<'_> {
         }
         let eye = self.objects[hit.object].to_world.transform_point3(hit.at.x);
         let skip = (!search_own).then_some(hit.object);
+        let from = Some((hit.object, hit.at.tri));
         dirs.iter()
-            .filter(|l| self.first(eye, **l, 1e-9, true, skip).is_none())
+            .filter(|l| self.search(eye, **l, 1e-9, true, skip, from).is_none())
             .count()
     }
 
