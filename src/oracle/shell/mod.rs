@@ -473,9 +473,12 @@ impl Shell<'_> {
             Walk::Left { lam, top, .. } => {
                 // where it left, in the world: the rest of the ray meets no shell again (this
                 // object's, where it left above all of it, is not looked for)
+                let clear = top.is_some_and(|t| !ob.overhung[t as usize]);
+                if clear && self.objects.len() == 1 {
+                    return true;
+                }
                 let eye = ob.to_world.transform_point3(hit.at.x);
                 let eps = 1e-9 * (1.0 + lam.abs());
-                let clear = top.is_some_and(|t| !ob.overhung[t as usize]);
                 let from = top.map(|t| (hit.object, t));
                 self.search(eye, l, lam + eps, true, clear.then_some(hit.object), from)
                     .is_none()
