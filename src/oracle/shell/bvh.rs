@@ -27,6 +27,9 @@ pub(crate) struct Bvh {
     parent: Vec<u32>,
     /// per item: its leaf (u32::MAX for an item left out)
     leaf: Vec<u32>,
+    /// per place in `order`: the item's facing normal (NaN where it has none), so that a leaf's
+    /// items that the ray faces away from are not given
+    facing: Vec<DVec3>,
 }
 
 impl Bvh {
@@ -112,11 +115,16 @@ impl Bvh {
                 }
             }
         }
+        let facing = order
+            .iter()
+            .map(|&i| facing[i as usize].unwrap_or(DVec3::NAN))
+            .collect();
         Bvh {
             nodes,
             order,
             parent,
             leaf,
+            facing,
         }
     }
 
@@ -232,7 +240,7 @@ impl Bvh {
         let mut lam_max = lam_max;
         let Some(leaf) = from.and_then(|t| self.leaf.get(t as usize).copied()) else {
             if let Some(t_root) = meets(&self.nodes[0], lam_max) {
-                self.descend((0, t_root), &meets, &mut lam_max, &mut f);
+                self.descend((0, t_root), du, &meets, &mut lam_max, &mut f);
             }
             return;
         };
@@ -240,19 +248,15 @@ impl Bvh {
             return self.visit_near(None, o, d, lam_min, lam_max, f);
         }
         let n = &self.nodes[leaf as usize];
-        if du.dot(n.axis) < n.sin_half {
-            for &i in &self.order[n.first as usize..(n.first + n.count) as usize] {
-                if !f(i, &mut lam_max) {
-                    return;
-                }
-            }
+        if du.dot(n.axis) < n.sin_half && !self.items(n, du, &mut lam_max, &mut f) {
+            return;
         }
         let mut node = leaf;
         while node != 0 {
             let p = &self.nodes[self.parent[node as usize] as usize];
             let other = if p.first == node { node + 1 } else { node - 1 };
             if let Some(t) = meets(&self.nodes[other as usize], lam_max) {
-                if !self.descend((other, t), &meets, &mut lam_max, &mut f) {
+                if !self.descend((other, t), du, &meets, &mut lam_max, &mut f) {
                     return;
                 }
             }
@@ -260,11 +264,26 @@ impl Bvh {
         }
     }
 
+    /// A leaf's items given to `f`, but those whose tops the ray along the unit `du` faces
+    /// away from; false where `f` stopped.
+    fn items(
+        &self,
+        n: &Node,
+        du: DVec3,
+        lam_max: &mut f64,
+        f: &mut impl FnMut(u32, &mut f64) -> bool,
+    ) -> bool {
+        (n.first as usize..(n.first + n.count) as usize)
+            .filter(|&k| !(du.dot(self.facing[k]) >= 0.0))
+            .all(|k| f(self.order[k], lam_max))
+    }
+
     /// The items under node `start` (met at lam start.1) that `meets` keeps, nearer boxes
     /// first, given to `f`; false where `f` stopped.
     fn descend(
         &self,
         start: (u32, f64),
+        du: DVec3,
         meets: &impl Fn(&Node, f64) -> Option<f64>,
         lam_max: &mut f64,
         f: &mut impl FnMut(u32, &mut f64) -> bool,
@@ -282,10 +301,8 @@ impl Bvh {
             }
             let n = &self.nodes[ni as usize];
             if n.count > 0 {
-                for &i in &self.order[n.first as usize..(n.first + n.count) as usize] {
-                    if !f(i, lam_max) {
-                        return false;
-                    }
+                if !self.items(n, du, lam_max, f) {
+                    return false;
                 }
                 continue;
             }
