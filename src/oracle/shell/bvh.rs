@@ -238,15 +238,13 @@ impl Bvh {
             (!(tn > tf * (1.0 + 1e-12) + 1e-12)).then_some(tn)
         };
         let mut lam_max = lam_max;
-        let Some(leaf) = from.and_then(|t| self.leaf.get(t as usize).copied()) else {
+        let from_leaf = from.and_then(|t| self.leaf.get(t as usize).copied());
+        let Some(leaf) = from_leaf.filter(|&l| l != u32::MAX) else {
             if let Some(t_root) = meets(&self.nodes[0], lam_max) {
                 self.descend((0, t_root), du, &meets, &mut lam_max, &mut f);
             }
             return;
         };
-        if leaf == u32::MAX {
-            return self.visit_near(None, o, d, lam_min, lam_max, f);
-        }
         let n = &self.nodes[leaf as usize];
         if du.dot(n.axis) < n.sin_half && !self.items(n, du, &mut lam_max, &mut f) {
             return;

@@ -172,8 +172,9 @@ impl<'a> Shell<'a> {
     }
 
     /// `first` through the bounding volumes; `from` (object, triangle): the triangle the ray
-    /// starts in or left by, whose boxes up to the root hold its start (bvh.rs: `visit_from`;
-    /// any triangle gives the same answer, this one the fewest boxes to test).
+    /// starts in or left by, whose boxes up to the root hold its start or lie about it
+    /// (bvh.rs: `visit_from`; any triangle gives the same answer, this one the fewest boxes to
+    /// test).
     fn search(
         &self,
         eye: DVec3,
