@@ -10,7 +10,8 @@ once at 4²; the difference is the frame's own cost (the map's pyramid, the scen
 process's start are in both). It is instructions, not cycles: a cache miss or a division counts
 one, so the planar oracle, whose cost lies more in reading the map, runs faster beside the
 curved one than these counts say. The map is written once to a temporary .npy, so that the
-children do not build it under valgrind. Needs valgrind (Debian's `valgrind`) and the installed
+children do not build it under valgrind. The children run on one thread (rayon's and numpy's),
+so that spinning idle threads add nothing. Needs valgrind (Debian's `valgrind`) and the installed
 package.
 """
 
@@ -42,7 +43,10 @@ def _child(case: str, name: str, spp: int, size: int, path: str) -> None:
 def count(case: str, name: str, spp: int, size: int, path: str) -> int:
     cmd = ["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", sys.executable, __file__,
            "--child", case, name, str(spp), str(size), path]
-    out = subprocess.run(cmd, capture_output=True, text=True, check=True).stderr
+    # one thread each for rayon and numpy: idle threads' spinning would add instructions that
+    # vary from run to run (by 1-3%); with one, runs of one build count the same to 0.1%
+    env = dict(os.environ, RAYON_NUM_THREADS="1", OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
+    out = subprocess.run(cmd, capture_output=True, text=True, check=True, env=env).stderr
     m = re.search(r"Collected : (\d+)", out)
     if not m:
         raise RuntimeError(f"no count in valgrind's output:\n{out[-2000:]}")

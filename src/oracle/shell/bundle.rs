@@ -61,7 +61,7 @@ impl Object<'_> {
             o,
             d: da,
             lift,
-            exact: false,
+            want: Want::Near,
             part: 0.0,
         };
         let Walk::Hit {
@@ -290,7 +290,7 @@ impl Shell<'_> {
             o,
             d: da,
             lift,
-            exact: false,
+            want: Want::Any,
             part,
         };
         match ob.walk(&ray, tri, l0, c_at) {

@@ -96,9 +96,21 @@ enum Walk {
     },
 }
 
+/// What a ray's walk must answer of its hit.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Want {
+    /// the first hit, on the path itself (a camera ray)
+    Exact,
+    /// whether it has one, and where: the chord's first hit, or where the path lies below the
+    /// field's lowest texel (a bundle's axis, which `Object::all_blocked` looks past)
+    Near,
+    /// only whether it has one (a light or ambient ray): any point of the path at or under the
+    /// field answers
+    Any,
+}
+
 /// A ray o + lam d in an object's space, walked `lift` above the field (a light or ambient ray
-/// leaving a hit). `exact`: whether its hit is wanted on the path itself (a camera ray), or
-/// only whether it has one (visibility: the chord's hit answers). `part` > 0 makes it the axis
+/// leaving a hit), answering what `want` says. `part` > 0 makes it the axis
 /// of a bundle of rays from o whose directions differ from d by at most `part` (bundle.rs):
 /// its chords' boxes are widened by as far as the rays part, and a chord that its box does
 /// not clear counts as a hit (the bundle then shows nothing).
@@ -106,7 +118,7 @@ struct Ray {
     o: DVec3,
     d: DVec3,
     lift: f64,
-    exact: bool,
+    want: Want,
     part: f64,
 }
 
@@ -202,7 +214,7 @@ impl<'a> Shell<'a> {
                     o,
                     d,
                     lift: 0.0,
-                    exact: !any,
+                    want: if any { Want::Any } else { Want::Exact },
                     part: 0.0,
                 };
                 let hit = ob.walk_start(oi, &ray, (t, lam, at), &mut best, &mut cells);
@@ -265,7 +277,7 @@ impl Shell<'_> {
                 o: ob.to_obj.transform_point3(eye),
                 d: ob.to_obj.transform_vector3(dir),
                 lift: 0.0,
-                exact: true,
+                want: Want::Exact,
                 part: 0.0,
             };
             ob.walk_start(oi as usize, &ray, (t, lam, at), &mut best, &mut cells);
@@ -459,7 +471,7 @@ impl Shell<'_> {
             o: hit.at.x,
             d,
             lift,
-            exact: false,
+            want: Want::Any,
             part: 0.0,
         };
         let start = from

@@ -247,7 +247,7 @@ fn a_ray_that_leaves_above_its_object_skips_it() {
                     o: hit.at.x,
                     d,
                     lift: 1e-9,
-                    exact: false,
+                    want: Want::Any,
                     part: 0.0,
                 };
                 let full = match ob.walk(&ray, hit.at.tri, 0.0, hit.at.at) {
@@ -523,7 +523,7 @@ fn a_ray_below_the_lowest_texel_has_met_the_surface() {
                             o: hit.at.x,
                             d,
                             lift: 1e-9,
-                            exact,
+                            want: if exact { Want::Exact } else { Want::Any },
                             part: 0.0,
                         };
                         matches!(ob.walk(&ray, hit.at.tri, 0.0, hit.at.at), Walk::Hit { .. })

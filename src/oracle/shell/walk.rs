@@ -62,7 +62,7 @@ impl<'a> Object<'a> {
             // floor h = 0). A path (1 + lift - low) depths below the triangle's plane is there
             // (h <= low where the normal leans from the plane's); where nothing bounds it, far
             // below
-            let visibility = !ray.exact && ray.part == 0.0;
+            let visibility = ray.want != Want::Exact && ray.part == 0.0;
             let low = if visibility { self.field.low } else { 0.0 };
             let at_top = top.is_some_and(|(lt, _)| side.is_none_or(|s| lt <= s.lam));
             let dn = d.dot(p.ng);
@@ -100,6 +100,14 @@ impl<'a> Object<'a> {
                     }
                 }
             };
+            if via.is_some() && self.met(ray, &end) {
+                return Walk::Hit {
+                    tri,
+                    lam: end.lam,
+                    at: end.at,
+                    cells,
+                };
+            }
             let start = self.sample(p, lam, at, lift);
             if let Some((l, a)) = self.chord(
                 p,
@@ -199,6 +207,13 @@ impl<'a> Object<'a> {
         // side k is the one where corner k + 2's weight vanishes
         let safe = std::array::from_fn(|k| wa[(k + 2) % 3].min(wb[(k + 2) % 3]) > margin);
         Some((self.sample(p, lm, am, ray.lift), safe))
+    }
+
+    /// Whether a ray that wants any hit has met the surface by its point `x`: x lies at or under
+    /// the field, and the ray began at or above it (lifted from a hit, or entering through a top
+    /// or a wall), so that its path crossed the surface on the way (where first does not matter).
+    fn met(&self, ray: &Ray, x: &Sample) -> bool {
+        ray.want == Want::Any && ray.part == 0.0 && self.mat.height.sample(x.s.x, x.s.y) >= x.h
     }
 
     /// The first hit on the path from `a` to `b` in prism `p`: its lam and point.
@@ -323,7 +338,7 @@ impl<'a> Object<'a> {
             b: u.at.b + (v.at.b - u.at.b) * mu,
             s: u.at.s + (v.at.s - u.at.s) * mu,
         };
-        if !ray.exact {
+        if ray.want != Want::Exact {
             return Some(Some((lam, g)));
         }
         let at = p.locate(ray.o + ray.d * lam, g).unwrap_or(g);
