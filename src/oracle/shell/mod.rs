@@ -252,7 +252,7 @@ impl Shell<'_> {
         eye: DVec3,
         dir: DVec3,
     ) -> Option<(usize, u32, f64, Local, u32)> {
-        let mut starts: Vec<(f64, u32, u32, Local)> = Vec::new();
+        let mut starts: smallvec::SmallVec<[(f64, u32, u32, Local); 8]> = smallvec::SmallVec::new();
         for &(oi, t) in candidates {
             let ob = &self.objects[oi as usize];
             let (o, d) = (

@@ -129,9 +129,10 @@ impl Prism {
             if !(det.abs() > 1e-300) {
                 return None;
             }
-            at.b.x -= f.dot(c12) / det;
-            at.b.y -= c0.dot(f.cross(n)) / det;
-            at.s -= c0.dot(c1.cross(f)) / det;
+            let inv = 1.0 / det;
+            at.b.x -= f.dot(c12) * inv;
+            at.b.y -= c0.dot(f.cross(n)) * inv;
+            at.s -= c0.dot(c1.cross(f)) * inv;
             if !(at.b.is_finite() && at.s.is_finite()) {
                 return None;
             }

@@ -58,12 +58,17 @@ impl<'a> Object<'a> {
                 });
             }
             // where the prism ends along the ray: its top, a side, or where the path is below
-            // the field's lowest texel (the surface is met by then; for a camera ray, the
-            // floor h = 0). A path (1 + lift - low) depths below the triangle's plane is there
-            // (h <= low where the normal leans from the plane's); where nothing bounds it, far
-            // below
+            // the field's lowest texel (the surface is met by then; a camera ray's walk ends
+            // 1e-6 below it, so that its last chord ends under the field and holds the
+            // crossing; a bundle's axis, at the floor h = 0). A path (1 + lift - low) depths
+            // below the triangle's plane is there (h <= low where the normal leans from the
+            // plane's); where nothing bounds it, far below
             let visibility = ray.want != Want::Exact && ray.part == 0.0;
-            let low = if visibility { self.field.low } else { 0.0 };
+            let low = match (visibility, ray.part > 0.0) {
+                (true, _) => self.field.low,
+                (false, false) => (self.field.low - 1e-6).max(0.0),
+                (false, true) => 0.0,
+            };
             let at_top = top.is_some_and(|(lt, _)| side.is_none_or(|s| lt <= s.lam));
             let dn = d.dot(p.ng);
             let floor = (!at_top && dn < 0.0)
