@@ -75,6 +75,8 @@ struct Object<'a> {
     to_world: DMat4,
     normal_to_world: DMat3,
     depth: f64,
+    /// 1 / depth (heights are offsets times it)
+    per_depth: f64,
     tiling: f64,
     /// object-space size of the whole mesh (for tolerances)
     extent: f64,
@@ -621,6 +623,7 @@ impl<'a> Object<'a> {
             to_world: m,
             normal_to_world: lin.inverse().transpose(),
             depth,
+            per_depth: 1.0 / depth,
             tiling: mat.tiling as f64,
             extent,
         })
@@ -629,7 +632,7 @@ impl<'a> Object<'a> {
     /// Whether a point of prism `p` lies above the surface.
     fn above(&self, p: &Prism, at: Local) -> bool {
         let s = p.uv(at.b) * self.tiling;
-        1.0 + p.offset(at) / self.depth > self.mat.height.sample(s.x, s.y)
+        1.0 + p.offset(at) * self.per_depth > self.mat.height.sample(s.x, s.y)
     }
 
     fn sample(&self, p: &Prism, lam: f64, at: Local, lift: f64) -> Sample {
@@ -639,7 +642,7 @@ impl<'a> Object<'a> {
             lam,
             at,
             s,
-            h: 1.0 + p.offset(at) / self.depth + lift,
+            h: 1.0 + p.offset(at) * self.per_depth + lift,
             c: DVec2::new(s.x * hm.width as f64, s.y * hm.height as f64),
         }
     }

@@ -113,8 +113,8 @@ impl Prism {
     /// converge (a point far outside the shell, where the normals cross).
     pub(crate) fn locate(&self, x: DVec3, guess: Local) -> Option<Local> {
         let ([e1, e2], [d1, d2]) = (self.e, self.dn);
-        let tol = 1e-13 * (1.0 + self.size + x.length());
-        let tol2 = tol * tol;
+        // (1e-13 (1 + size + |x|))², within a factor of two, without a square root
+        let tol2 = 1e-26 * ((1.0 + self.size).powi(2) + x.length_squared());
         let mut at = guess;
         for _ in 0..40 {
             let n = self.normal(at.b);
