@@ -33,6 +33,29 @@ def raster_floor(oracle, scene) -> float:
     return float(np.median(steps)) / 256 if steps.size else 0.0
 
 
+def marched_past_border(frame) -> np.ndarray:
+    """Pixels whose hit lies past the mesh's uv square: a texture-space march that went on past a
+    plane's open border, where the displaced surface (and the oracle) ends (docs/conventions.md,
+    "The displaced surface")."""
+    uv = frame.uv
+    return frame.mask & ((uv < 0.0) | (uv > 1.0)).any(-1)
+
+
+def light_crosses_border(scene, oracle) -> np.ndarray:
+    """Pixels of a plane scene (`plane_scene`) whose oracle hit's ray toward the first light
+    reaches the plane's top (y = 0) outside the plane: light that comes in through the open
+    border, which the texture-space marches (tiling the plane without end) cannot see."""
+    half = float(np.abs(scene.mesh.positions[:, [0, 2]]).max())
+    eye = np.asarray(scene.camera.eye, np.float64)
+    p = eye + scene.camera.rays().astype(np.float64) * oracle.depth[..., None]
+    to_light = -np.asarray(scene.lights[0].direction, np.float64)
+    to_light /= np.linalg.norm(to_light)
+    q = p + to_light * (-p[..., 1:2] / to_light[1])
+    with np.errstate(invalid="ignore"):
+        inside = (np.abs(q[..., 0]) <= half) & (np.abs(q[..., 2]) <= half)
+    return oracle.mask & ~inside
+
+
 def plane_scene(height, *, depth=0.1, theta_deg=45.0, size=128, fov=30.0, tiling=1.0, lights=(), ambient=0.0,
                 albedo=None, dist=2.0):
     """`pk.scenes.tilted_plane` with the unit tests' defaults (depth 0.1, 45°, fov 30, 2 units away)."""

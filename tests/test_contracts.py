@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import pomkit as pk
-from pomkit import _core, _frame, _methods
+from pomkit import _core, _frame, _methods, _scene
 from conftest import plane_scene
 
 
@@ -18,6 +18,7 @@ from conftest import plane_scene
     (_methods.RefineKind, _core.REFINE_KINDS),
     (_methods.PatternKind, _core.PATTERN_KINDS),
     (_frame.AovName, _core.AOV_NAMES),
+    (_scene.NormalsMode, _core.NORMALS_MODES),
 ])
 def test_literals_equal_the_core(literal, core):
     assert list(get_args(literal)) == list(core)

@@ -11,13 +11,14 @@ from __future__ import annotations
 
 from ._errors import ArgumentError, ArgumentTypeError, MissingExtraError
 import os
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Optional, Union
 
 import numpy as np
 
 from . import _core
-from ._scene import Material, Mesh, Object
+from ._scene import Material, Mesh, NormalsMode, Object
 
 __all__ = ["load_mesh", "load_objects", "check_asset", "AssetReport"]
 
@@ -34,8 +35,15 @@ def _path(path: PathLike) -> str:
     return p
 
 
-def _nodes(path: str) -> list:
-    return list(_core.load_gltf(path))
+def _nodes(path: str, normals: NormalsMode = "file") -> list:
+    if normals not in _core.NORMALS_MODES:
+        raise ArgumentError(f"normals: expected one of {', '.join(map(repr, _core.NORMALS_MODES))}, got {normals!r}")
+    nodes = list(_core.load_gltf(path, normals))
+    replaced = sum(n["replaced_normals"] for n in nodes)
+    if replaced and normals == "repair":
+        warnings.warn(f"{path}: {replaced} unusable normal(s) recomputed from the faces (normals=\"repair\")",
+                      RuntimeWarning, stacklevel=3)
+    return nodes
 
 
 def _merge(meshes: list[tuple[dict, np.ndarray]]) -> dict:
@@ -62,7 +70,7 @@ def _merge(meshes: list[tuple[dict, np.ndarray]]) -> dict:
                 tangents=np.concatenate(tan), indices=np.concatenate(idx))
 
 
-def load_mesh(path: PathLike, *, tangents: Any = None) -> Mesh:
+def load_mesh(path: PathLike, *, tangents: Any = None, normals: NormalsMode = "file") -> Mesh:
     """One mesh from a file. glTF 2.0 (.gltf, .glb) is read by pomkit's core as the file says:
     positions, normals, TEXCOORD_0 and TANGENT bit for bit (the tangent's w as pomkit's
     handedness, minus glTF's), MikkTSpace tangents where the file has none, flat normals where it
@@ -71,7 +79,12 @@ def load_mesh(path: PathLike, *, tangents: Any = None) -> Mesh:
     ...) load through trimesh (`Mesh.from_trimesh`, v flipped to pomkit's convention).
 
     tangents: None keeps the file's (or MikkTSpace); "mikktspace", "pomkit" or an (n, 4) array
-    replace them (see `Mesh.from_arrays`)."""
+    replace them (see `Mesh.from_arrays`).
+    normals: "file" (the default: what the file says; an unusable normal, NaN, Inf or zero length,
+    is refused with the mesh, primitive and vertex named), "repair" (only the unusable ones
+    recomputed from the faces, with a warning that counts them: what engines' importers do) or
+    "recompute" (all of them; hard edges over 60 degrees kept). A node graph that is not a tree
+    (a cycle) is refused at once."""
     p = _path(path)
     if not p.lower().endswith(GLTF):
         try:
@@ -79,8 +92,8 @@ def load_mesh(path: PathLike, *, tangents: Any = None) -> Mesh:
         except ImportError:
             raise MissingExtraError(f"path: {p}: formats other than glTF load through trimesh; pip install trimesh (or pomkit[reference])") from None
         tm = trimesh.load(p, force="mesh", process=False)
-        return Mesh.from_trimesh(tm, tangents="mikktspace" if tangents is None else tangents)
-    nodes = _nodes(p)
+        return Mesh.from_trimesh(tm, tangents="mikktspace" if tangents is None else tangents, normals_mode=normals)
+    nodes = _nodes(p, normals)
     as_stored = len(nodes) == 1 and np.array_equal(np.asarray(nodes[0]["transform"]), np.eye(4).reshape(-1))
     if as_stored and tangents is None:
         return Mesh._from_core(nodes[0], "arrays")
@@ -108,8 +121,8 @@ def load_objects(path: PathLike, material: Material) -> list[Object]:
 #: what each finding changes, for the report's text
 _MEANING = {
     "open border": "the displaced surface ends there (no method adds a skirt)",
-    "seam": "uvs split: each side samples its own texels; the displaced surface is welded across it",
-    "seam heights disagree": "the two sides of a seam read different heights: the bake's mismatch, rendered as the file says",
+    "seam": "uvs split: each side samples its own texels; the displaced surface is one surface across it",
+    "seam heights disagree": "the two sides of a seam read different heights (the bake's mismatch): the surface steps there, and a wall along the seam closes the step (the oracle, the mesh); the texture-space marches (POM, Exact, ...) leave the step open",
     "mirror axis": "the tangent frame's handedness flips across it",
     "vertex shared across a mirror axis": "one tangent serves both handednesses: the frame collapses in the triangles beside it (split the vertex, as glTF exporters do)",
     "mirrored chart": "a chart whose uvs are mirrored (handedness w = +1)",
@@ -118,6 +131,9 @@ _MEANING = {
     "degenerate uv triangle": "zero uv area: no tangent frame of its own (a fallback frame)",
     "degenerate triangle": "zero area",
     "overlapping charts": "two charts map the same texels",
+    "normal far from its face": "a vertex normal more than 60 degrees from its face (averaged across a thin part or a sharp edge): Prism's shell and the NCS/CurvedRelief walks lean far from the surface there (remedy: split or recompute the normals, normals=\"recompute\")",
+    "flipped normal": "a vertex normal more than 90 degrees from its face: the shell turns inside out there, and Prism, NCS and CurvedRelief lose the surface; shading follows the normals the file gives (remedy: recompute the normals, normals=\"recompute\")",
+    "folded shell": "at the material's depth the prism's bottom turns over (depth past the local radius of curvature, or normals that cross): Prism, NCS and CurvedRelief are not held to the oracle there (remedy: lower the depth, or recompute the normals)",
 }
 
 
@@ -149,6 +165,9 @@ class AssetReport:
     overlapping_texels: Optional[int]
     min_chart_gap_texels: Optional[int]
     max_clean_mip: Optional[int]
+    normals_off_faces: int = 0
+    normals_flipped: int = 0
+    folded_prisms: Optional[int] = None
     examples: list = field(default_factory=list)
     warnings: list = field(default_factory=list)
 
@@ -157,6 +176,8 @@ class AssetReport:
         lines.append(f"seams: {self.seam_edges} edges; mirror axes: {self.mirror_edges} ({self.mirror_shared_edges} sharing vertices); mirrored charts: {self.mirrored_charts}")
         lines.append(f"open borders: {self.open_edges} edges ({self.open_length:.4g} long); hard edges: {self.hard_edges}; non-manifold: {self.nonmanifold_edges}")
         lines.append(f"degenerate: {self.degenerate_triangles} triangles, {self.degenerate_uv_triangles} in uv")
+        fold = "" if self.folded_prisms is None else f"; prisms folded at the depth: {self.folded_prisms}"
+        lines.append(f"normals past 60 degrees from their face: {self.normals_off_faces} triangles, past 90 (flipped): {self.normals_flipped}{fold}")
         if self.seam_height_max is not None:
             w = "" if self.seam_world_max is None else f" ({self.seam_world_max:.3g} world units)"
             lines.append(f"seam height mismatch: max {self.seam_height_max:.4g}{w}, mean {self.seam_height_mean:.3g}")
@@ -178,7 +199,9 @@ def check_asset(mesh: Mesh, height: Any = None) -> AssetReport:
     degenerate triangles, open borders, hard edges (split normals), non-manifold edges; with a
     map, overlapping charts and the narrowest gap between charts against the mip levels a method
     samples (a bilinear footprint at level k reaches 2^k texels: a chart with g texels of gutter
-    on its side stays clean up to level log2(g)).
+    on its side stays clean up to level log2(g)); vertex normals far from their faces (past 60
+    degrees, and past 90 as flipped) and, with a material, the prisms that fold at its depth: each
+    warning names the methods it breaks and the remedy.
 
     height: None, a height map (2-D array), or a `pk.Material` (its height, depth and tiling:
     the mismatch is then also given in world units)."""
@@ -190,7 +213,7 @@ def check_asset(mesh: Mesh, height: Any = None) -> AssetReport:
         hd = height._height_data()
     elif height is not None:
         hd = Material(height=height)._height_data()
-    r = _core.check_asset(mesh._core_data(), hd, float(tiling))
+    r = _core.check_asset(mesh._core_data(), hd, float(tiling), None if depth is None else float(depth))
     d: dict[str, Any] = dict(r)
     seam = r["seam_height_max"]
     d["seam_world_max"] = None if (depth is None or seam is None) else seam * depth
@@ -199,7 +222,7 @@ def check_asset(mesh: Mesh, height: Any = None) -> AssetReport:
     if d["mirrored_triangles"] > 0.75 * d["triangles"]:
         warn.append(f"{d['mirrored_triangles']} of {d['triangles']} triangles are mirrored: the uvs probably have v pointing up (trimesh's, xatlas's and OBJ's convention); pomkit's v points down (use pk.Mesh.from_trimesh or v -> 1 - v)")
     if d["seam_height_max"] is not None and d["seam_height_max"] > 2.0 / 255.0:
-        warn.append(f"heights disagree across seams by up to {d['seam_height_max']:.3g}: the displaced surface steps there")
+        warn.append(f"heights disagree across seams by up to {d['seam_height_max']:.3g}: the displaced surface steps there, closed by a wall along the seam; the texture-space marches (POM, Exact, ...) leave the step open")
     if d["overlapping_texels"]:
         warn.append(f"{d['overlapping_texels']} texels are mapped by two charts")
     if d["min_chart_gap_texels"] is not None and d["max_clean_mip"] is None:
@@ -210,4 +233,10 @@ def check_asset(mesh: Mesh, height: Any = None) -> AssetReport:
         warn.append(f"{d['mirror_shared_edges']} mirror-axis edges share vertices across the axis: one tangent serves both handednesses there, and shading and the texture-space methods (NCS, CurvedRelief) go wrong beside them; split those vertices, as glTF exporters do")
     if d["nonmanifold_edges"]:
         warn.append(f"{d['nonmanifold_edges']} non-manifold edges")
+    if d["normals_flipped"]:
+        warn.append(f"{d['normals_flipped']} triangles have a vertex normal more than 90 degrees from the face: the shell turns inside out there (Prism, NCS and CurvedRelief lose the surface); load with normals=\"recompute\", or recompute them in your tool")
+    if d["normals_off_faces"]:
+        warn.append(f"{d['normals_off_faces']} triangles have a vertex normal more than 60 degrees from the face (averaged across a thin part or a sharp edge): Prism, NCS and CurvedRelief lean far from the surface there; split the normals at sharp edges, or load with normals=\"recompute\"")
+    if d["folded_prisms"]:
+        warn.append(f"{d['folded_prisms']} prisms fold at depth {depth:g} (deeper than the local radius of curvature, or normals that cross): Prism, NCS and CurvedRelief are not held to the oracle there; lower the depth")
     return AssetReport(**d, warnings=warn)

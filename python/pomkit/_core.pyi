@@ -9,7 +9,7 @@ import numpy as np
 from ._methods import Method
 from ._scene import Scene
 
-__all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "COST_AOV_NAMES", "CONE_KINDS", "FILTERING_KINDS", "HeightData", "MAX_LIGHTS",
+__all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "COST_AOV_NAMES", "CONE_KINDS", "FILTERING_KINDS", "HeightData", "MAX_LIGHTS", "NORMALS_MODES",
            "MAX_STEPS_LIMIT", "MeshData", "PATTERN_KINDS", "PRISM_BYTES", "PRISM_VERTEX_BYTES", "REFINE_KINDS", "RenderedFrame", "Renderer", "SCHEMA", "SHADOW_KINDS", "WALK_BYTES_PER_TRIANGLE",
            "__version__", "adapters", "bounding_sphere", "check_asset", "exact_uv", "light_power", "load_gltf", "jod", "jod_displays", "load_image", "mesh_cube", "mesh_cylinder", "mesh_from_arrays", "mesh_plane", "mesh_sphere", "mesh_torus", "oracle_refusal", "reference_directions", "reference_normals", "render_exact", "set_cache_dir", "set_progress_hook", "tessellate"]
 __version__: str
@@ -24,6 +24,7 @@ COST_AOV_NAMES: list[str]
 SHADOW_KINDS: list[str]
 FILTERING_KINDS: list[str]
 CONE_KINDS: list[str]
+NORMALS_MODES: list[str]
 REFINE_KINDS: list[str]
 PATTERN_KINDS: list[str]
 MAX_STEPS_LIMIT: int
@@ -84,6 +85,7 @@ class MeshFromArrays(MeshArrays):
     """`mesh_from_arrays`: the arrays and the repairs made."""
     degenerate_uv_triangles: int
     fallback_vertices: int
+    replaced_normals: int
 
 
 @type_check_only
@@ -93,6 +95,7 @@ class GltfNode(MeshArrays):
     transform: list[float]   # 16, row-major: the node's world transform
     tangent_source: Literal["file", "mikktspace"]
     flat_normals: int
+    replaced_normals: int
 
 
 @type_check_only
@@ -119,6 +122,9 @@ class AssetReportDict(TypedDict):
     overlapping_texels: Optional[int]
     min_chart_gap_texels: Optional[int]
     max_clean_mip: Optional[int]
+    normals_off_faces: int
+    normals_flipped: int
+    folded_prisms: Optional[int]
     examples: list[tuple[str, list[float]]]
 
 
@@ -200,9 +206,11 @@ def tessellate(scene: Scene, texels_per_vertex: float, object: int = 0,
                pattern: Literal["fan", "grid"] = "fan") -> TessellationDict: ...
 def mesh_from_arrays(positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray, indices: np.ndarray,
                      tangents: Optional[np.ndarray] = None,
-                     frames: Literal["pomkit", "mikktspace"] = "pomkit") -> MeshFromArrays: ...
-def load_gltf(path: str) -> list[GltfNode]: ...
-def check_asset(mesh: MeshData, height: Optional[HeightData] = None, tiling: float = 1.0) -> AssetReportDict: ...
+                     frames: Literal["pomkit", "mikktspace"] = "pomkit",
+                     normals_mode: Literal["file", "recompute", "repair"] = "file") -> MeshFromArrays: ...
+def load_gltf(path: str, normals: Literal["file", "recompute", "repair"] = "file") -> list[GltfNode]: ...
+def check_asset(mesh: MeshData, height: Optional[HeightData] = None, tiling: float = 1.0,
+                depth: Optional[float] = None) -> AssetReportDict: ...
 def mesh_plane(size: float, segments: int) -> MeshArrays: ...
 def mesh_sphere(radius: float, segments: int, rings: int) -> MeshArrays: ...
 def mesh_torus(major: float, minor: float, segments: int, tube_segments: int) -> MeshArrays: ...

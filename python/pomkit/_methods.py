@@ -160,6 +160,10 @@ class POM(_PerPixel):
     lod_threshold - 1, bump mapping above lod_threshold, blended in between. Default shadows:
     "soft". The march samples level 0 of the height map (`mip_filtering=False`, the default by
     measurement); `mip_filtering=True` samples the footprint's level (Tatarchuk's tex2Dgrad).
+
+    Follows the displaced surface (docs/conventions.md) but at open borders and seams: it marches
+    the fragment's tangent plane, tiled without end, so it goes on past a plane's border and
+    does not see the wall that closes a step at a seam whose heights disagree.
     """
 
     min_steps: int = 8
@@ -190,7 +194,12 @@ class POM(_PerPixel):
 class Parallax(_PerPixel):
     """Parallax mapping (Kaneko 2001): one sample, s += (scale * (1 - h) + bias) * P, P the
     parallax vector per unit of height. With `offset_limiting` (Welsh 2004) P is not divided by
-    V.z, which bounds the offset at grazing angles."""
+    V.z, which bounds the offset at grazing angles.
+
+    Follows the displaced surface (docs/conventions.md) but at open borders and seams: it marches
+    the fragment's tangent plane, tiled without end, so it goes on past a plane's border and
+    does not see the wall that closes a step at a seam whose heights disagree.
+    """
 
     offset_limiting: bool = True
     scale: float = 1.0
@@ -207,7 +216,12 @@ class Parallax(_PerPixel):
 @dataclass(frozen=True)
 class SteepParallax(_PerPixel):
     """Steep parallax mapping (McGuire & McGuire 2005): `steps` fixed height steps, the first
-    sample below the surface is the hit, no refinement (stair-steps expected)."""
+    sample below the surface is the hit, no refinement (stair-steps expected).
+
+    Follows the displaced surface (docs/conventions.md) but at open borders and seams: it marches
+    the fragment's tangent plane, tiled without end, so it goes on past a plane's border and
+    does not see the wall that closes a step at a seam whose heights disagree.
+    """
 
     steps: int = 32
     mip_filtering: bool = _level0()
@@ -222,7 +236,12 @@ class SteepParallax(_PerPixel):
 class Relief(_PerPixel):
     """Relief mapping (Policarpo et al. 2005): `linear_steps` fixed steps, then `binary_steps`
     bisections. `depth_bias` scales the search by 1 - (1 - N.V)^8, flattening toward the horizon
-    (Tatarchuk 2006 fig. 2b)."""
+    (Tatarchuk 2006 fig. 2b).
+
+    Follows the displaced surface (docs/conventions.md) but at open borders and seams: it marches
+    the fragment's tangent plane, tiled without end, so it goes on past a plane's border and
+    does not see the wall that closes a step at a seam whose heights disagree.
+    """
 
     linear_steps: int = 16
     binary_steps: int = 6
@@ -243,7 +262,12 @@ class Exact(_PerPixel):
     pyramid (built on the GPU), the exact ray/bilinear-patch intersection at the finest level.
     No step count to tune; `max_iterations` bounds the traversal and `Frame.flags & 1` marks rays
     that hit the bound. Always samples level 0 with exact filtering. shadows="exact" (every
-    per-pixel method has it) is the same traversal along the light ray."""
+    per-pixel method has it) is the same traversal along the light ray.
+
+    Follows the displaced surface (docs/conventions.md) but at open borders and seams: it marches
+    the fragment's tangent plane, tiled without end, so it goes on past a plane's border and
+    does not see the wall that closes a step at a seam whose heights disagree.
+    """
 
     max_iterations: int = 4096
     _kind = "Exact"
@@ -276,7 +300,12 @@ class ConeStep(_PerPixel):
     (the cones only skip empty space). "binary" bisects `binary_steps` times between the last
     point above and the first below the surface (for relaxed cones). "none" is the raw march.
     max_steps: cone steps before the refinement takes over ("exact") or the march stops, flagged
-    in `Frame.flags & 1` ("binary", "none"); `max_iterations` bounds the max-mip walk."""
+    in `Frame.flags & 1` ("binary", "none"); `max_iterations` bounds the max-mip walk.
+
+    Follows the displaced surface (docs/conventions.md) but at open borders and seams: it marches
+    the fragment's tangent plane, tiled without end, so it goes on past a plane's border and
+    does not see the wall that closes a step at a seam whose heights disagree.
+    """
 
     cones: ConeKind = "conservative"
     refine: RefineKind = "exact"
@@ -414,7 +443,12 @@ class DistanceMapping(_PerPixel):
     tests the height field itself in half-texel steps; the first sample below the surface is
     refined by `binary_steps` bisections. `max_steps` bounds the walk (`Frame.flags & 1`).
     Memory: (4 + W' H' slices) floats, e.g. 1 MiB for a 256² map (4x the map's float32 level 0).
-    Level 0 by default (`mip_filtering=False`)."""
+    Level 0 by default (`mip_filtering=False`).
+
+    Follows the displaced surface (docs/conventions.md) but at open borders and seams: it marches
+    the fragment's tangent plane, tiled without end, so it goes on past a plane's border and
+    does not see the wall that closes a step at a seam whose heights disagree.
+    """
 
     max_steps: int = 64
     binary_steps: int = 6
@@ -475,6 +509,10 @@ class Custom(_PerPixel):
     the AOVs and the timing. `params` become the uniform block `params` (f32 fields, in order):
     `params={"steps": 24.0}` is read as `params.steps`. `name` names the method in labels and in
     compile errors, which raise a ValueError naming `wgsl` with naga's message and line numbers.
+
+    Follows the displaced surface (docs/conventions.md) but at open borders and seams: it marches
+    the fragment's tangent plane, tiled without end, so it goes on past a plane's border and
+    does not see the wall that closes a step at a seam whose heights disagree.
     """
 
     wgsl: str = ""

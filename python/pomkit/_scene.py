@@ -34,6 +34,10 @@ def _readonly(a: np.ndarray) -> np.ndarray:
     return a
 
 
+#: what a mesh's vertex normals get (`_core.NORMALS_MODES`; `Mesh.from_arrays`, `pk.load_mesh`)
+NormalsMode = Literal["file", "recompute", "repair"]
+
+
 @dataclass(frozen=True, eq=False)
 class Mesh:
     """A triangle mesh with per-vertex normals, uvs and tangent frames.
@@ -113,7 +117,8 @@ class Mesh:
         return cls._generate("cube", size=_pos("size", size), segments=_count("segments", segments))
 
     @classmethod
-    def from_arrays(cls, positions, normals, uvs, indices, tangents: Any = None) -> "Mesh":
+    def from_arrays(cls, positions, normals, uvs, indices, tangents: Any = None, *,
+                    normals_mode: "NormalsMode" = "file") -> "Mesh":
         """A mesh from numpy arrays: positions (n,3), normals (n,3), uvs (n,2) in pomkit's
         convention (v down: row 0 of a map at v = 0), indices (m,) or (m/3,3).
 
@@ -122,7 +127,15 @@ class Mesh:
         dP/du per triangle, area-weighted per vertex, the uv derivatives a height field's
         displacement follows) or "mikktspace" (MikkTSpace, what glTF asks for and what engines
         bake normal maps against). Triangles with degenerate uvs get a fallback frame and a
-        warning; a mesh with no usable uvs raises."""
+        warning; a mesh with no usable uvs raises.
+
+        normals_mode: "file" (the default) keeps the normals as given and refuses an unusable one
+        (NaN, Inf or zero length), naming its vertex; "repair" recomputes only those (a warning
+        counts them); "recompute" recomputes all. A recomputed normal is the area-weighted face
+        normal around the vertex's position (both sides of a uv seam alike), hard edges (faces
+        more than 60 degrees apart) kept hard."""
+        if normals_mode not in _core.NORMALS_MODES:
+            raise ArgumentError(f"normals: expected one of {', '.join(map(repr, _core.NORMALS_MODES))}, got {normals_mode!r}")
         p = _float_array("positions", positions, 3)
         n = _float_array("normals", normals, 3)
         uv = _float_array("uvs", uvs, 2)
@@ -142,9 +155,13 @@ class Mesh:
             frames = "pomkit" if tangents is None else tangents
             if frames not in ("pomkit", "mikktspace"):
                 raise ArgumentError(f'tangents: expected "pomkit", "mikktspace" or an (n, 4) array, got {frames!r}')
-            out = _core.mesh_from_arrays(p, n, uv, idx, None, "mikktspace" if frames == "mikktspace" else "pomkit")
+            out = _core.mesh_from_arrays(p, n, uv, idx, None, "mikktspace" if frames == "mikktspace" else "pomkit",
+                                         normals_mode)
         else:
-            out = _core.mesh_from_arrays(p, n, uv, idx, _float_array("tangents", tangents, 4))
+            out = _core.mesh_from_arrays(p, n, uv, idx, _float_array("tangents", tangents, 4), "pomkit", normals_mode)
+        if out["replaced_normals"] and normals_mode == "repair":
+            warnings.warn(f"{out['replaced_normals']} unusable normal(s) recomputed from the faces (normals_mode=\"repair\")",
+                          RuntimeWarning, stacklevel=2)
         degenerate, fallback = out["degenerate_uv_triangles"], out["fallback_vertices"]
         if degenerate:
             warnings.warn(
@@ -155,7 +172,7 @@ class Mesh:
         return cls._from_core(out, "arrays")
 
     @classmethod
-    def from_trimesh(cls, mesh, tangents: Any = "mikktspace") -> "Mesh":
+    def from_trimesh(cls, mesh, tangents: Any = "mikktspace", *, normals_mode: "NormalsMode" = "file") -> "Mesh":
         """A mesh from a `trimesh.Trimesh` with uvs (`mesh.visual.uv`).
 
         trimesh keeps uvs with v pointing up (it flips glTF's v on load and samples images at
@@ -163,13 +180,15 @@ class Mesh:
         (u, 1 - v). Normals are `mesh.vertex_normals`: the file's only where trimesh kept them
         (`trimesh.load(path, process=False)`; its default processing merges vertices and
         recomputes normals). For glTF, `pk.load_mesh` reads the file as it is, tangents included.
-        tangents: as in `from_arrays`; MikkTSpace by default, as for a loaded asset."""
+        tangents: as in `from_arrays`; MikkTSpace by default, as for a loaded asset.
+        normals_mode: as in `from_arrays`."""
         uv = getattr(getattr(mesh, "visual", None), "uv", None)
         if uv is None:
             raise ArgumentError("mesh: the trimesh has no uvs (mesh.visual.uv); give it a parameterisation")
         uv = np.asarray(uv, dtype=np.float64)
         uv = np.stack([uv[:, 0], 1.0 - uv[:, 1]], axis=1)
-        return cls.from_arrays(mesh.vertices, mesh.vertex_normals, uv, mesh.faces, tangents=tangents)
+        return cls.from_arrays(mesh.vertices, mesh.vertex_normals, uv, mesh.faces, tangents=tangents,
+                               normals_mode=normals_mode)
 
     def _arrays(self) -> dict:
         return dict(positions=self.positions, normals=self.normals, uvs=self.uvs, indices=self.indices,

@@ -39,14 +39,17 @@ def rotate(axis, degrees: float) -> np.ndarray:
 
 
 def tilted_plane(height, theta: float = 60.0, size: int = 128, *, depth: float = 0.08, tiling: float = 1.0,
-                 fov: float = 40.0, distance: float = 1.6, lights=(), ambient: float = 0.0, albedo=None) -> Scene:
+                 fov: float = 40.0, distance: float = 1.6, lights=(), ambient: float = 0.0, albedo=None,
+                 extent: float = 1.0) -> Scene:
     """The test and bench scene: `pk.Mesh.plane(2.0)` under `height`, seen from `distance` at
     `theta` degrees from its normal, looking at the origin with the image's top towards -z (the
     far side at grazing angles), fov `fov`, `size` x `size` pixels. The one source of every tilted
     plane in the tests, the bench and the tables, each naming what it sets apart from these
-    defaults."""
+    defaults. `extent` k makes the plane k times wider with the map tiled k times more, the same
+    texels where the camera looks: the plane's open border (where the displaced surface ends,
+    and past which the texture-space marches go on tiling) then lies farther out of view."""
     t = np.radians(theta)
-    return Scene(mesh=Mesh.plane(2.0), material=Material(height, depth=depth, tiling=tiling, albedo=albedo),
+    return Scene(mesh=Mesh.plane(2.0 * extent), material=Material(height, depth=depth, tiling=tiling * extent, albedo=albedo),
                  camera=Camera.look_at(eye=(0.0, distance * np.cos(t), distance * np.sin(t)), target=(0, 0, 0),
                                        up=(0, 0, -1), fov_y=fov, width=size, height=size),
                  lights=list(lights), ambient=ambient)

@@ -10,6 +10,7 @@
 pub mod report;
 
 use crate::error::{Error, Result};
+use crate::mesh::normals::{self, NormalsMode};
 use crate::mesh::{Mesh, TangentFrames};
 use glam::DMat4;
 use std::path::Path;
@@ -33,6 +34,8 @@ pub struct AssetNode {
     pub tangents: TangentSource,
     /// primitives whose normals were missing and made flat
     pub flat_normals: usize,
+    /// normals replaced by `NormalsMode::Repair` or `Recompute`
+    pub replaced_normals: usize,
 }
 
 fn gltf_err(path: &Path, e: impl std::fmt::Display) -> Error {
@@ -43,8 +46,10 @@ fn gltf_err(path: &Path, e: impl std::fmt::Display) -> Error {
 }
 
 /// Every mesh node of the file's default scene (or of its first scene, or of every root node
-/// when it names none), depth first, with world transforms.
-pub fn load_gltf(path: &Path) -> Result<Vec<AssetNode>> {
+/// when it names none), depth first, with world transforms; `normals` says what to do with the
+/// file's normals (`mesh::normals`). A node graph that is not a forest (a node reached twice: a
+/// cycle, or a node with two parents) is refused, so every walk visits each node at most once.
+pub fn load_gltf(path: &Path, normals: NormalsMode) -> Result<Vec<AssetNode>> {
     let doc = gltf::Gltf::open(path).map_err(|e| gltf_err(path, e))?;
     let buffers = gltf::import_buffers(&doc.document, path.parent(), doc.blob.clone())
         .map_err(|e| gltf_err(path, e))?;
@@ -53,12 +58,33 @@ pub fn load_gltf(path: &Path) -> Result<Vec<AssetNode>> {
         Some(s) => s.nodes().collect(),
         None => doc.nodes().collect(),
     };
-    let mut stack: Vec<(gltf::Node, DMat4)> = roots
+    let mut reached: Vec<Option<usize>> = vec![None; doc.nodes().len()];
+    let mut stack: Vec<(gltf::Node, DMat4, Option<usize>)> = roots
         .into_iter()
         .rev()
-        .map(|n| (n, DMat4::IDENTITY))
+        .map(|n| (n, DMat4::IDENTITY, None))
         .collect();
-    while let Some((node, parent)) = stack.pop() {
+    while let Some((node, parent, from)) = stack.pop() {
+        let i = node.index();
+        if let Some(before) = reached[i] {
+            let was = match before {
+                usize::MAX => "a root of the scene".to_string(),
+                p => format!("a child of node {p}"),
+            };
+            let now = match from {
+                None => "a root of the scene".to_string(),
+                Some(p) => format!("a child of node {p}"),
+            };
+            return Err(Error::arg(
+                "path",
+                format!(
+                    "{}: the node graph is not a tree: node {i} is reached twice ({was}, and {now}){};                      glTF requires every node to have at most one parent (re-export the asset, or remove the loop)",
+                    path.display(),
+                    if ancestors(&reached, from).any(|a| a == i) { ": the graph has a cycle" } else { "" },
+                ),
+            ));
+        }
+        reached[i] = Some(from.unwrap_or(usize::MAX));
         let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
         let world = parent * local;
         if let Some(m) = node.mesh() {
@@ -67,10 +93,10 @@ pub fn load_gltf(path: &Path) -> Result<Vec<AssetNode>> {
                 .or(m.name())
                 .map(str::to_string)
                 .unwrap_or_else(|| format!("node {}", node.index()));
-            out.push(read_mesh(path, &m, &buffers, name, world)?);
+            out.push(read_mesh(path, &m, &buffers, name, world, normals)?);
         }
         for c in node.children().collect::<Vec<_>>().into_iter().rev() {
-            stack.push((c, world));
+            stack.push((c, world, Some(i)));
         }
     }
     if out.is_empty() {
@@ -82,12 +108,26 @@ pub fn load_gltf(path: &Path) -> Result<Vec<AssetNode>> {
     Ok(out)
 }
 
+/// The chain of parents from `node` up to its root, as `reached` records them (each node once,
+/// so the chain ends within as many steps as there are nodes).
+fn ancestors(reached: &[Option<usize>], node: Option<usize>) -> impl Iterator<Item = usize> + '_ {
+    let mut at = node;
+    let mut left = reached.len() + 1;
+    std::iter::from_fn(move || {
+        let n = at.filter(|_| left > 0)?;
+        left -= 1;
+        at = reached[n].filter(|&p| p != usize::MAX);
+        Some(n)
+    })
+}
+
 fn read_mesh(
     path: &Path,
     m: &gltf::Mesh,
     buffers: &[gltf::buffer::Data],
     name: String,
     transform: DMat4,
+    normals_mode: NormalsMode,
 ) -> Result<AssetNode> {
     let mut positions = Vec::new();
     let mut normals = Vec::new();
@@ -96,6 +136,7 @@ fn read_mesh(
     let mut indices = Vec::new();
     let mut all_tangents = true;
     let mut flat_normals = 0;
+    let mut replaced_normals = 0;
     let at =
         |what: &str, p: usize| format!("{}: mesh {name:?}, primitive {p}: {what}", path.display());
     for (pi, prim) in m.primitives().enumerate() {
@@ -136,6 +177,24 @@ fn read_mesh(
         let base = positions.len() as u32;
         match r.read_normals() {
             Some(n) => {
+                let mut n: Vec<[f32; 3]> = n.collect();
+                if n.len() != p.len() {
+                    return Err(Error::arg(
+                        "path",
+                        at(&format!("NORMAL has {} entries for {} positions", n.len(), p.len()), pi),
+                    ));
+                }
+                replaced_normals += normals::apply(
+                    normals_mode,
+                    &p,
+                    &mut n,
+                    &idx,
+                    &format!("{}: mesh {name:?}, primitive {pi}: ", path.display()),
+                )
+                .map_err(|e| match e {
+                    Error::InvalidArgument { msg, .. } => Error::arg("normals", msg),
+                    e => e,
+                })?;
                 let t: Option<Vec<[f32; 4]>> = r.read_tangents().map(|t| t.collect());
                 all_tangents &= t.is_some();
                 if let Some(t) = t {
@@ -186,5 +245,6 @@ fn read_mesh(
             TangentSource::MikkTSpace
         },
         flat_normals,
+        replaced_normals,
     })
 }

@@ -56,6 +56,16 @@ pub struct AssetReport {
     /// the highest mip level whose bilinear footprint stays within a chart's half of the
     /// narrowest gap (None: charts touch, even level 0 reads a neighbour)
     pub max_clean_mip: Option<i32>,
+    /// triangles with a vertex normal more than 60 degrees from the face's normal (normals averaged
+    /// across a thin part or a sharp edge): the shell leans far from the surface there
+    pub normals_off_faces: usize,
+    /// triangles with a vertex normal more than 90 degrees from the face's (flipped): the shell
+    /// turns inside out there
+    pub normals_flipped: usize,
+    /// with the material's depth: prisms whose bottom (the corners sunk by the depth along their
+    /// normals) is turned over against their top, where the depth exceeds the local radius of
+    /// curvature or the normals cross: the shell folds there
+    pub folded_prisms: Option<usize>,
     /// (finding, position in the mesh's space) for up to `EXAMPLES` places of each finding
     pub examples: Vec<(String, [f32; 3])>,
 }
@@ -69,14 +79,20 @@ fn find(parent: &mut [u32], mut x: u32) -> u32 {
 }
 
 /// `height`, with the material's `tiling`: the map the report samples across seams and rasterises
-/// the charts into.
-pub fn check_asset(mesh: &Mesh, height: Option<&HeightMap>, tiling: f64) -> AssetReport {
+/// the charts into; `depth`, the material's, for the shell's folds.
+pub fn check_asset(
+    mesh: &Mesh,
+    height: Option<&HeightMap>,
+    tiling: f64,
+    depth: Option<f64>,
+) -> AssetReport {
     let topo = Topology::new(mesh);
     let ntri = mesh.indices.len() / 3;
     let mut r = AssetReport {
         vertices: mesh.positions.len(),
         triangles: ntri,
         welded_vertices: topo.welded,
+        folded_prisms: depth.filter(|d| *d > 0.0).map(|_| 0),
         ..Default::default()
     };
     let example = |r: &mut AssetReport, what: &str, p: DVec3| {
@@ -106,6 +122,34 @@ pub fn check_asset(mesh: &Mesh, height: Option<&HeightMap>, tiling: f64) -> Asse
             r.degenerate_triangles += 1;
             example(&mut r, "degenerate triangle", c);
             continue;
+        }
+        // the normals against the face (wound toward the normals' side by `orient_outward`)
+        let nf = ng.normalize();
+        let n: Vec<DVec3> = tri
+            .iter()
+            .map(|&i| mesh.normal_f64(i).normalize_or_zero())
+            .collect();
+        let worst = n.iter().map(|v| v.dot(nf)).fold(1.0f64, f64::min);
+        if worst < 0.0 {
+            r.normals_flipped += 1;
+            example(&mut r, "flipped normal", c);
+        } else if worst < 0.5 {
+            r.normals_off_faces += 1;
+            example(&mut r, "normal far from its face", c);
+        }
+        if let Some(d) = depth.filter(|d| *d > 0.0) {
+            // the layer s below the top, (P - s N) over the triangle: its area along the face's
+            // normal, a quadratic in s, must not reach zero (the layers collapse, then turn
+            // over or pass through each other) for s in (0, depth]
+            let area = |s: f64| {
+                let b: Vec<DVec3> = (0..3).map(|k| p[k] - n[k] * s).collect();
+                (b[1] - b[0]).cross(b[2] - b[0]).dot(nf)
+            };
+            let a0 = area(0.0);
+            if (1..=64).any(|k| area(d * k as f64 / 64.0) <= 1e-3 * a0) {
+                *r.folded_prisms.get_or_insert(0) += 1;
+                example(&mut r, "folded shell", c);
+            }
         }
         match uv_derivatives(e1, e2, uv(tri[1]) - uv(tri[0]), uv(tri[2]) - uv(tri[0])) {
             None => {
@@ -379,7 +423,7 @@ mod tests {
             None,
         )
         .unwrap();
-        let r = check_asset(&m, None, 1.0);
+        let r = check_asset(&m, None, 1.0, None);
         assert_eq!(r.charts, 2);
         assert_eq!(r.mirrored_charts, 1);
         assert_eq!(r.mirrored_triangles, 2);
@@ -390,7 +434,7 @@ mod tests {
         assert_eq!(r.welded_vertices, 6);
         // the mirrored chart maps the same texels: its uvs overlap the first's entirely
         let hm = HeightMap::new(10, 10, (0..100).map(|k| (k % 10) as f32 / 9.0).collect()).unwrap();
-        let r = check_asset(&m, Some(&hm), 1.0);
+        let r = check_asset(&m, Some(&hm), 1.0, None);
         assert_eq!(r.overlapping_texels, Some(9));
         // named at a triangle of the second chart (x in [1, 2]), not at the origin
         let (_, at) = r

@@ -6,6 +6,7 @@
 //! a texture-space one.
 
 pub mod mikktspace;
+pub mod normals;
 pub mod topology;
 
 use crate::error::{Error, Result};
@@ -177,15 +178,14 @@ impl Mesh {
         if uvs.iter().flatten().any(|x| !x.is_finite()) {
             return Err(Error::arg("uvs", "contain NaN or Inf"));
         }
-        if normals.iter().any(|v| {
-            v.iter().any(|x| !x.is_finite())
-                || DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64).length() < 1e-12
-        }) {
-            return Err(Error::arg(
-                "normals",
-                "contain NaN, Inf or zero-length vectors",
-            ));
-        }
+        let mut normals = normals;
+        normals::apply(
+            normals::NormalsMode::File,
+            &positions,
+            &mut normals,
+            &indices,
+            "",
+        )?;
         if let TangentFrames::Given(t) = &frames {
             if t.len() != n {
                 return Err(Error::arg(

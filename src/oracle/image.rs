@@ -17,7 +17,7 @@
 //! that each pixel averages every direction once however many samples it has.
 
 use super::{
-    disk_directions, oracle_hits, par_rows, perpendiculars, stratified_disk, Exact, Hit,
+    disk_directions, oracle_hits, par_rows, perpendiculars, stratified_disk, Hit,
     OracleHits, Tracer,
 };
 use crate::error::{Error, Result};
@@ -96,7 +96,7 @@ pub fn sample_directions(axis: DVec3, tan_r: f64, q: usize, n: usize) -> Vec<DVe
 
 /// Why the oracle cannot render `scene` exactly, or None when it can.
 pub fn oracle_refusal(scene: &Scene) -> Option<String> {
-    Exact::new(scene, "render_exact")
+    super::exact(scene)
         .err()
         .map(|e| e.to_string())
 }
@@ -112,10 +112,7 @@ pub fn render_exact(scene: &Scene, spp: u32, shadows: bool) -> Result<ExactImage
             format!("must be a square number of samples per pixel from 1 to 256, got {spp}"),
         ));
     }
-    Ok(match Exact::new(scene, "render_exact")? {
-        Exact::Planar(o) => image(scene, &o, k, shadows),
-        Exact::Shell(o) => image(scene, &o, k, shadows),
-    })
+    Ok(image(scene, &super::exact(scene)?, k, shadows))
 }
 
 fn image<T: Tracer>(scene: &Scene, oracle: &T, k: u32, shadows: bool) -> ExactImage {

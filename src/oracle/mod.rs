@@ -1,12 +1,13 @@
-//! The CPU float64 oracle: the exact first hit of each pixel's ray against the bilinear,
-//! repeating height field under a planar base mesh.
+//! The CPU float64 oracle: the exact first hit of each pixel's ray against the displaced surface
+//! of any mesh (`shell`), and the cell walk it rests on (`field`).
 //!
-//! Each pixel's ray is intersected with the base mesh (the nearest front-facing triangle). From
-//! there the ray is expressed in texture space (s = uv * tiling, h) using the triangle's exact
-//! affine frame dP/du, dP/dv, N, and walked cell by cell (a 2-D DDA over the cells between
-//! texel centres). In each cell the bilinear patch along the ray is a quadratic in the ray
-//! parameter, solved in closed form; no step size, no missed features. The base plane is taken
-//! as infinite under the hit triangle, which is what the per-pixel methods assume too.
+//! In each prism of the shell the ray's path in texture space is cut into chords, and each chord
+//! is walked cell by cell (a 2-D DDA over the cells between texel centres): in each cell the
+//! bilinear patch along the ray is a quadratic in the ray parameter, solved in closed form; no
+//! step size, no missed features. The surface has one definition on every mesh
+//! (docs/conventions.md, "The displaced surface"): it ends at open borders (a plane's too), and
+//! a step at a uv seam whose heights disagree is closed by a wall. `planar` (tests only) is the
+//! closed form under one planar object, which the shell must match inside a plane's border.
 //!
 //! The same walk, upward, gives the exact visibility of the scene's first directional light at
 //! each hit: the fraction of the light's disk (`angular_diameter`, sampled on a stratified 8x8
@@ -16,13 +17,15 @@
 
 pub mod field;
 pub mod image;
+#[cfg(test)]
+pub(crate) mod planar;
 pub(crate) mod shell;
 
 pub use field::{light_ray_free, march_height_field, Field};
 
 use crate::error::{Error, Result};
 use crate::scene::Scene;
-use glam::{DMat3, DVec2, DVec3};
+use glam::{DVec2, DVec3};
 
 #[derive(Clone, Debug)]
 pub struct OracleHits {
@@ -50,8 +53,10 @@ pub(crate) struct Hit<A> {
     pub(crate) dist: f64,
     pub(crate) cells: u32,
     pub(crate) object: usize,
-    /// texture-space point (uv * tiling) and height
+    /// texture-space point (uv * tiling) and height (the planar closed form's light rays start
+    /// from it)
     pub(crate) s: DVec2,
+    #[cfg_attr(not(test), allow(dead_code))]
     pub(crate) h: f64,
     pub(crate) at: A,
 }
@@ -76,216 +81,21 @@ pub(crate) trait Tracer: Sync {
     fn material(&self, object: usize) -> &crate::scene::Material;
 }
 
-pub(crate) struct Tri {
-    p0: DVec3,
-    e1: DVec3,
-    e2: DVec3,
-    pub(crate) n: DVec3,
-    pub(crate) dpdu: DVec3,
-    pub(crate) dpdv: DVec3,
-    uv0: DVec2,
-    d1: DVec2,
-    d2: DVec2,
-    /// world direction -> (du, dv, dn) per unit world length
-    to_tex: DMat3,
-}
 
 /// Upper bound on cells walked per ray (a ray at 89.99 degrees over a 4k map stays below it).
 pub const MAX_CELLS: u32 = 4_000_000;
 
-/// A planar scene's one object, ready for exact rays: its triangles' affine frames and its
-/// material. Shared by the oracle's frame (`exact_hits`) and the exact image
-/// (`oracle::image::render_exact`).
-pub(crate) struct Oracle<'a> {
-    pub(crate) tris: Vec<Tri>,
-    pub(crate) mat: &'a crate::scene::Material,
-    /// the height field with its max pyramid
-    field: Field<'a>,
-}
 
-impl<'a> Oracle<'a> {
-    pub(crate) fn new(scene: &'a Scene, what: &str) -> Result<Oracle<'a>> {
-        scene.validate()?;
-        let obj = scene.only_object(what)?;
-        if !obj.transform.is_identity() {
-            return Err(Error::arg(
-                "transform",
-                format!("{what} takes an untransformed object; bake the transform into the mesh"),
-            ));
-        }
-        let m = &obj.mesh;
-        planar(m, what)?;
-        let (p, q) = (|i: u32| m.position_f64(i), |i: u32| m.uv_f64(i));
-        let mut tris = Vec::new();
-        for t in m.indices.chunks_exact(3) {
-            let (p0, p1, p2) = (p(t[0]), p(t[1]), p(t[2]));
-            let (e1, e2) = (p1 - p0, p2 - p0);
-            let mut n = e1.cross(e2);
-            if n.length() < 1e-14 {
-                continue;
-            }
-            n = n.normalize();
-            let vn = m.normal_f64(t[0]);
-            if n.dot(vn) < 0.0 {
-                n = -n;
-            }
-            let (d1, d2) = (q(t[1]) - q(t[0]), q(t[2]) - q(t[0]));
-            let Some((dpdu, dpdv)) = crate::mesh::uv_derivatives(e1, e2, d1, d2) else {
-                continue;
-            };
-            // columns dP/du, dP/dv, N: its inverse maps a world direction to (du, dv, dn)
-            let basis = DMat3::from_cols(dpdu, dpdv, n);
-            if basis.determinant().abs() < 1e-18 {
-                continue;
-            }
-            tris.push(Tri {
-                p0,
-                e1,
-                e2,
-                n,
-                dpdu,
-                dpdv,
-                uv0: q(t[0]),
-                d1,
-                d2,
-                to_tex: basis.inverse(),
-            });
-        }
-        if tris.is_empty() {
-            return Err(Error::arg(
-                "mesh",
-                "no triangle with usable positions and uvs",
-            ));
-        }
-        Ok(Oracle {
-            tris,
-            mat: &obj.material,
-            field: Field::new(&obj.material.height),
-        })
-    }
-}
 
-impl Tracer for Oracle<'_> {
-    type At = usize;
 
-    fn trace(&self, eye: DVec3, dir: DVec3) -> Option<Hit<usize>> {
-        let m = self.mat;
-        trace(
-            eye,
-            dir,
-            &self.tris,
-            &self.field,
-            m.depth as f64,
-            m.tiling as f64,
-        )
-    }
 
-    fn reaches(&self, hit: &Hit<usize>, l: DVec3, bias: f64) -> bool {
-        let m = self.mat;
-        let t = &self.tris[hit.at];
-        light_reaches(
-            hit,
-            t,
-            l,
-            &self.field,
-            m.depth as f64,
-            m.tiling as f64,
-            bias,
-        )
-    }
 
-    fn normal(&self, hit: &Hit<usize>) -> DVec3 {
-        let hm = &self.mat.height;
-        let (depth, tiling) = (self.mat.depth as f64, self.mat.tiling as f64);
-        let (ex, ey) = (1.0 / hm.width as f64, 1.0 / hm.height as f64);
-        let s = hit.s;
-        // dh/du = tiling dh/ds, by central differences one texel apart
-        let hu = tiling * (hm.sample(s.x + ex, s.y) - hm.sample(s.x - ex, s.y)) / (2.0 * ex);
-        let hv = tiling * (hm.sample(s.x, s.y + ey) - hm.sample(s.x, s.y - ey)) / (2.0 * ey);
-        let t = &self.tris[hit.at];
-        let n = (t.dpdu + t.n * (depth * hu)).cross(t.dpdv + t.n * (depth * hv));
-        let n = n.normalize_or_zero();
-        if n.dot(t.n) < 0.0 {
-            -n
-        } else {
-            n
-        }
-    }
 
-    fn material(&self, _object: usize) -> &crate::scene::Material {
-        self.mat
-    }
-}
-
-/// Each triangle with area and its unit normal (by its winding).
-fn face_normals(m: &crate::mesh::Mesh) -> impl Iterator<Item = (&[u32], DVec3)> {
-    m.indices.chunks_exact(3).filter_map(|t| {
-        let p = |i: u32| m.position_f64(i);
-        let n = (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0]));
-        (n.length() >= 1e-14).then(|| (t, n.normalize()))
-    })
-}
-
-/// Whether every triangle of the mesh lies in one plane with every vertex normal its normal.
-fn flat(m: &crate::mesh::Mesh) -> bool {
-    if planar(m, "").is_err() {
-        return false;
-    }
-    let mut first: Option<(DVec3, DVec3)> = None;
-    let (lo, hi) = m.bounds();
-    let tol = 1e-9 * (hi - lo).max_element().max(1e-30);
-    let p = |i: u32| m.position_f64(i);
-    for (t, n) in face_normals(m) {
-        match first {
-            None => first = Some((p(t[0]), n)),
-            Some((p0, n0)) => {
-                if n.dot(n0) < 1.0 - 1e-9 || t.iter().any(|&i| (p(i) - p0).dot(n0).abs() > tol) {
-                    return false;
-                }
-            }
-        }
-    }
-    true
-}
-
-/// A curved mesh's triangles are not its surface (the surface follows the interpolated normals):
-/// the oracle, which takes each triangle's plane as the base under it, answers for planar meshes
-/// only, every vertex normal its triangle's normal (a plane, a cube, a flat mesh).
-fn planar(m: &crate::mesh::Mesh, what: &str) -> Result<()> {
-    for (t, n) in face_normals(m) {
-        for &i in t {
-            if m.normal_f64(i).normalize_or_zero().dot(n).abs() < 1.0 - 1e-6 {
-                let p = m.positions[i as usize];
-                return Err(Error::arg(
-                    "mesh",
-                    format!("{what} answers for planar meshes only (every vertex normal its triangle's normal: a plane, a cube, a flat mesh); this mesh is curved (vertex {i} at ({}, {}, {}) has a normal off its triangle's), and there the displaced surface follows the interpolated normals, not the triangles; for a curved mesh, pk.reference.render_exact casts against the displaced mesh with Mitsuba, and pk.Tessellated renders it", p[0], p[1], p[2]),
-                ));
-            }
-        }
-    }
-    Ok(())
-}
-
-/// The exact tracer a scene takes: the planar oracle for one untransformed flat object (a
-/// plane: its plane extended under each hit, past the border too, as the per-pixel methods take
-/// it), the shell walk for everything else (curved meshes, hard edges, several objects,
-/// transforms).
-pub(crate) enum Exact<'a> {
-    Planar(Oracle<'a>),
-    Shell(shell::Shell<'a>),
-}
-
-impl<'a> Exact<'a> {
-    pub(crate) fn new(scene: &'a Scene, what: &str) -> Result<Exact<'a>> {
-        scene.validate()?;
-        let planar_one =
-            matches!(scene.objects.as_slice(), [o] if o.transform.is_identity() && flat(&o.mesh));
-        Ok(if planar_one {
-            Exact::Planar(Oracle::new(scene, what)?)
-        } else {
-            Exact::Shell(shell::Shell::new(scene)?)
-        })
-    }
+/// The exact tracer of a scene: the shell walk, on every mesh (planes included: the surface
+/// ends at their open border, docs/conventions.md, "The displaced surface").
+pub(crate) fn exact(scene: &Scene) -> Result<shell::Shell<'_>> {
+    scene.validate()?;
+    shell::Shell::new(scene)
 }
 
 /// The oracle's frame. `light_bias` (shell depths, >= 0) raises the light rays: a blocker must
@@ -297,10 +107,7 @@ pub fn exact_hits(scene: &Scene, light_bias: f64) -> Result<OracleHits> {
             format!("must lie in [0, 0.5) shell depths, got {light_bias}"),
         ));
     }
-    Ok(match Exact::new(scene, "the CPU oracle (exact_uv)")? {
-        Exact::Planar(o) => oracle_hits(scene, &o, light_bias),
-        Exact::Shell(o) => oracle_hits(scene, &o, light_bias),
-    })
+    Ok(oracle_hits(scene, &exact(scene)?, light_bias))
 }
 
 /// `exact_hits` with the tracer built (render_exact builds it once for both).
@@ -387,72 +194,6 @@ pub(crate) fn par_rows<T: Send>(rows: usize, f: impl Fn(usize) -> T + Sync) -> V
     done.into_iter().map(|(_, t)| t).collect()
 }
 
-fn trace(
-    eye: DVec3,
-    dir: DVec3,
-    tris: &[Tri],
-    field: &Field,
-    depth: f64,
-    tiling: f64,
-) -> Option<Hit<usize>> {
-    // nearest front-facing triangle (Moller-Trumbore)
-    let mut best: Option<(f64, usize, f64, f64)> = None;
-    for (ti, t) in tris.iter().enumerate() {
-        if dir.dot(t.n) >= 0.0 {
-            continue;
-        }
-        let pv = dir.cross(t.e2);
-        let det = t.e1.dot(pv);
-        if det.abs() < 1e-18 {
-            continue;
-        }
-        let inv = 1.0 / det;
-        let tv = eye - t.p0;
-        let b1 = tv.dot(pv) * inv;
-        if !(-1e-12..=1.0 + 1e-12).contains(&b1) {
-            continue;
-        }
-        let qv = tv.cross(t.e1);
-        let b2 = dir.dot(qv) * inv;
-        if b2 < -1e-12 || b1 + b2 > 1.0 + 1e-12 {
-            continue;
-        }
-        let d = t.e2.dot(qv) * inv;
-        if d > 0.0 && best.is_none_or(|b| d < b.0) {
-            best = Some((d, ti, b1, b2));
-        }
-    }
-    let (d0, ti, b1, b2) = best?;
-    let t = &tris[ti];
-    let uv0 = t.uv0 + t.d1 * b1 + t.d2 * b2;
-    let c = t.to_tex * dir; // (du, dv, dn) per unit world length
-    let dh = c.z / depth.max(1e-300);
-    let s0 = uv0 * tiling;
-    if depth <= 0.0 {
-        return Some(Hit {
-            uv: uv0,
-            dist: d0,
-            cells: 0,
-            object: 0,
-            s: s0,
-            h: 1.0,
-            at: ti,
-        });
-    }
-    let ds = DVec2::new(c.x, c.y) * tiling;
-    let (lam, cells) = march_height_field(field, s0, ds, dh)?;
-    let s = s0 + ds * lam;
-    let h = (1.0 + dh * lam).clamp(0.0, 1.0);
-    Some(Hit {
-        uv: s / tiling,
-        dist: d0 + lam,
-        cells,
-        object: 0,
-        s,
-        h,
-        at: ti,
-    })
-}
 
 /// Directions toward the scene's first directional light (unit, world space): one for a zero
 /// angular diameter, else 64 over its disk (a stratified 8x8 grid, concentric map), spread on
@@ -513,34 +254,6 @@ pub(crate) fn stratified_disk() -> Vec<DVec2> {
     out
 }
 
-/// Whether the ray from the hit toward the light (world direction `l`) leaves the shell: it
-/// rises from the hit's height to h = 1 without passing below the bilinear field. A light below
-/// the base tangent plane is blocked (the tiled field continues under it), as on the GPU.
-fn light_reaches(
-    hit: &Hit<usize>,
-    tri: &Tri,
-    l: DVec3,
-    field: &Field,
-    depth: f64,
-    tiling: f64,
-    bias: f64,
-) -> bool {
-    let c = tri.to_tex * l;
-    if depth <= 0.0 {
-        return c.z > 0.0;
-    }
-    if c.z <= 0.0 {
-        return false;
-    }
-    light_ray_free(
-        field,
-        hit.s,
-        hit.h,
-        DVec2::new(c.x, c.y) * tiling,
-        c.z / depth,
-        bias,
-    )
-}
 
 #[cfg(test)]
 mod tests;

@@ -3,16 +3,20 @@
 use super::handles::{PyHeightData, PyMeshData};
 use super::scene_args::mesh_out;
 use crate::assets::{self, TangentSource};
+use crate::mesh::normals::NormalsMode;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::path::PathBuf;
 
 /// Every mesh node of a glTF 2.0 file (.gltf, .glb): a list of dicts with the mesh's arrays
 /// (`MeshArrays`), `name`, `transform` (16 numbers, row-major, the node's world transform),
-/// `tangent_source` ("file" or "mikktspace") and `flat_normals` (primitives given flat normals).
+/// `tangent_source` ("file" or "mikktspace"), `flat_normals` (primitives given flat normals) and
+/// `replaced_normals` (normals recomputed as `normals` asked: "file", "recompute" or "repair").
 #[pyfunction]
-pub fn load_gltf<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyList>> {
-    let nodes = py.detach(|| assets::load_gltf(&path))?;
+#[pyo3(signature = (path, normals="file"))]
+pub fn load_gltf<'py>(py: Python<'py>, path: PathBuf, normals: &str) -> PyResult<Bound<'py, PyList>> {
+    let mode = NormalsMode::parse(normals)?;
+    let nodes = py.detach(|| assets::load_gltf(&path, mode))?;
     let out = PyList::empty(py);
     for n in nodes {
         let d = mesh_out(py, &n.mesh)?;
@@ -29,6 +33,7 @@ pub fn load_gltf<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyL
             },
         )?;
         d.set_item("flat_normals", n.flat_normals)?;
+        d.set_item("replaced_normals", n.replaced_normals)?;
         out.append(d)?;
     }
     Ok(out)
@@ -37,16 +42,17 @@ pub fn load_gltf<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyL
 /// The asset report of a mesh, with its height map (and the material's tiling) when given: a
 /// dict of `crate::assets::report::AssetReport`'s fields (the stub's `AssetReportDict`).
 #[pyfunction]
-#[pyo3(signature = (mesh, height=None, tiling=1.0))]
+#[pyo3(signature = (mesh, height=None, tiling=1.0, depth=None))]
 pub fn check_asset<'py>(
     py: Python<'py>,
     mesh: &Bound<'py, PyMeshData>,
     height: Option<&Bound<'py, PyHeightData>>,
     tiling: f64,
+    depth: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let m = mesh.get().0.clone();
     let h = height.map(|h| h.get().0.clone());
-    let r = py.detach(|| assets::report::check_asset(&m, h.as_ref().map(|k| &***k), tiling));
+    let r = py.detach(|| assets::report::check_asset(&m, h.as_ref().map(|k| &***k), tiling, depth));
     let d = PyDict::new(py);
     d.set_item("vertices", r.vertices)?;
     d.set_item("triangles", r.triangles)?;
@@ -69,6 +75,9 @@ pub fn check_asset<'py>(
     d.set_item("overlapping_texels", r.overlapping_texels)?;
     d.set_item("min_chart_gap_texels", r.min_chart_gap_texels)?;
     d.set_item("max_clean_mip", r.max_clean_mip)?;
+    d.set_item("normals_off_faces", r.normals_off_faces)?;
+    d.set_item("normals_flipped", r.normals_flipped)?;
+    d.set_item("folded_prisms", r.folded_prisms)?;
     let ex = PyList::empty(py);
     for (what, p) in r.examples {
         ex.append((what, p.to_vec()))?;

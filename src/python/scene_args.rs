@@ -35,9 +35,10 @@ pub(crate) fn mesh_out<'py>(py: Python<'py>, m: &Mesh) -> PyResult<Bound<'py, Py
 
 /// Validate mesh arrays and compute the tangent frames: the given `tangents`, or else `frames`
 /// ("pomkit" or "mikktspace"). Returns the mesh's arrays by name (`mesh_out`) and the repairs
-/// made: degenerate_uv_triangles, fallback_vertices.
+/// made: degenerate_uv_triangles, fallback_vertices, replaced_normals (as `normals_mode` asked:
+/// "file", "recompute" or "repair", `mesh::normals`).
 #[pyfunction]
-#[pyo3(signature = (positions, normals, uvs, indices, tangents=None, frames="pomkit"))]
+#[pyo3(signature = (positions, normals, uvs, indices, tangents=None, frames="pomkit", normals_mode="file"))]
 pub fn mesh_from_arrays<'py>(
     py: Python<'py>,
     positions: PyReadonlyArray2<'py, f32>,
@@ -46,11 +47,20 @@ pub fn mesh_from_arrays<'py>(
     indices: PyReadonlyArray1<'py, u32>,
     tangents: Option<PyReadonlyArray2<'py, f32>>,
     frames: &str,
+    normals_mode: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let mode = crate::mesh::normals::NormalsMode::parse(normals_mode)?;
     let p = rows::<3>(&positions, "positions")?;
-    let n = rows::<3>(&normals, "normals")?;
+    let mut n = rows::<3>(&normals, "normals")?;
     let u = rows::<2>(&uvs, "uvs")?;
     let i: Vec<u32> = indices.as_array().iter().copied().collect();
+    if n.len() != p.len() {
+        return Err(Error::arg("normals", format!("expected {} normals (one per position), got {}", p.len(), n.len())).into());
+    }
+    if let Some(bad) = i.iter().find(|&&k| k as usize >= p.len()) {
+        return Err(Error::arg("indices", format!("index {bad} is out of range for {} vertices", p.len())).into());
+    }
+    let replaced = crate::mesh::normals::apply(mode, &p, &mut n, &i, "")?;
     let t = tangents
         .as_ref()
         .map(|t| rows::<4>(t, "tangents"))
@@ -73,6 +83,7 @@ pub fn mesh_from_arrays<'py>(
     let d = mesh_out(py, &mesh)?;
     d.set_item("degenerate_uv_triangles", rep.degenerate_uv_triangles)?;
     d.set_item("fallback_vertices", rep.fallback_vertices)?;
+    d.set_item("replaced_normals", replaced)?;
     Ok(d)
 }
 

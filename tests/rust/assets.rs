@@ -155,7 +155,7 @@ fn arrays_arrive_as_the_file_stores_them() {
         [1.0, 0.0, 0.0, -1.0],
         [1.0, 0.0, 0.0, 1.0],
     ]);
-    let nodes = load_gltf(&write_gltf("tangents.gltf", &q, None)).unwrap();
+    let nodes = load_gltf(&write_gltf("tangents.gltf", &q, None), Default::default()).unwrap();
     assert_eq!(nodes.len(), 1);
     let n = &nodes[0];
     assert_eq!(n.name, "rock");
@@ -175,7 +175,7 @@ fn arrays_arrive_as_the_file_stores_them() {
 #[test]
 fn without_tangents_mikktspace_gives_pomkit_s_handedness() {
     let q = quad();
-    let n = &load_gltf(&write_gltf("mikk.gltf", &q, None)).unwrap()[0];
+    let n = &load_gltf(&write_gltf("mikk.gltf", &q, None), Default::default()).unwrap()[0];
     assert_eq!(n.tangents, TangentSource::MikkTSpace);
     // u runs along +X, v along +Z: the bitangent w * cross(N, T) must point along +Z
     for (t, nn) in n.mesh.tangents.iter().zip(&n.mesh.normals) {
@@ -192,7 +192,7 @@ fn no_normals_become_flat_and_transforms_compose() {
     let m = [
         2.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.5, 0.0, -1.0, 1.0,
     ];
-    let n = &load_gltf(&write_gltf("flat.gltf", &q, Some(m))).unwrap()[0];
+    let n = &load_gltf(&write_gltf("flat.gltf", &q, Some(m)), Default::default()).unwrap()[0];
     assert_eq!(n.flat_normals, 1);
     assert_eq!(n.mesh.positions.len(), 6);
     for tri in n.mesh.indices.chunks_exact(3) {
@@ -209,12 +209,50 @@ fn no_normals_become_flat_and_transforms_compose() {
 fn a_file_without_uvs_names_the_fix() {
     let mut q = quad();
     q.uvs = None;
-    let e = load_gltf(&write_gltf("nouv.gltf", &q, None))
+    let e = load_gltf(&write_gltf("nouv.gltf", &q, None), Default::default())
         .unwrap_err()
         .to_string();
     assert!(e.contains("TEXCOORD_0") && e.contains("xatlas"), "{e}");
-    let e = load_gltf(std::path::Path::new("/nonexistent/rock.glb"))
+    let e = load_gltf(std::path::Path::new("/nonexistent/rock.glb"), Default::default())
         .unwrap_err()
         .to_string();
     assert!(e.starts_with("path:") && e.contains("rock.glb"), "{e}");
+}
+
+#[test]
+fn a_node_graph_with_a_cycle_is_refused_at_once() {
+    // node 0 -> 1 -> 0, as in a public importer's test suite: the walk must end, with an error
+    let q = quad();
+    let p = write_gltf("cycle-src.gltf", &q, None);
+    let json = std::fs::read_to_string(&p).unwrap().replace(
+        r#""nodes":[{"mesh":0,"name":"rock"}]"#,
+        r#""nodes":[{"mesh":0,"name":"rock","children":[1]},{"children":[0]}]"#,
+    );
+    assert!(json.contains(r#""children":[0]"#));
+    let path = p.with_file_name("cycle.gltf");
+    std::fs::write(&path, json).unwrap();
+    let t = std::time::Instant::now();
+    let e = load_gltf(&path, Default::default()).unwrap_err().to_string();
+    assert!(t.elapsed().as_secs_f64() < 2.0);
+    assert!(e.contains("node 0 is reached twice") && e.contains("cycle"), "{e}");
+}
+
+#[test]
+fn zero_normals_are_refused_naming_the_vertex_or_repaired_on_request() {
+    use pomkit::mesh::normals::NormalsMode;
+    let mut q = quad();
+    q.normals.as_mut().unwrap()[2] = [0.0, 0.0, 0.0];
+    let path = write_gltf("zero-normals.gltf", &q, None);
+    let e = load_gltf(&path, NormalsMode::File).unwrap_err().to_string();
+    assert!(
+        e.starts_with("normals:") && e.contains("primitive 0") && e.contains("vertex 2") && e.contains("normals=\"repair\""),
+        "{e}"
+    );
+    let n = &load_gltf(&path, NormalsMode::Repair).unwrap()[0];
+    assert_eq!(n.replaced_normals, 1);
+    let r = n.mesh.normals[2];
+    assert!((r[0] * r[0] + r[1] * r[1] + r[2] * r[2] - 1.0).abs() < 1e-5, "{r:?}");
+    assert!(r[1] > 0.9, "{r:?}");
+    // the others are the file's, bit for bit
+    assert_eq!(n.mesh.normals[1], q.normals.as_ref().unwrap()[1]);
 }

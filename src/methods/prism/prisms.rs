@@ -172,7 +172,6 @@ pub fn build(
     tiling: f32,
 ) -> Prisms {
     let ntri = mesh.indices.len() / 3;
-    let d = depth as f64;
     let p = |i: u32| DVec3::from_array(mesh.positions[i as usize].map(|x| x as f64));
     let n =
         |i: u32| DVec3::from_array(mesh.normals[i as usize].map(|x| x as f64)).normalize_or_zero();
@@ -184,6 +183,15 @@ pub fn build(
             (a.min(q), b.max(q))
         },
     );
+    // depth 0: the displaced surface is the base mesh. The shell gets `FLAT_SHELL` of the mesh's
+    // extent (a prism with no volume has no faces a ray can cross) and every prism is a plateau
+    // at h = 1 (below), so the walk meets the base surface where it enters the top.
+    let flat = !(depth > 0.0);
+    let d = if flat {
+        (hi - lo).length().max(1e-30) * FLAT_SHELL
+    } else {
+        depth as f64
+    };
     let quantum = ((hi - lo).length() + d).max(1e-30) * 1e-6;
     let q = |v: DVec3| [v.x, v.y, v.z].map(|x| (x / quantum).round() as i64);
     let mut corners: Vec<([DVec3; 3], [DVec3; 3], [EdgeKey; 3])> = Vec::with_capacity(ntri);
@@ -220,7 +228,13 @@ pub fn build(
     let ranges: Vec<(f64, f64)> = mesh
         .indices
         .chunks_exact(3)
-        .map(|tri| height_range_under(mesh, tri, height, tiling))
+        .map(|tri| {
+            if flat {
+                (1.0, 1.0)
+            } else {
+                height_range_under(mesh, tri, height, tiling)
+            }
+        })
         .collect();
     // the full shell (the paper's): every top at the depth
     let mut lift = vec![if tight { MIN_LIFT } else { 1.0 }; edge_ids.len()];
@@ -381,6 +395,10 @@ pub const OPEN_WALL: u32 = 1 << 31;
 /// The lowest top a tight shell gives a vertical edge, as a fraction of the depth: no prism is
 /// flat, so that a ray entering one always finds its way out.
 const MIN_LIFT: f64 = 1.0 / 256.0;
+
+/// The shell's thickness at depth 0, as a fraction of the mesh's extent (its bounding box's
+/// diagonal): thick enough for the prisms' float32 faces, and every prism a plateau at h = 1.
+pub const FLAT_SHELL: f64 = 1e-4;
 
 /// A height in [0, 1] as the unorm16 code WGSL's `unpack2x16unorm` reads, rounded up: the code's
 /// value (code / 65535) is never below it.

@@ -1,5 +1,5 @@
 use super::*;
-use crate::oracle::{oracle_hits, Oracle};
+use crate::oracle::{oracle_hits, planar::Oracle};
 use crate::scene::{shared, Camera, HeightMap, Light};
 
 fn noise(w: u32, h: u32, seed: u64) -> HeightMap {

@@ -167,6 +167,14 @@ impl<'a> Object<'a> {
             };
             match q.locate(x, guess) {
                 Some(a) if Prism::inside(a.b, 1e-7) => {
+                    if let Some((tri, at)) = self.seam_wall(p, q, ray, (tri, next), (&end, a)) {
+                        return Walk::Hit {
+                            tri,
+                            lam: end.lam,
+                            at,
+                            cells,
+                        };
+                    }
                     (tri, lam, at) = (next, c.lam, a);
                 }
                 // a hard edge: the neighbour's shell does not begin here
@@ -184,6 +192,40 @@ impl<'a> Object<'a> {
             cells,
             top: None,
         }
+    }
+
+    /// The wall that closes a step at a uv seam (docs/conventions.md, "The displaced surface"):
+    /// where the ray crosses from prism `p` into `q` across a side whose uvs differ, above p's
+    /// field (the walk through p found no hit) and below q's, it meets the wall between the two
+    /// sides' surfaces there. The hit takes the uv of the side whose height at the crossing is
+    /// nearer the ray's, as the tessellated mesh's strip beside a welded seam does.
+    fn seam_wall(
+        &self,
+        p: &Prism,
+        q: &Prism,
+        ray: &Ray,
+        (tri, next): (u32, u32),
+        (end, a): (&Sample, Local),
+    ) -> Option<(u32, Local)> {
+        if ray.part > 0.0 {
+            return None;
+        }
+        // the same uv on both sides, to float32's rounding of the vertices' uvs: no seam
+        if (p.uv(end.at.b) - q.uv(a.b)).abs().max_element() <= 1e-6 {
+            return None;
+        }
+        let hm = &self.mat.height;
+        let inq = self.sample(q, end.lam, a, ray.lift);
+        let hq = hm.sample(inq.s.x, inq.s.y);
+        if !(hq > inq.h) {
+            return None;
+        }
+        let hp = hm.sample(end.s.x, end.s.y);
+        Some(if (inq.h - hp).abs() <= (hq - inq.h).abs() {
+            (tri, end.at)
+        } else {
+            (next, a)
+        })
     }
 
     /// The middle of the path from `(lam, at)` to the top exit `(lt, bt)`, where that lies in

@@ -1,0 +1,207 @@
+"""One displaced surface (docs/conventions.md, "The displaced surface"): depth 0, open borders,
+seams whose heights disagree, and files that must answer at once."""
+
+from __future__ import annotations
+
+import base64
+import json
+import time
+
+import numpy as np
+import pytest
+
+import pomkit as pk
+import zoo
+
+
+def _gltf(path, positions, normals, uvs, indices, nodes=None):
+    """A .gltf with its buffer as a data URI: one mesh; `nodes` replaces the one node holding it."""
+    pos = np.asarray(positions, np.float32)
+    parts = [pos, np.asarray(normals, np.float32), np.asarray(uvs, np.float32)]
+    idx = np.asarray(indices, np.uint32).reshape(-1)
+    blob, views, acc = b"", [], []
+    for a, kind in zip(parts, ["VEC3", "VEC3", "VEC2"]):
+        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": a.nbytes})
+        extra = {"min": pos.min(0).tolist(), "max": pos.max(0).tolist()} if a is pos else {}
+        acc.append({"bufferView": len(views) - 1, "componentType": 5126, "count": len(a), "type": kind, **extra})
+        blob += a.tobytes()
+    views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": idx.nbytes})
+    acc.append({"bufferView": len(views) - 1, "componentType": 5125, "count": len(idx), "type": "SCALAR"})
+    blob += idx.tobytes()
+    doc = {
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+        "nodes": nodes or [{"mesh": 0, "name": "quad"}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3}]}],
+        "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
+        "bufferViews": views, "accessors": acc,
+    }
+    path.write_text(json.dumps(doc))
+    return path
+
+
+def _quad():
+    p = [[-1, 0, -1], [1, 0, -1], [-1, 0, 1], [1, 0, 1]]
+    n = [[0, 1, 0]] * 4
+    uv = [[0, 0], [1, 0], [0, 1], [1, 1]]
+    return p, n, uv, [0, 2, 1, 1, 2, 3]
+
+
+def test_a_node_graph_with_a_cycle_errors_within_seconds(tmp_path):
+    p, n, uv, i = _quad()
+    path = _gltf(tmp_path / "cycle.gltf", p, n, uv, i,
+                 nodes=[{"mesh": 0, "children": [1]}, {"children": [0]}])
+    t = time.perf_counter()
+    with pytest.raises(ValueError, match="cycle"):
+        pk.load_mesh(path)
+    assert time.perf_counter() - t < 5.0
+
+
+def test_zero_normals_are_refused_naming_the_vertex_or_repaired(tmp_path):
+    p, n, uv, i = _quad()
+    n = [list(v) for v in n]
+    n[3] = [0.0, 0.0, 0.0]
+    path = _gltf(tmp_path / "zero.gltf", p, n, uv, i)
+    with pytest.raises(ValueError, match=r'primitive 0: vertex 3 .*normals="repair"'):
+        pk.load_mesh(path)
+    with pytest.warns(RuntimeWarning, match="1 unusable normal"):
+        m = pk.load_mesh(path, normals="repair")
+    np.testing.assert_allclose(m.normals, [[0, 1, 0]] * 4, atol=1e-6)
+    m = pk.load_mesh(path, normals="recompute")
+    np.testing.assert_allclose(m.normals, [[0, 1, 0]] * 4, atol=1e-6)
+    with pytest.raises(ValueError, match="normals: expected one of"):
+        pk.load_mesh(path, normals="fix")
+    # the same arrays given directly
+    with pytest.raises(ValueError, match="vertex 3"):
+        pk.Mesh.from_arrays(p, n, uv, i)
+    with pytest.warns(RuntimeWarning):
+        m = pk.Mesh.from_arrays(p, n, uv, i, normals_mode="repair")
+    assert np.isfinite(m.normals).all()
+
+
+PER_PIXEL = [pk.Flat(), pk.POM(), pk.Relief(), pk.Exact(), pk.ConeStep(), pk.NCS(), pk.CurvedRelief(),
+             pk.Prism(), pk.Prism(exact=True), pk.Tessellated(texels_per_vertex=1)]
+
+
+@pytest.mark.parametrize("mesh", ["plane", "sphere"])
+def test_depth_0_renders_the_base_mesh_with_every_method(renderer, mesh):
+    m = pk.Mesh.plane() if mesh == "plane" else pk.Mesh.sphere()
+    eye = (0.0, 1.2, 1.6) if mesh == "plane" else (0.0, 0.8, 2.6)
+    sc = pk.Scene(mesh=m, material=pk.Material(height=pk.textures.bricks(128), depth=0.0),
+                  camera=pk.Camera.look_at(eye=eye, target=(0, 0, 0), fov_y=40.0, width=96, height=96),
+                  lights=[pk.DirectionalLight(direction=(-0.4, -1.0, -0.3), irradiance=3.0)])
+    ref = pk.oracle.hits(sc)
+    base = renderer.render(sc, pk.Flat())
+    assert base.mask.sum() > 1500
+    from scipy import ndimage
+    band = ndimage.binary_dilation(base.mask) & ~ndimage.binary_erosion(base.mask)
+    for method in PER_PIXEL:
+        f = renderer.render(sc, method)
+        differ = f.mask != base.mask
+        # the base's own triangles draw the same pixels; the tessellated mesh's finer triangles
+        # rasterise the outline on their own edges
+        allowed = band if isinstance(method, pk.Tessellated) else np.zeros_like(band)
+        assert (differ & ~allowed).sum() <= 2, f"{method}: {int(differ.sum())} pixels differ from the base mesh's coverage"
+        e = pk.metrics.uv_error(f, ref, sc)
+        # the mesh's lattice triangles cut across the base triangles' diagonals (its own error)
+        bound = 0.1 if isinstance(method, pk.Tessellated) else 0.05
+        assert e["p99"] < bound, f"{method}: uv p99 {e['p99']} texels against the oracle at depth 0"
+
+
+def test_the_oracle_ends_a_plane_at_its_border(renderer):
+    """Seen past its far edge and from beside its near edge, the oracle covers no pixel the
+    displaced mesh does not, beyond the outline's anti-aliasing band."""
+    for eye in [(0.3, 0.5, 2.4), (0.0, 0.25, 2.2)]:
+        sc = pk.Scene(mesh=pk.Mesh.plane(), material=pk.Material(height=pk.textures.bricks(128), depth=0.08),
+                      camera=pk.Camera.look_at(eye=eye, target=(0, 0, -0.6), fov_y=50.0, width=128, height=96),
+                      lights=[pk.DirectionalLight(direction=(-0.4, -1.0, -0.3), irradiance=3.0)])
+        ref = pk.oracle.hits(sc)
+        mesh = renderer.render(sc, pk.Tessellated(texels_per_vertex=1))
+        from scipy import ndimage
+        band = ndimage.binary_dilation(mesh.mask, iterations=1) & ~ndimage.binary_erosion(mesh.mask, iterations=1)
+        extra = ref.mask & ~mesh.mask & ~band
+        missing = mesh.mask & ~ref.mask & ~band
+        assert extra.sum() == 0 and missing.sum() <= 2, (eye, int(extra.sum()), int(missing.sum()))
+
+
+def _mismatched_rock(size=128):
+    """The zoo's rock with a map whose charts disagree at their seams: each chart's texels shifted
+    by its own offset (a bake that does not match across seams)."""
+    mesh, h = zoo.rock(size)
+    rng = np.random.default_rng(3)
+    rows, cols = np.indices(h.shape)
+    offset = 0.12 * rng.random((8, 8))
+    bumped = np.clip(h * 0.8 + offset[rows * 8 // h.shape[0], cols * 8 // h.shape[1]], 0.0, 1.0)
+    return mesh, bumped.astype(np.float32)
+
+
+def test_the_mesh_and_the_oracle_agree_at_seams_whose_heights_disagree(renderer):
+    """The zoo's rock with a map whose charts disagree by up to 0.12 at their seams: the oracle
+    closes each step with a wall as the mesh welds it, so the two differ only on the outline
+    (where the mesh's facets and the exact surface part by a pixel, as on a matching map)."""
+    from scipy import ndimage
+
+    mesh, h = _mismatched_rock()
+    r = pk.check_asset(mesh, pk.Material(height=h, depth=0.06))
+    assert r.seam_height_max > 0.05
+    for cam in zoo.views(mesh, n=3, size=128):
+        sc = pk.Scene(mesh=mesh, material=pk.Material(height=h, depth=0.06), camera=cam)
+        ref = pk.oracle.hits(sc)
+        f = renderer.render(sc, pk.Tessellated(texels_per_vertex=1))
+        band = ndimage.binary_dilation(f.mask) & ~ndimage.binary_erosion(f.mask)
+        assert ((f.mask != ref.mask) & ~band).sum() == 0
+        iou = (f.mask & ref.mask).sum() / max((f.mask | ref.mask).sum(), 1)
+        assert iou >= 0.995, iou
+
+
+def test_a_step_at_a_seam_is_closed_by_a_wall(renderer):
+    """A plane cut in two along x = 0 by a uv seam: the left half samples a pit (h = 0.3), the
+    right half a plateau (h = 1). Looking across the seam from the left, rays meet the step's
+    wall: the oracle hits it where the welded mesh does, at the uv of the side nearer in height,
+    and no ray passes through the crack."""
+    p = np.array([[-1, 0, -1], [0, 0, -1], [-1, 0, 1], [0, 0, 1],   # left half
+                  [0, 0, -1], [1, 0, -1], [0, 0, 1], [1, 0, 1]], np.float64)  # right half
+    uv = np.array([[0.0, 0.1], [0.5, 0.1], [0.0, 0.4], [0.5, 0.4],
+                   [0.5, 0.6], [1.0, 0.6], [0.5, 0.9], [1.0, 0.9]])
+    idx = np.array([0, 2, 1, 1, 2, 3, 4, 6, 5, 5, 6, 7])
+    mesh = pk.Mesh.from_arrays(p, np.tile([0.0, 1.0, 0.0], (8, 1)), uv, idx)
+    h = np.full((64, 64), 0.3, np.float32)
+    h[32:] = 1.0
+    mat = pk.Material(height=h, depth=0.2)
+    assert pk.check_asset(mesh, mat).seam_height_max > 0.5
+    sc = pk.Scene(mesh=mesh, material=mat,
+                  camera=pk.Camera.look_at(eye=(-1.6, 0.5, 0.0), target=(0.2, -0.1, 0.0), fov_y=40.0, width=96, height=96))
+    ref = pk.oracle.hits(sc)
+    f = renderer.render(sc, pk.Tessellated(texels_per_vertex=1))
+    # rays that meet the wall: the mesh's hits on the right half's uvs below the plateau's edge,
+    # and on the left half's within a texel of the seam
+    wall = f.mask & (np.abs(f.uv[..., 0] - 0.5) < 1.5 / 64)
+    assert wall.sum() > 200
+    both = wall & ref.mask
+    assert both.sum() == wall.sum(), "rays pass through the crack"
+    du = np.abs(f.uv[..., 0] - ref.uv[..., 0])[both] * 64
+    dv = np.abs(f.uv[..., 1] - ref.uv[..., 1])[both] * 64
+    assert np.percentile(np.hypot(du, dv), 95) < 1.0
+
+
+def test_check_asset_reports_normals_far_from_their_faces_and_folds():
+    """A thin slab whose 8 corners carry normals averaged over its faces by area (as a mesh
+    welded by position gets them): its thin sides' normals lean 80+ degrees from their faces. A sphere
+    deeper than its radius folds its shell."""
+    trimesh = pytest.importorskip("trimesh")
+    box = trimesh.creation.box(extents=[1.0, 0.02, 1.0])
+    p = np.asarray(box.vertices)
+    uv = np.stack([p[:, 0] + 0.5, p[:, 2] + 0.5], 1)
+    f = np.asarray(box.faces)
+    n = np.zeros_like(p)
+    for k in range(3):  # area-weighted face normals, summed at each corner
+        np.add.at(n, f[:, k], np.asarray(box.face_normals) * np.asarray(box.area_faces)[:, None])
+    slab = pk.Mesh.from_arrays(p, n / np.linalg.norm(n, axis=1, keepdims=True), uv, f)
+    r = pk.check_asset(slab)
+    assert r.normals_off_faces + r.normals_flipped >= 8, r
+    assert any("more than 60 degrees" in w and "Prism" in w for w in r.warnings), r.warnings
+    sphere = pk.Mesh.sphere()
+    deep = pk.check_asset(sphere, pk.Material(height=pk.textures.bricks(32), depth=1.2))
+    assert deep.folded_prisms > 0.9 * (sphere.indices.size // 3 - deep.degenerate_triangles)
+    assert any("lower the depth" in w for w in deep.warnings)
+    shallow = pk.check_asset(sphere, pk.Material(height=pk.textures.bricks(32), depth=0.1))
+    assert shallow.folded_prisms == 0 and shallow.normals_off_faces == 0 and shallow.normals_flipped == 0
