@@ -14,7 +14,7 @@ setup:
 	scripts/setup.sh
 
 setup-test:
-	scripts/setup.sh test reference notebooks bench distributed browser
+	scripts/setup.sh test reference notebooks bench distributed browser blender
 
 setup-bench:
 	scripts/setup.sh bench

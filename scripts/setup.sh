@@ -81,8 +81,23 @@ else
   WHEEL=$(ls target/wheels/pomkit-*.whl | head -n 1)
   echo "$HASH" > target/wheels/.source-hash
 fi
+# the `blender` extra lives in a venv of its own (.venv-blender): bpy 5.0.1 is built for CPython
+# 3.11 and wants numpy < 2; pk.reference.render_cycles runs it as a subprocess
+PIP_EXTRAS=()
+for e in "${EXTRAS[@]}"; do
+  if [ "$e" = "blender" ]; then
+    if [ ! -x .venv-blender/bin/python ] || ! .venv-blender/bin/python -c "import bpy" 2>/dev/null; then
+      echo "[setup] creating .venv-blender with bpy 5.0.1 (Blender as a module, for pk.reference.render_cycles)"
+      "$PY" -m venv .venv-blender
+      .venv-blender/bin/pip install -q --upgrade pip >/dev/null
+      .venv-blender/bin/pip install -q "bpy==5.0.1"
+    fi
+  else
+    PIP_EXTRAS+=("$e")
+  fi
+done
 spec="$WHEEL"
-if [ ${#EXTRAS[@]} -gt 0 ]; then spec="$WHEEL[$(IFS=,; echo "${EXTRAS[*]}")]"; fi
+if [ ${#PIP_EXTRAS[@]} -gt 0 ]; then spec="$WHEEL[$(IFS=,; echo "${PIP_EXTRAS[*]}")]"; fi
 pip install -q --force-reinstall --no-deps "$WHEEL"
 pip install -q "$spec"
 for e in "${EXTRAS[@]}"; do

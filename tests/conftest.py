@@ -5,6 +5,10 @@ import numpy as np
 import pytest
 
 os.environ.setdefault("XDG_RUNTIME_DIR", tempfile.mkdtemp(prefix="pomkit-xdg-"))
+# Blender's Cycles (pk.reference.render_cycles) runs in the venv `scripts/setup.sh blender` makes
+_BLENDER = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), ".venv-blender", "bin", "python")
+if os.path.exists(_BLENDER):
+    os.environ.setdefault("POMKIT_BLENDER_PYTHON", _BLENDER)
 
 import pomkit as pk  # noqa: E402
 from hypothesis import settings  # noqa: E402

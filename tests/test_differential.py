@@ -94,7 +94,10 @@ def check_case(renderer, scene, label: str) -> dict:
     Returns counts for the closing tables (how many pixels each check looked at)."""
     oracle = pk.oracle.hits(scene)
     om = oracle.mask
-    interior = _away(om, 1.0)
+    # the base plane's own pixels: the oracle also hits the field through the open border's wall
+    # beside it (the surface ends there, no skirt), which no method that draws the base reaches
+    base = renderer.render(scene, pk.Flat(), aovs=("mask",)).mask
+    interior = _away(om & base, 1.0)
     texels = np.array([scene.material.height.shape[1], scene.material.height.shape[0]], np.float64) * scene.material.tiling
     ov = oracle.visibility
     o_shadow = np.isfinite(ov) & (ov < 0.5)

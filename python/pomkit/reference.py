@@ -6,10 +6,15 @@ flip-evaluator, scikit-image, pyrender). Results are cached on disk (see `pomkit
 
 from __future__ import annotations
 
-from ._errors import ArgumentError, ReferenceRendererError
+from ._errors import ArgumentError, MissingExtraError, ReferenceRendererError
+import hashlib
 import math
 import os
+import subprocess
+import sys
+import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -21,7 +26,7 @@ from ._mitsuba import cast_render, direct_render, mitsuba_variant
 from ._frame import Frame
 from ._scene import DirectionalLight, Scene
 
-__all__ = ["displaced_mesh", "render_mitsuba", "render_pyrender", "mitsuba_variant"]
+__all__ = ["displaced_mesh", "render_mitsuba", "render_pyrender", "render_cycles", "mitsuba_variant", "blender_python"]
 
 def displaced_mesh(scene: Scene, resolution: float | None = None, object: int | None = None):
     """The displaced surface `S = P + depth*(h-1)*N` as a `trimesh.Trimesh`, in world space.
@@ -222,3 +227,101 @@ def _pyrender_render(scene: Scene, resolution: float):
 def _linear_to_srgb(x):
     from ._scene import linear_to_srgb
     return linear_to_srgb(x)
+
+
+# ---------------------------------------------------------------- Blender's Cycles
+
+def blender_python() -> str:
+    """The Python that runs Cycles: `$POMKIT_BLENDER_PYTHON`, else this interpreter if it
+    imports `bpy`. bpy 5.0.1 (the `blender` extra's) is built for CPython 3.11 and wants numpy
+    < 2, so it usually lives in a venv of its own: `scripts/setup.sh blender` makes
+    `.venv-blender` and `make test` points `POMKIT_BLENDER_PYTHON` at it."""
+    env = os.environ.get("POMKIT_BLENDER_PYTHON")
+    if env:
+        if not Path(env).exists():
+            raise MissingExtraError(f"POMKIT_BLENDER_PYTHON: {env}: no such interpreter")
+        return env
+    import importlib.util
+
+    if importlib.util.find_spec("bpy") is not None:
+        return sys.executable
+    raise MissingExtraError("render_cycles needs Blender as a module (bpy 5.0.1, CPython 3.11, numpy < 2): "
+                            "make a venv with `pip install bpy==5.0.1` and set POMKIT_BLENDER_PYTHON to its python "
+                            "(scripts/setup.sh blender makes .venv-blender)")
+
+
+def render_cycles(scene: Scene, spp: int = 16, shadows: bool = True, dicing: float = 0.25, seed: int = 0,
+                  cache: bool = True, timeout: float = 900.0) -> Frame:
+    """Blender's Cycles (bpy 5.0.1) with true displacement: the independent reference whose
+    displacement pomkit did not tessellate. One object, directional lights, constant ambient.
+
+    The same arrays, map, camera, lights and material: a Displacement node (midlevel 1, scale =
+    depth, object space) on the height map (linear, repeating) over a simple adaptive subdivision
+    at `dicing` pixels, so S = P + depth (h - 1) N along the interpolated vertex normals; the
+    mesh welded by position with per-corner uvs (a seam is one surface, pomkit's rule,
+    docs/conventions.md). Cycles' adaptive subdivision displaces along vertex normals, not
+    per-corner ones, so a hard edge's vertices stay split and its sides part there (pomkit welds
+    them: docs/references.md measures the difference). `uv`, `depth` (distance from the eye) and `mask` come from one sample
+    per pixel through a 0.01-pixel box filter (pixel centres, as `pk.oracle.hits`); `color` from
+    `spp` samples of Cycles' path tracer with no bounces (direct light: a Diffuse BSDF, sun lights
+    of the lights' irradiance and angular diameter, a constant world of `scene.ambient`), box
+    filtered over the pixel like the oracle image. `shadows=False` turns the lights' and the
+    world's shadows off. Monte Carlo: `seed` picks the sampling; `noise_floor` is None.
+
+    Cached by scene hash like the other references. Runs in `blender_python()` (a subprocess)."""
+    spp = _v.integer("spp", spp, 1, 1 << 16, strict=True)
+    shadows = _v.boolean("shadows", shadows)
+    dicing = float(dicing)
+    if not (0.01 <= dicing <= 16.0):
+        raise ArgumentError(f"dicing: the subdivision's micro-polygon size in pixels, from 0.01 to 16, got {dicing}")
+    seed = _v.integer("seed", seed, 0, 2 ** 31 - 1, strict=True)
+    if len(scene.objects) != 1 or not scene.objects[0].is_identity:
+        raise ArgumentError("scene: render_cycles takes one untransformed object (bake the transform into the mesh)")
+    if any(not isinstance(light, DirectionalLight) for light in scene.lights):
+        raise ArgumentError("scene: render_cycles takes directional lights only (a sun in Cycles)")
+    cam = scene.camera
+    if getattr(cam, "window", None) is not None:
+        raise ArgumentError("scene: render_cycles renders the whole camera (no window)")
+    worker = Path(__file__).with_name("_cycles_worker.py")
+    # the worker's own source is part of the key: a new worker renders anew
+    source = hashlib.sha256(worker.read_bytes()).hexdigest()[:16]
+    key = scene_hash(scene, kind="cycles", spp=spp, shadows=shadows, dicing=dicing, seed=seed, worker=source) if cache else ""
+
+    def compute():
+        o = scene.objects[0]
+        m, mat = o.mesh, o.material
+        a = dict(positions=m.positions, normals=m.normals, uvs=m.uvs, indices=m.indices,
+                 height=np.asarray(mat.height, np.float32), depth=mat.depth, tiling=mat.tiling,
+                 eye=np.asarray(cam.eye, np.float64), target=np.asarray(cam.target, np.float64),
+                 up=np.asarray(cam.up, np.float64), fov_y=cam.fov_y, width=cam.width, height_px=cam.height,
+                 ambient=scene.ambient, spp=spp, shadows=shadows, dicing=dicing, seed=seed,
+                 lights=len(scene.lights))
+        a["height"] = np.asarray(mat.height, np.float32)
+        if mat.albedo is not None:
+            a["albedo"] = np.asarray(mat.albedo, np.float32)
+        for k, light in enumerate(scene.lights):
+            a[f"light{k}_direction"] = np.asarray(light.direction, np.float64)
+            a[f"light{k}_irradiance"] = np.asarray(light.power, np.float64)
+            a[f"light{k}_angular_diameter"] = float(light.angular_diameter)
+        t0 = time.perf_counter()
+        with tempfile.TemporaryDirectory() as d:
+            src, dst = os.path.join(d, "scene.npz"), os.path.join(d, "out.npz")
+            np.savez(src, **a)
+            env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME")}
+            try:
+                p = subprocess.run([blender_python(), str(worker), src, dst], capture_output=True, text=True,
+                                   timeout=timeout, env=env)
+            except subprocess.TimeoutExpired:
+                raise ReferenceRendererError(f"render_cycles: Cycles took longer than {timeout} s") from None
+            if p.returncode != 0 or not os.path.exists(dst):
+                raise ReferenceRendererError(f"render_cycles: Blender failed ({p.returncode}): {(p.stderr or p.stdout)[-2000:]}")
+            with np.load(dst) as z:
+                out = {k: z[k] for k in z.files}
+        out["ms"] = np.array((time.perf_counter() - t0) * 1e3)
+        return out
+
+    a = cached("cycles", key, compute, use_cache=cache)
+    return Frame(color=a["color"], uv=a["uv"], depth=a["depth"], mask=a["mask"],
+                 object=np.where(a["mask"], 0, -1).astype(np.int32), wall_ms=float(a["ms"]), timing="wall",
+                 noise_floor=None, method=f"cycles[{a['version']}] spp={spp} dicing={dicing} (took {float(a['ms']):.0f} ms: "
+                 f"scene, geometry and colour {', '.join(f'{x:.1f}' for x in a['seconds'])} s)")
