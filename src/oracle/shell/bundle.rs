@@ -298,11 +298,11 @@ impl Shell<'_> {
                 // where anything of the object lies above the triangles it left by or began in,
                 // or their neighbours, it is searched
                 let near = |t: u32| {
-                    ob.overhung[t as usize]
+                    ob.overhung(t as usize)
                         || ob.across[t as usize]
                             .iter()
                             .flatten()
-                            .any(|&u| ob.overhung[u as usize])
+                            .any(|&u| ob.overhung(u as usize))
                 };
                 Some(near(t) || near(tri))
             }

@@ -33,6 +33,13 @@ use crate::scene::{Material, Scene};
 use bvh::Bvh;
 use glam::{DMat3, DMat4, DVec2, DVec3};
 use prism::{Crossing, Local, Prism};
+use std::sync::atomic::{AtomicU8, Ordering};
+use std::sync::{Arc, Mutex};
+
+/// `Object::overhung`'s answers, kept per triangle
+const UNKNOWN: u8 = 0;
+const NO: u8 = 1;
+const YES: u8 = 2;
 
 /// The largest deviation, in texels, of a walked chord from the ray's path in texture space
 /// (the hit it finds is then moved onto the path itself).
@@ -50,6 +57,26 @@ struct Object<'a> {
     mesh: &'a Mesh,
     mat: &'a Material,
     field: Field<'a>,
+    /// what the mesh and the depth give, built once per (mesh content, depth) and kept
+    geo: Arc<Geometry>,
+    to_obj: DMat4,
+    to_world: DMat4,
+    normal_to_world: DMat3,
+    /// 1 / depth (heights are offsets times it)
+    per_depth: f64,
+    tiling: f64,
+}
+
+impl std::ops::Deref for Object<'_> {
+    type Target = Geometry;
+    fn deref(&self) -> &Geometry {
+        &self.geo
+    }
+}
+
+/// An object's shell as its mesh and depth make it: prisms, adjacency, bounding volumes. Kept in
+/// `GEOMETRY` by (mesh content, depth), so that later calls on the same asset pay per pixel only.
+struct Geometry {
     prisms: Vec<Option<Prism>>,
     /// per triangle and side k (corners k, k+1): the triangle across it where the two shells
     /// share the side (the same positions and normals); None at a wall (an open border, a hard
@@ -63,24 +90,22 @@ struct Object<'a> {
     /// a wall) lies above the triangle's plane, by more than 1e-6 of the object's size (the
     /// rounding of float32 positions: a quad's two triangles are one plane). Where none does,
     /// a ray that leaves through the triangle's top, and so is above that plane from then on,
-    /// does not meet this object again
-    overhung: Vec<bool>,
+    /// does not meet this object again (`Object::overhung`, answered on first use)
+    overhung: Vec<AtomicU8>,
     /// welded id per vertex (the same position)
     weld: Vec<u32>,
     /// per triangle: whether every triangle that shares a corner with it has the same uv there
     /// (no uv seam meets it), so that texture space goes on smoothly around it
     seam_free: Vec<bool>,
     bvh: Bvh,
-    to_obj: DMat4,
-    to_world: DMat4,
-    normal_to_world: DMat3,
     depth: f64,
-    /// 1 / depth (heights are offsets times it)
-    per_depth: f64,
-    tiling: f64,
     /// object-space size of the whole mesh (for tolerances)
     extent: f64,
 }
+
+/// The shells built lately, by (mesh key, depth bits): the most recent `KEPT` of them.
+static GEOMETRY: Mutex<Vec<((u64, u64), Arc<Geometry>)>> = Mutex::new(Vec::new());
+const KEPT: usize = 4;
 
 /// A ray's walk through one object's shell: a hit, or where it left.
 enum Walk {
@@ -156,7 +181,7 @@ impl<'a> Shell<'a> {
         scene.validate()?;
         let mut objects = Vec::new();
         for o in &scene.objects {
-            objects.push(Object::new(&o.mesh, &o.material, o.transform.m)?);
+            objects.push(Object::new(&o.mesh, &o.material, o.mesh.key, o.transform.m)?);
         }
         if objects.is_empty() {
             return Err(Error::arg("scene", "has no objects; add one"));
@@ -488,7 +513,7 @@ impl Shell<'_> {
             Walk::Left { lam, top, .. } => {
                 // where it left, in the world: the rest of the ray meets no shell again (this
                 // object's, where it left above all of it, is not looked for)
-                let clear = top.is_some_and(|t| !ob.overhung[t as usize]);
+                let clear = top.is_some_and(|t| !ob.overhung(t as usize));
                 if clear && self.objects.len() == 1 {
                     return true;
                 }
@@ -503,7 +528,43 @@ impl Shell<'_> {
 }
 
 impl<'a> Object<'a> {
-    fn new(mesh: &'a Mesh, mat: &'a Material, m: DMat4) -> Result<Object<'a>> {
+    fn new(mesh: &'a Mesh, mat: &'a Material, key: u64, m: DMat4) -> Result<Object<'a>> {
+        let depth = mat.depth as f64;
+        let id = (key, depth.to_bits());
+        let kept = GEOMETRY
+            .lock()
+            .ok()
+            .and_then(|g| g.iter().find(|(k, _)| *k == id).map(|(_, v)| v.clone()));
+        let geo = match kept {
+            Some(g) => g,
+            None => {
+                let g = Arc::new(Geometry::new(mesh, depth)?);
+                if let Ok(mut kept) = GEOMETRY.lock() {
+                    kept.retain(|(k, _)| *k != id);
+                    kept.push((id, g.clone()));
+                    let over = kept.len().saturating_sub(KEPT);
+                    kept.drain(..over);
+                }
+                g
+            }
+        };
+        let lin = DMat3::from_mat4(m);
+        Ok(Object {
+            mesh,
+            mat,
+            field: Field::new(&mat.height),
+            geo,
+            to_obj: m.inverse(),
+            to_world: m,
+            normal_to_world: lin.inverse().transpose(),
+            per_depth: 1.0 / depth,
+            tiling: mat.tiling as f64,
+        })
+    }
+}
+
+impl Geometry {
+    fn new(mesh: &Mesh, depth: f64) -> Result<Geometry> {
         let n = mesh.indices.len() / 3;
         let prisms: Vec<Option<Prism>> = (0..n).map(|t| Prism::new(mesh, t)).collect();
         if prisms.iter().all(Option::is_none) {
@@ -540,7 +601,6 @@ impl<'a> Object<'a> {
             .collect();
         let (lo, hi) = mesh.bounds();
         let extent = (hi - lo).max_element().max(1e-30);
-        let depth = mat.depth as f64;
         // each item's box: where a ray can enter the prism. That is its top (the base
         // triangle); with a wall, the whole prism: its top and its floor (depth along each
         // corner's normal, and as much again for the floor's bulge between corners, where
@@ -567,28 +627,7 @@ impl<'a> Object<'a> {
             .map(|t| prisms[t].as_ref().filter(|_| !walled[t]).map(|p| p.ng))
             .collect();
         let bvh = Bvh::new(&boxes, &facing);
-        let floor = |t: usize, k: usize| {
-            let p = prisms[t].as_ref().expect("an item has a prism");
-            p.p[k] - p.n[k] * (2.0 * depth)
-        };
-        let overhung: Vec<bool> = prisms
-            .iter()
-            .map(|p| {
-                let Some(p) = p else { return false };
-                let (ng, base) = (p.ng, p.ng.dot(p.p[0]) + 1e-6 * extent);
-                bvh.any(
-                    // the box's highest point along ng
-                    |lo, hi| 0.5 * ((lo + hi).dot(ng) + (hi - lo).dot(ng.abs())) > base,
-                    |i| {
-                        let q = prisms[i as usize].as_ref().expect("an item has a prism");
-                        (0..3).any(|k| {
-                            q.p[k].dot(ng) > base
-                                || (walled[i as usize] && floor(i as usize, k).dot(ng) > base)
-                        })
-                    },
-                )
-            })
-            .collect();
+        let overhung = (0..n).map(|_| AtomicU8::new(UNKNOWN)).collect();
         // the welded corners where uvs differ
         let mut first_uv: Vec<Option<DVec2>> = vec![None; mesh.positions.len()];
         let mut seam = vec![false; mesh.positions.len()];
@@ -606,11 +645,7 @@ impl<'a> Object<'a> {
                     .is_some_and(|p| p.v.iter().all(|&v| !seam[topo.weld[v as usize] as usize]))
             })
             .collect();
-        let lin = DMat3::from_mat4(m);
-        Ok(Object {
-            mesh,
-            mat,
-            field: Field::new(&mat.height),
+        Ok(Geometry {
             prisms,
             across,
             closed: !walled.iter().any(|&w| w),
@@ -619,14 +654,42 @@ impl<'a> Object<'a> {
             seam_free,
             weld: topo.weld,
             bvh,
-            to_obj: m.inverse(),
-            to_world: m,
-            normal_to_world: lin.inverse().transpose(),
             depth,
-            per_depth: 1.0 / depth,
-            tiling: mat.tiling as f64,
             extent,
         })
+    }
+}
+
+impl Object<'_> {
+
+    /// Whether any part of the object's shell where a ray can enter it (a top, a wall) lies above
+    /// triangle `t`'s plane (see the field `overhung`): a query of the bounding volumes, made on
+    /// the first call for the triangle and kept (a frame asks it of the few triangles its rays
+    /// leave by, so a large mesh pays for those only).
+    fn overhung(&self, t: usize) -> bool {
+        match self.overhung[t].load(Ordering::Relaxed) {
+            YES => return true,
+            NO => return false,
+            _ => {}
+        }
+        let Some(p) = &self.prisms[t] else {
+            return false;
+        };
+        let depth = self.depth;
+        let (ng, base) = (p.ng, p.ng.dot(p.p[0]) + 1e-6 * self.extent);
+        let answer = self.bvh.any(
+            // the box's highest point along ng
+            |lo, hi| 0.5 * ((lo + hi).dot(ng) + (hi - lo).dot(ng.abs())) > base,
+            |i| {
+                let q = self.prisms[i as usize].as_ref().expect("an item has a prism");
+                (0..3).any(|k| {
+                    q.p[k].dot(ng) > base
+                        || (self.walled[i as usize] && (q.p[k] - q.n[k] * (2.0 * depth)).dot(ng) > base)
+                })
+            },
+        );
+        self.overhung[t].store(if answer { YES } else { NO }, Ordering::Relaxed);
+        answer
     }
 
     /// Whether a point of prism `p` lies above the surface.

@@ -200,7 +200,8 @@ fn a_ray_that_leaves_above_its_object_skips_it() {
         8,
     );
     let shell = Shell::new(&sphere).unwrap();
-    assert!(!shell.objects[0].overhung.iter().any(|&o| o));
+    let ob = &shell.objects[0];
+    assert!(!(0..ob.prisms.len()).any(|t| ob.overhung(t)));
 
     let torus = scene(
         Mesh::torus(1.0, 0.4, 16, 8).unwrap(),
@@ -213,8 +214,9 @@ fn a_ray_that_leaves_above_its_object_skips_it() {
     let ob = &shell.objects[0];
     // a triangle faces the hole where its normal points towards the axis
     let (mut inner, mut outer) = (0, 0);
-    for (p, &o) in ob.prisms.iter().zip(&ob.overhung) {
+    for (t, p) in ob.prisms.iter().enumerate() {
         let Some(p) = p else { continue };
+        let o = ob.overhung(t);
         let c = (p.p[0] + p.p[1] + p.p[2]) / 3.0;
         let radial = DVec3::new(c.x, 0.0, c.z).normalize();
         if p.ng.dot(radial) < -0.2 {
