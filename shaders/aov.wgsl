@@ -24,9 +24,17 @@ struct FsOut {
 #endif
 }
 
-// flags (AOV `flags`): 1 = the march hit its iteration bound, 2 = NCS early termination
+// flags (AOV `flags`): 1 = the march hit its iteration bound, 2 = NCS early termination,
+// 4 = the walk lost the surface away from any silhouette and the base mesh's point covers the
+// pixel (NCS, CurvedRelief: FALLBACK_NDV)
 const FLAG_BOUND: u32 = 1u;
 const FLAG_EARLY: u32 = 2u;
+const FLAG_FALLBACK: u32 = 4u;
+// a walk that leaves the shell through its top where the view meets the interpolated normal at
+// N.V above this (60 degrees from it: a silhouette needs a grazing ray, N.V < sqrt(2 depth / R)
+// for depth / R up to 0.18), or on its first step (the normal faces away from the viewer on a
+// front face), has lost the surface: the fragment keeps the base mesh's point
+const FALLBACK_NDV: f32 = 0.6;
 // the pixel shows a surface (AOV `mask`): channel 3's bit 31
 const HIT_BIT: u32 = 0x80000000u;
 

@@ -344,7 +344,13 @@ class NCS(_PerPixel):
     is the paper's fixed step. The frame is fetched again when the ray enters another texel cell
     of the map. A ray leaving the shell through its top is discarded (`mask` false: the
     silhouette); a ray still inside after `max_steps` is an early termination, flagged in
-    `Frame.flags & 2` (the paper's red pixels). Level 0 by default (`mip_filtering=False`)."""
+    `Frame.flags & 2` (the paper's red pixels). Level 0 by default (`mip_filtering=False`).
+
+    Where the walk loses the surface rather than finding a silhouette (the interpolated normal faces
+    away from the viewer on a front face, or the ray leaves through the top where the view meets
+    the normal at N.V > 0.6), the fragment keeps the base mesh's point (AOV flags & 4): never
+    less coverage than the base mesh.
+    """
 
     step_scale: float = 2.5
     max_steps: int = 64
@@ -418,7 +424,13 @@ class CurvedRelief(_PerPixel):
     the silhouette, with no prisms. `linear_steps` fixed steps over the ray's span in the shell,
     then `binary_steps` bisections. Shaded in the entry's frame. Fails, as the paper shows, where
     a quadric does not describe the surface: saddles (a and b of opposite sign), changing
-    curvature, thin parts. Level 0 by default (`mip_filtering=False`)."""
+    curvature, thin parts. Level 0 by default (`mip_filtering=False`).
+
+    Where the walk loses the surface rather than finding a silhouette (the interpolated normal faces
+    away from the viewer on a front face, or the ray leaves through the top where the view meets
+    the normal at N.V > 0.6), the fragment keeps the base mesh's point (AOV flags & 4): never
+    less coverage than the base mesh.
+    """
 
     linear_steps: int = 32
     binary_steps: int = 6

@@ -164,7 +164,7 @@ pub const AOVS: [Aov; 12] = [
         comps: 1,
         dtype: Dtype::U8,
         source: Source::ColorHigh4,
-        doc: "bit 0: the march hit its iteration bound; bit 1: it ended early, inside the shell",
+        doc: "bit 0: the march hit its iteration bound; bit 1: it ended early, inside the shell; bit 2: the walk lost the surface away from a silhouette and the base mesh's point covers the pixel (NCS, CurvedRelief)",
     },
     Aov {
         name: "object",

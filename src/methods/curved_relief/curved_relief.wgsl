@@ -8,12 +8,15 @@
 // top without a hit and the fragment is discarded (the silhouette). A linear search of
 // `linear_steps`, then `binary_steps` bisections. The search's uv walks across the base mesh's
 // triangles (walk.wgsl): across a seam it continues in the neighbouring chart, and a ray that
-// walks out through an open border has left the surface (discarded). The hit is shaded in the
-// mesh's frame at the hit.
+// walks out through an open border has left the surface (discarded). A fragment whose
+// interpolated normal faces away from the viewer, or whose ray leaves through the top far from
+// grazing (FALLBACK_NDV), keeps the base mesh's point (flags & 4): never less than the base mesh.
+// The hit is shaded in the mesh's frame at the hit.
 #define_import_path pomkit::methods::curved_relief
 
 #import pomkit::globals::G
 #import pomkit::march::{Ray, Hit}
+#import pomkit::aov::{FLAG_FALLBACK, FALLBACK_NDV}
 #import pomkit::height::height_at
 #import pomkit::walk::{walk_point, walk_move, walk_frame, walk_start}
 
@@ -39,7 +42,13 @@ fn march(r: Ray) -> Hit {
     var t_end = 0.0;
     var exits = false;
     if (c <= 0.0) {
-        hit.exited = true;
+        // the interpolated normal faces away from the viewer on a front face: the quadric has no
+        // way in. The stated fallback: the base mesh's point at the fragment (flags & 4)
+        hit.s = r.uv * G.tiling;
+        hit.h = 1.0;
+        hit.len = 0.0;
+        hit.steps = 0.0;
+        hit.flags = FLAG_FALLBACK;
         return hit;
     }
     if (disc >= 0.0) {
@@ -77,6 +86,16 @@ fn march(r: Ray) -> Hit {
         }
         lo = hi;
         t_lo = t_hi;
+    }
+    if (!found && exits && c > FALLBACK_NDV) {
+        // out through the top far from any silhouette: the quadric lost the surface; the base
+        // mesh's point at the fragment covers the pixel (flags & 4)
+        hit.s = r.uv * G.tiling;
+        hit.h = 1.0;
+        hit.len = 0.0;
+        hit.steps = steps;
+        hit.flags = FLAG_FALLBACK;
+        return hit;
     }
     if (!found) {
         // only a ray that leaves through the top gets here (at the floor h_ray = 0 <= any height)

@@ -10,12 +10,15 @@
 // the frame at each step is the one the mesh interpolates there (the paper's frame maps at full
 // resolution; a texture-space map cannot hold two frames where mirrored charts share texels).
 // A ray that walks out through an open border has left the displaced surface: the pixel is
-// discarded, as the reference mesh ends there.
+// discarded, as the reference mesh ends there. A ray that rises out through the top on its first
+// step (the interpolated normal faces away from the viewer on a front face) or where the view is
+// far from grazing (FALLBACK_NDV) has lost the surface, not found a silhouette: the fragment
+// keeps the base mesh's point (flags & 4), so that NCS never covers less than the base mesh.
 
 #define_import_path pomkit::methods::ncs
 
 #import pomkit::globals::G
-#import pomkit::aov::FLAG_EARLY
+#import pomkit::aov::{FLAG_EARLY, FLAG_FALLBACK, FALLBACK_NDV}
 #import pomkit::frame::{TangentFrame, make_frame}
 #import pomkit::height::height_at
 #import pomkit::march::{Ray, Hit, pom_sample_count}
@@ -80,6 +83,8 @@ fn march(r: Ray) -> Hit {
     var d1 = d;
     var flags = FLAG_EARLY;
     var exited = false;
+    var lost = false;
+    let uv0 = p.uv;
     let ni = i32(n);
     for (var i = 0; i < ni; i = i + 1) {
         let w = walk_move(p.tri, p.uv, st.xy, 1.0);
@@ -87,6 +92,9 @@ fn march(r: Ray) -> Hit {
         steps = steps + 1.0;
         if (h1 > 1.0 || !w.on) {
             exited = true;
+            // out through the top on the first step, or far from any silhouette (FALLBACK_NDV):
+            // the walk lost the surface; out through an open border: it left it
+            lost = w.on && (i == 0 || -dot(view, r.f.n) > FALLBACK_NDV);
             break;
         }
         d1 = h1 - height_at(w.uv * tiling, r.lod);
@@ -99,6 +107,10 @@ fn march(r: Ray) -> Hit {
         len = len + st.w;
         d = d1;
         st = frame_step(walk_frame(p), view, n, dl0, inv_depth);
+    }
+    if (lost) {
+        // the stated fallback: the base mesh's point at the fragment (never worse than the base)
+        return ncs_hit(r, uv0, 1.0, 0.0, steps, FLAG_FALLBACK, r.f);
     }
     if (exited) {
         var out: Hit;
