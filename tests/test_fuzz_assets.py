@@ -16,7 +16,6 @@ import os
 import time
 
 import numpy as np
-import pytest
 from hypothesis import HealthCheck, event, given, note, settings
 from hypothesis import strategies as st
 from scipy import ndimage
