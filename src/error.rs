@@ -16,6 +16,8 @@ pub enum Error {
     Gpu(String),
     /// The device was lost; a new Renderer must be created.
     DeviceLost(String),
+    /// The caller asked a long computation to stop (Ctrl-C reaching Python: `progress::request_stop`).
+    Interrupted,
 }
 
 impl Error {
@@ -41,6 +43,7 @@ impl fmt::Display for Error {
             Error::NoAdapter(m) => write!(f, "no GPU adapter: {m}"),
             Error::Gpu(m) => write!(f, "GPU error: {m}"),
             Error::DeviceLost(m) => write!(f, "GPU device lost: {m}"),
+            Error::Interrupted => write!(f, "interrupted"),
         }
     }
 }

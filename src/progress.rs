@@ -1,4 +1,4 @@
-//! Progress of long builds, and where they are kept on disk.
+//! Progress of long builds, where they are kept on disk, and a request to stop them (Ctrl-C).
 //!
 //! A method's builder (the cone map, the distance volume) reports the rows it has done to the
 //! hook the caller set (the Python layer sets one that shows a tqdm bar once a build has run
@@ -7,6 +7,7 @@
 //! builder's own source, and read from there next time instead of being built again.
 
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, RwLock};
 use std::time::Duration;
 
@@ -21,6 +22,23 @@ pub fn keep_after() -> Duration {
 }
 
 pub type Hook = Arc<dyn Fn(&str, u64, u64) + Send + Sync>;
+
+static STOP: AtomicBool = AtomicBool::new(false);
+
+/// Ask the running long computations to stop (the Python layer does on Ctrl-C).
+pub fn request_stop() {
+    STOP.store(true, Ordering::Relaxed);
+}
+
+/// Forget a request to stop (before a new computation starts).
+pub fn clear_stop() {
+    STOP.store(false, Ordering::Relaxed);
+}
+
+/// Whether the computations were asked to stop: their loops poll this and end early.
+pub fn stop_requested() -> bool {
+    STOP.load(Ordering::Relaxed)
+}
 
 static HOOK: RwLock<Option<Hook>> = RwLock::new(None);
 static DIR: RwLock<Option<PathBuf>> = RwLock::new(None);

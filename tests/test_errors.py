@@ -32,3 +32,38 @@ def test_python_checks_raise_pomkit_errors(renderer):
         renderer.render(42, pk.POM())
     with pytest.raises(ValueError):  # still a ValueError for code that catches that
         pk.Material(np.zeros((4, 4)), depth=float("nan"))
+
+
+def test_ctrl_c_reaches_python_during_a_long_oracle_call(tmp_path):
+    """SIGINT (Ctrl-C) in the middle of a long `pk.oracle.image` stops it and raises
+    KeyboardInterrupt at once, instead of after the whole computation."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    script = tmp_path / "long.py"
+    script.write_text(
+        "import sys, time, pomkit as pk\n"
+        "sc = pk.Scene(mesh=pk.Mesh.torus(), material=pk.Material(height=pk.textures.cobblestones(256), depth=0.1),\n"
+        "              camera=pk.Camera.look_at((0.0, 1.2, 2.4), width=256, height=256),\n"
+        "              lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0, angular_diameter=4.0)], ambient=0.2)\n"
+        "pk.oracle.hits(sc)\n"  # warm: the shell built once
+        "print('started', flush=True)\n"
+        "t = time.perf_counter()\n"
+        "try:\n"
+        "    pk.oracle.image(sc, spp=256, cache=False)\n"
+        "    print('finished', time.perf_counter() - t)\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', time.perf_counter() - t)\n"
+    )
+    p = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, text=True)
+    assert p.stdout is not None
+    assert p.stdout.readline().strip() == "started"
+    time.sleep(1.0)
+    sent = time.perf_counter()
+    p.send_signal(signal.SIGINT)
+    out, _ = p.communicate(timeout=120)
+    waited = time.perf_counter() - sent
+    assert out.startswith("interrupted"), out
+    assert waited < 5.0, waited

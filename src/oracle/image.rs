@@ -112,7 +112,9 @@ pub fn render_exact(scene: &Scene, spp: u32, shadows: bool) -> Result<ExactImage
             format!("must be a square number of samples per pixel from 1 to 256, got {spp}"),
         ));
     }
-    Ok(image(scene, &super::exact(scene)?, k, shadows))
+    let out = image(scene, &super::exact(scene)?, k, shadows);
+    super::interrupted()?;
+    Ok(out)
 }
 
 fn image<T: Tracer>(scene: &Scene, oracle: &T, k: u32, shadows: bool) -> ExactImage {

@@ -107,7 +107,17 @@ pub fn exact_hits(scene: &Scene, light_bias: f64) -> Result<OracleHits> {
             format!("must lie in [0, 0.5) shell depths, got {light_bias}"),
         ));
     }
-    Ok(oracle_hits(scene, &exact(scene)?, light_bias))
+    let out = oracle_hits(scene, &exact(scene)?, light_bias);
+    interrupted()?;
+    Ok(out)
+}
+
+/// Error::Interrupted where the computation was asked to stop (its rows are then incomplete).
+pub(crate) fn interrupted() -> Result<()> {
+    if crate::progress::stop_requested() {
+        return Err(Error::Interrupted);
+    }
+    Ok(())
 }
 
 /// `exact_hits` with the tracer built (render_exact builds it once for both).
@@ -177,7 +187,9 @@ pub(crate) fn par_rows<T: Send>(rows: usize, f: impl Fn(usize) -> T + Sync) -> V
                     let mut mine = Vec::new();
                     loop {
                         let r = next.fetch_add(1, Ordering::Relaxed);
-                        if r >= rows {
+                        // rows past the end, or a request to stop (the caller then answers
+                        // Error::Interrupted: `interrupted`)
+                        if r >= rows || crate::progress::stop_requested() {
                             break mine;
                         }
                         mine.push((r, f(r)));

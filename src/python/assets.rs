@@ -16,7 +16,7 @@ use std::path::PathBuf;
 #[pyo3(signature = (path, normals="file"))]
 pub fn load_gltf<'py>(py: Python<'py>, path: PathBuf, normals: &str) -> PyResult<Bound<'py, PyList>> {
     let mode = NormalsMode::parse(normals)?;
-    let nodes = py.detach(|| assets::load_gltf(&path, mode))?;
+    let nodes = super::errors::interruptible(py, || assets::load_gltf(&path, mode))?;
     let out = PyList::empty(py);
     for n in nodes {
         let d = mesh_out(py, &n.mesh)?;

@@ -20,7 +20,7 @@ pub fn exact_uv<'py>(
     light_bias: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene_from_py(scene)?;
-    let o = py.detach(move || exact_hits(&scene, light_bias))?;
+    let o = super::errors::interruptible(py, move || exact_hits(&scene, light_bias))?;
     let d = PyDict::new(py);
     hits_into(&d, o)?;
     Ok(d)
@@ -51,7 +51,7 @@ pub fn render_exact<'py>(
     shadows: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene_from_py(scene)?;
-    let o = py.detach(move || crate::oracle::image::render_exact(&scene, spp, shadows))?;
+    let o = super::errors::interruptible(py, move || crate::oracle::image::render_exact(&scene, spp, shadows))?;
     let (h, w) = (o.height as usize, o.width as usize);
     let d = PyDict::new(py);
     d.set_item("color", nd_array(py, (h, w, 3), o.color)?)?;
