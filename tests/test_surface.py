@@ -250,3 +250,17 @@ def test_the_walk_falls_back_to_the_base_mesh_where_normals_face_away(renderer):
             assert zoo.interior_holes(fr.mask, o.mask) == 0, m
             fell_back += int(((fr.flags & 4) > 0).sum())
     assert fell_back > 50
+
+
+def test_one_asset_one_tangent_frame(renderer, tmp_path):
+    """The same arrays given to `Mesh.from_arrays` without tangents and loaded from a glTF
+    without TANGENT get the same frames (MikkTSpace, as glTF asks) and render the same frame."""
+    mesh, h = zoo.rock(64)
+    path = _gltf(tmp_path / "rock.gltf", mesh.positions, mesh.normals, mesh.uvs, mesh.indices)
+    loaded = pk.load_mesh(path)
+    arrays = pk.Mesh.from_arrays(mesh.positions, mesh.normals, mesh.uvs, mesh.indices)
+    np.testing.assert_array_equal(loaded.tangents, arrays.tangents)
+    cam = zoo.views(mesh, n=1, size=64)[0]
+    a, b = (renderer.render(pk.Scene(mesh=m, material=pk.Material(height=h, depth=0.04), camera=cam), pk.POM())
+            for m in (loaded, arrays))
+    assert np.array_equal(a.color, b.color) and np.array_equal(a.uv, b.uv, equal_nan=True)

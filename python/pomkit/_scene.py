@@ -123,10 +123,11 @@ class Mesh:
         convention (v down: row 0 of a map at v = 0), indices (m,) or (m/3,3).
 
         tangents: an (n,4) array in pomkit's handedness (the bitangent w * cross(N, T) points
-        along +dP/dv, minus glTF's w), or which frames to compute: "pomkit" (None, the default:
-        dP/du per triangle, area-weighted per vertex, the uv derivatives a height field's
-        displacement follows) or "mikktspace" (MikkTSpace, what glTF asks for and what engines
-        bake normal maps against). Triangles with degenerate uvs get a fallback frame and a
+        along +dP/dv, minus glTF's w), or which frames to compute: "mikktspace" (None, the
+        default: MikkTSpace, what glTF asks for where a file has none, what engines bake normal
+        maps against, and what `pk.load_mesh` gives the same arrays: one asset, one frame) or
+        "pomkit" (dP/du per triangle, area-weighted per vertex, the uv derivatives a height
+        field's displacement follows; the generated meshes' frames). Triangles with degenerate uvs get a fallback frame and a
         warning; a mesh with no usable uvs raises.
 
         normals_mode: "file" (the default) keeps the normals as given and refuses an unusable one
@@ -152,7 +153,7 @@ class Mesh:
             raise ArgumentError(f"indices: index {int(idx.max())} is out of range for {len(p)} vertices")
         idx = np.ascontiguousarray(idx, dtype=np.uint32)
         if tangents is None or isinstance(tangents, str):
-            frames = "pomkit" if tangents is None else tangents
+            frames = "mikktspace" if tangents is None else tangents
             if frames not in ("pomkit", "mikktspace"):
                 raise ArgumentError(f'tangents: expected "pomkit", "mikktspace" or an (n, 4) array, got {frames!r}')
             out = _core.mesh_from_arrays(p, n, uv, idx, None, "mikktspace" if frames == "mikktspace" else "pomkit",
