@@ -137,6 +137,18 @@ _MEANING = {
 }
 
 
+#: the report's count warnings: (field, text; {n} is the count, {depth} the material's)
+_WARNINGS = [
+    ("overlapping_texels", "{n} texels are mapped by two charts"),
+    ("degenerate_uv_triangles", "{n} triangles have zero uv area"),
+    ("mirror_shared_edges", "{n} mirror-axis edges share vertices across the axis: one tangent serves both handednesses there, and shading and the texture-space methods (NCS, CurvedRelief) go wrong beside them; split those vertices, as glTF exporters do"),
+    ("nonmanifold_edges", "{n} non-manifold edges"),
+    ("normals_flipped", "{n} triangles have a vertex normal more than 90 degrees from the face: the shell turns inside out there (Prism, NCS and CurvedRelief lose the surface); load with normals=\"recompute\", or recompute them in your tool"),
+    ("normals_off_faces", "{n} triangles have a vertex normal more than 60 degrees from the face (averaged across a thin part or a sharp edge): Prism, NCS and CurvedRelief lean far from the surface there; split the normals at sharp edges, or load with normals=\"recompute\""),
+    ("folded_prisms", "{n} prisms fold at depth {depth:g} (deeper than the local radius of curvature, or normals that cross): Prism, NCS and CurvedRelief are not held to the oracle there; lower the depth"),
+]
+
+
 @dataclass(frozen=True)
 class AssetReport:
     """What `check_asset` found. Counts are over the mesh's triangles and its geometric edges
@@ -223,20 +235,9 @@ def check_asset(mesh: Mesh, height: Any = None) -> AssetReport:
         warn.append(f"{d['mirrored_triangles']} of {d['triangles']} triangles are mirrored: the uvs probably have v pointing up (trimesh's, xatlas's and OBJ's convention); pomkit's v points down (use pk.Mesh.from_trimesh or v -> 1 - v)")
     if d["seam_height_max"] is not None and d["seam_height_max"] > 2.0 / 255.0:
         warn.append(f"heights disagree across seams by up to {d['seam_height_max']:.3g}: the displaced surface steps there, closed by a wall along the seam; the texture-space marches (POM, Exact, ...) leave the step open")
-    if d["overlapping_texels"]:
-        warn.append(f"{d['overlapping_texels']} texels are mapped by two charts")
     if d["min_chart_gap_texels"] is not None and d["max_clean_mip"] is None:
         warn.append("charts touch (no gutter): filtered samples bleed between them at every mip level")
-    if d["degenerate_uv_triangles"]:
-        warn.append(f"{d['degenerate_uv_triangles']} triangles have zero uv area")
-    if d["mirror_shared_edges"]:
-        warn.append(f"{d['mirror_shared_edges']} mirror-axis edges share vertices across the axis: one tangent serves both handednesses there, and shading and the texture-space methods (NCS, CurvedRelief) go wrong beside them; split those vertices, as glTF exporters do")
-    if d["nonmanifold_edges"]:
-        warn.append(f"{d['nonmanifold_edges']} non-manifold edges")
-    if d["normals_flipped"]:
-        warn.append(f"{d['normals_flipped']} triangles have a vertex normal more than 90 degrees from the face: the shell turns inside out there (Prism, NCS and CurvedRelief lose the surface); load with normals=\"recompute\", or recompute them in your tool")
-    if d["normals_off_faces"]:
-        warn.append(f"{d['normals_off_faces']} triangles have a vertex normal more than 60 degrees from the face (averaged across a thin part or a sharp edge): Prism, NCS and CurvedRelief lean far from the surface there; split the normals at sharp edges, or load with normals=\"recompute\"")
-    if d["folded_prisms"]:
-        warn.append(f"{d['folded_prisms']} prisms fold at depth {depth:g} (deeper than the local radius of curvature, or normals that cross): Prism, NCS and CurvedRelief are not held to the oracle there; lower the depth")
+    for key, text in _WARNINGS:
+        if d[key]:
+            warn.append(text.format(n=d[key], depth=depth))
     return AssetReport(**d, warnings=warn)
