@@ -264,3 +264,20 @@ def test_one_asset_one_tangent_frame(renderer, tmp_path):
     a, b = (renderer.render(pk.Scene(mesh=m, material=pk.Material(height=h, depth=0.04), camera=cam), pk.POM())
             for m in (loaded, arrays))
     assert np.array_equal(a.color, b.color) and np.array_equal(a.uv, b.uv, equal_nan=True)
+
+
+def test_render_warns_where_the_shell_leaves_the_surface(renderer):
+    """Prism, NCS and CurvedRelief warn once per mesh and depth where prisms fold (a sphere deeper
+    than its radius); POM, and the same scene at a depth that folds nothing, do not."""
+    import warnings
+
+    sphere = pk.Mesh.sphere(segments=16, rings=8)
+    cam = pk.Camera.look_at(eye=(0.0, 0.8, 3.0), width=32, height=32)
+    deep = pk.Scene(mesh=sphere, material=pk.Material(height=pk.textures.bricks(32), depth=1.2), camera=cam)
+    with pytest.warns(RuntimeWarning, match="prisms fold at depth 1.2"):
+        renderer.render(deep, pk.Prism())
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        renderer.render(deep, pk.NCS())  # the same mesh and depth: said once
+        renderer.render(deep, pk.POM())
+        renderer.render(deep.replace(material=pk.Material(height=pk.textures.bricks(32), depth=0.1)), pk.Prism())

@@ -11,7 +11,7 @@ from ._scene import Scene
 
 __all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "COST_AOV_NAMES", "CONE_KINDS", "FILTERING_KINDS", "HeightData", "MAX_LIGHTS", "NORMALS_MODES",
            "MAX_STEPS_LIMIT", "MeshData", "PATTERN_KINDS", "PRISM_BYTES", "PRISM_VERTEX_BYTES", "REFINE_KINDS", "RenderedFrame", "Renderer", "SCHEMA", "SHADOW_KINDS", "WALK_BYTES_PER_TRIANGLE",
-           "__version__", "adapters", "bounding_sphere", "check_asset", "exact_uv", "light_power", "load_gltf", "jod", "jod_displays", "load_image", "mesh_cube", "mesh_cylinder", "mesh_from_arrays", "mesh_plane", "mesh_sphere", "mesh_torus", "oracle_refusal", "reference_directions", "reference_normals", "render_exact", "set_cache_dir", "set_progress_hook", "tessellate"]
+           "__version__", "adapters", "bounding_sphere", "check_asset", "exact_uv", "light_power", "load_gltf", "jod", "jod_displays", "load_image", "mesh_cube", "mesh_cylinder", "mesh_from_arrays", "mesh_plane", "mesh_sphere", "mesh_torus", "oracle_refusal", "reference_directions", "reference_normals", "render_exact", "set_cache_dir", "set_progress_hook", "shell_findings", "tessellate"]
 __version__: str
 #: GPU bytes of one triangle's walk data (NCS and curved relief)
 WALK_BYTES_PER_TRIANGLE: int
@@ -209,6 +209,7 @@ def mesh_from_arrays(positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray
                      frames: Literal["pomkit", "mikktspace"] = "pomkit",
                      normals_mode: Literal["file", "recompute", "repair"] = "file") -> MeshFromArrays: ...
 def load_gltf(path: str, normals: Literal["file", "recompute", "repair"] = "file") -> list[GltfNode]: ...
+def shell_findings(mesh: MeshData, depth: float) -> tuple[int, int]: ...
 def check_asset(mesh: MeshData, height: Optional[HeightData] = None, tiling: float = 1.0,
                 depth: Optional[float] = None) -> AssetReportDict: ...
 def mesh_plane(size: float, segments: int) -> MeshArrays: ...

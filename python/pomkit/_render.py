@@ -6,12 +6,14 @@ from __future__ import annotations
 from ._errors import ArgumentError, ArgumentTypeError
 from typing import Any, Iterable, Literal, Optional, Sequence, Union
 
+import weakref
+
 import numpy as np
 
 from . import _core, _progress
 from . import _validate as _v
 from ._frame import AOV_NAMES, AovName, Frame
-from ._methods import Method
+from ._methods import NCS, CurvedRelief, Method, Prism
 from ._scene import Material, Scene
 
 __all__ = ["Renderer", "adapters", "exact_uv"]
@@ -174,6 +176,32 @@ def _check(scene: Any, method: Any) -> None:
         raise ArgumentTypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
     if not isinstance(method, Method):
         raise ArgumentTypeError(f"method: expected a pomkit method such as pomkit.POM(), got {type(method).__name__}")
+    if isinstance(method, _SHELL_METHODS):
+        for o in scene.objects:
+            _warn_shell(o.mesh, float(o.material.depth), type(method).__name__)
+
+
+#: the methods that build or walk a shell along the vertex normals: flipped normals and folded
+#: prisms change what they render (docs/conventions.md, "The displaced surface")
+_SHELL_METHODS = (Prism, NCS, CurvedRelief)
+#: per mesh, the depths already checked (a mesh is checked once per depth)
+_SHELL_CHECKED: "weakref.WeakKeyDictionary[Any, set[float]]" = weakref.WeakKeyDictionary()
+
+
+def _warn_shell(mesh: Any, depth: float, name: str) -> None:
+    """Warn, once per mesh and depth, where the shell the method follows is not the surface:
+    normals flipped against their faces, or prisms that fold at this depth."""
+    seen = _SHELL_CHECKED.setdefault(mesh, set())
+    if depth <= 0.0 or depth in seen:
+        return
+    seen.add(depth)
+    flipped, folded = _core.shell_findings(mesh._core_data(), depth)
+    if flipped or folded:
+        import warnings
+
+        warnings.warn(f"{name}: {flipped} triangles have flipped normals and {folded} prisms fold at depth {depth:g}: "
+                      "the shell this method follows leaves the displaced surface there (pk.check_asset says where; "
+                      "lower the depth or load with normals=\"recompute\")", RuntimeWarning, stacklevel=4)
 
 
 def _frame(r: "_core.RenderedFrame", method: Method) -> Frame:

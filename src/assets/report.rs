@@ -70,6 +70,59 @@ pub struct AssetReport {
     pub examples: Vec<(String, [f32; 3])>,
 }
 
+/// What a triangle's normals do to its shell: a normal more than 90 degrees from the face
+/// (flipped) or more than 60 (off its face), and with a depth, whether the prism folds.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ShellTriangle {
+    pub flipped: bool,
+    pub off_face: bool,
+    pub folded: bool,
+}
+
+/// `ShellTriangle` of the (non-degenerate) triangle `tri`: the normals against the face (wound
+/// toward the normals' side by `orient_outward`); the layer s below the top, (P - s N) over the
+/// triangle, must keep an area along the face's normal (a quadratic in s) that does not reach zero
+/// (the layers collapse, then turn over or pass through each other) for s in (0, depth].
+pub fn shell_triangle(mesh: &Mesh, tri: &[u32], depth: Option<f64>) -> ShellTriangle {
+    let p: Vec<DVec3> = tri.iter().map(|&i| mesh.position_f64(i)).collect();
+    let nf = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+    let n: Vec<DVec3> = tri
+        .iter()
+        .map(|&i| mesh.normal_f64(i).normalize_or_zero())
+        .collect();
+    let worst = n.iter().map(|v| v.dot(nf)).fold(1.0f64, f64::min);
+    let folded = depth.filter(|d| *d > 0.0).is_some_and(|d| {
+        let area = |s: f64| {
+            let b: Vec<DVec3> = (0..3).map(|k| p[k] - n[k] * s).collect();
+            (b[1] - b[0]).cross(b[2] - b[0]).dot(nf)
+        };
+        let a0 = area(0.0);
+        (1..=64).any(|k| area(d * k as f64 / 64.0) <= 1e-3 * a0)
+    });
+    ShellTriangle {
+        flipped: worst < 0.0,
+        off_face: (0.0..0.5).contains(&worst),
+        folded,
+    }
+}
+
+/// The triangles of `mesh` whose shell the methods that build or walk one (Prism, NCS,
+/// CurvedRelief) are not held to at `depth`: (flipped normals, folded prisms).
+pub fn shell_findings(mesh: &Mesh, depth: f64) -> (usize, usize) {
+    let (mut flipped, mut folded) = (0, 0);
+    for tri in mesh.indices.chunks_exact(3) {
+        let p: Vec<DVec3> = tri.iter().map(|&i| mesh.position_f64(i)).collect();
+        let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
+        if e1.cross(e2).length() <= 1e-12 * (e1.length_squared() + e2.length_squared()) {
+            continue;
+        }
+        let s = shell_triangle(mesh, tri, Some(depth));
+        flipped += s.flipped as usize;
+        folded += s.folded as usize;
+    }
+    (flipped, folded)
+}
+
 fn find(parent: &mut [u32], mut x: u32) -> u32 {
     while parent[x as usize] != x {
         parent[x as usize] = parent[parent[x as usize] as usize];
@@ -123,33 +176,17 @@ pub fn check_asset(
             example(&mut r, "degenerate triangle", c);
             continue;
         }
-        // the normals against the face (wound toward the normals' side by `orient_outward`)
-        let nf = ng.normalize();
-        let n: Vec<DVec3> = tri
-            .iter()
-            .map(|&i| mesh.normal_f64(i).normalize_or_zero())
-            .collect();
-        let worst = n.iter().map(|v| v.dot(nf)).fold(1.0f64, f64::min);
-        if worst < 0.0 {
+        let shell = shell_triangle(mesh, tri, depth);
+        if shell.flipped {
             r.normals_flipped += 1;
             example(&mut r, "flipped normal", c);
-        } else if worst < 0.5 {
+        } else if shell.off_face {
             r.normals_off_faces += 1;
             example(&mut r, "normal far from its face", c);
         }
-        if let Some(d) = depth.filter(|d| *d > 0.0) {
-            // the layer s below the top, (P - s N) over the triangle: its area along the face's
-            // normal, a quadratic in s, must not reach zero (the layers collapse, then turn
-            // over or pass through each other) for s in (0, depth]
-            let area = |s: f64| {
-                let b: Vec<DVec3> = (0..3).map(|k| p[k] - n[k] * s).collect();
-                (b[1] - b[0]).cross(b[2] - b[0]).dot(nf)
-            };
-            let a0 = area(0.0);
-            if (1..=64).any(|k| area(d * k as f64 / 64.0) <= 1e-3 * a0) {
-                *r.folded_prisms.get_or_insert(0) += 1;
-                example(&mut r, "folded shell", c);
-            }
+        if shell.folded {
+            *r.folded_prisms.get_or_insert(0) += 1;
+            example(&mut r, "folded shell", c);
         }
         match uv_derivatives(e1, e2, uv(tri[1]) - uv(tri[0]), uv(tri[2]) - uv(tri[0])) {
             None => {

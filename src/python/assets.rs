@@ -85,3 +85,11 @@ pub fn check_asset<'py>(
     d.set_item("examples", ex)?;
     Ok(d)
 }
+
+/// (flipped normals, folded prisms) of a mesh at `depth`: what makes the shell methods (Prism,
+/// NCS, CurvedRelief) leave the oracle, for the render-time warning.
+#[pyfunction]
+pub fn shell_findings(py: Python<'_>, mesh: &Bound<'_, PyMeshData>, depth: f64) -> (usize, usize) {
+    let m = mesh.get().0.clone();
+    py.detach(|| assets::report::shell_findings(&m, depth))
+}

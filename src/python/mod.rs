@@ -99,6 +99,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(oracle_arrays::reference_directions, m)?)?;
     m.add_function(wrap_pyfunction!(scene_args::mesh_from_arrays, m)?)?;
     m.add_function(wrap_pyfunction!(assets::load_gltf, m)?)?;
+    m.add_function(wrap_pyfunction!(assets::shell_findings, m)?)?;
     m.add_function(wrap_pyfunction!(assets::check_asset, m)?)?;
     m.add_function(wrap_pyfunction!(scene_args::mesh_plane, m)?)?;
     m.add_function(wrap_pyfunction!(scene_args::mesh_sphere, m)?)?;
