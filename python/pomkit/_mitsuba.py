@@ -129,7 +129,60 @@ def _emitters(mi, scene: Scene) -> dict:
     return out
 
 
-def _bsdf(mi, m: Material):
+#: the variants `pomkit_lambert` is registered in
+_LAMBERT: set = set()
+
+
+def _register_lambert(mi) -> None:
+    """`pomkit_lambert`: Lambert's BSDF lit by max(0, N.L) whatever side of the shading normal the
+    viewer is on (docs/conventions.md, "The displaced surface"). Mitsuba's `diffuse` returns 0
+    where the shading normal faces away from the viewer (a vertex normal averaged across a thin
+    part, on a front face), which pomkit's shading, engines and the oracle light."""
+    if mi.variant() in _LAMBERT:
+        return
+    import drjit as dr
+
+    class Lambert(mi.BSDF):
+        def __init__(self, props):
+            mi.BSDF.__init__(self, props)
+            self.refl = props.get_texture("reflectance")
+            self.m_flags = mi.BSDFFlags.DiffuseReflection | mi.BSDFFlags.FrontSide | mi.BSDFFlags.BackSide
+            self.m_components = [self.m_flags]
+
+        def sample(self, ctx, si, sample1, sample2, active=True):
+            wo = mi.warp.square_to_cosine_hemisphere(sample2)
+            bs = dr.zeros(mi.BSDFSample3f)
+            bs.wo = wo
+            bs.pdf = mi.warp.square_to_cosine_hemisphere_pdf(wo)
+            bs.eta = 1.0
+            bs.sampled_type = mi.UInt32(+mi.BSDFFlags.DiffuseReflection)
+            bs.sampled_component = mi.UInt32(0)
+            return bs, self.refl.eval(si, active) & (bs.pdf > 0)
+
+        def eval(self, ctx, si, wo, active=True):
+            return self.refl.eval(si, active) * dr.inv_pi * dr.maximum(mi.Frame3f.cos_theta(wo), 0.0)
+
+        def pdf(self, ctx, si, wo, active=True):
+            return mi.warp.square_to_cosine_hemisphere_pdf(wo)
+
+        def eval_pdf(self, ctx, si, wo, active=True):
+            return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
+
+        def eval_diffuse_reflectance(self, si, active=True):
+            return self.refl.eval(si, active)
+
+        def to_string(self):
+            return "PomkitLambert"
+
+    mi.register_bsdf("pomkit_lambert", lambda props: Lambert(props))
+    _LAMBERT.add(mi.variant())
+
+
+def _bsdf(mi, m: Material, kind: str = "diffuse"):
+    """The material's BSDF: Mitsuba's `diffuse`, or `pomkit_lambert` (lit from the shading
+    normal's side whatever the viewer's, for the `direct` integrator)."""
+    if kind == "pomkit_lambert":
+        _register_lambert(mi)
     refl: dict[str, Any]
     if m.albedo is None:
         refl = {"type": "rgb", "value": [0.5, 0.5, 0.5]}
@@ -137,7 +190,7 @@ def _bsdf(mi, m: Material):
         refl = {"type": "bitmap", "bitmap": mi.Bitmap(np.array(m.albedo, np.float32, copy=True)), "raw": True,
                 "filter_type": "bilinear", "wrap_mode": "repeat",
                 "to_uv": mi.ScalarTransform3f().scale([m.tiling, m.tiling])}
-    return mi.load_dict({"type": "diffuse", "reflectance": refl})
+    return mi.load_dict({"type": kind, "reflectance": refl})
 
 
 
@@ -150,8 +203,8 @@ def _sensor(mi, scene: Scene) -> dict:
             "near_clip": 1e-3, "far_clip": 1e5, "film": film}
 
 
-def _shapes(mi, scene: Scene, resolution: float, frames: bool = False) -> dict:
-    return {f"object{i}": _mi_mesh(mi, displaced_arrays(scene, resolution, i), _bsdf(mi, o.material), f"object{i}",
+def _shapes(mi, scene: Scene, resolution: float, frames: bool = False, bsdf: str = "diffuse") -> dict:
+    return {f"object{i}": _mi_mesh(mi, displaced_arrays(scene, resolution, i), _bsdf(mi, o.material, bsdf), f"object{i}",
                                    i if frames else None)
             for i, o in enumerate(scene.objects)}
 
@@ -178,7 +231,7 @@ def direct_render(scene: Scene, spp: int, seed: int, variant: str | None, resolu
     uv, depth, mask and object from its `aov` integrator."""
     v = mitsuba_variant(variant)
     mi = require("mitsuba")
-    shapes = _shapes(mi, scene, auto_resolution(scene, resolution))
+    shapes = _shapes(mi, scene, auto_resolution(scene, resolution), bsdf="pomkit_lambert")
     sensor = _sensor(mi, scene)
     base = {"type": "scene", **shapes, **_emitters(mi, scene)}
     sc = mi.load_dict({**base, "integrator": {"type": "direct", "emitter_samples": 1, "bsdf_samples": 1,

@@ -83,7 +83,9 @@ def render_mitsuba(scene: Scene, spp: int | None = None, seed: int = 0, variant:
       as render_exact. Deterministic: `noise_floor` is 0.0, and `seed` must be 0. On curved meshes and several objects, this is the exact
       reference `render_exact` returns. `shadows=False` traces no light or ambient rays.
     - `integrator="direct"`: Mitsuba's own `direct` integrator (`spp`, default 64, independent
-      samples, box filter): its vertex normals, its sampling of the light's disk (a far sphere)
+      samples, box filter) with a Lambert BSDF lit from the shading normal's side whatever side
+      the viewer is on (pomkit's rule; Mitsuba's `diffuse` blackens a face whose vertex normal
+      faces away from the viewer): its vertex normals, its sampling of the light's disk (a far sphere)
       and of a constant environment for ambient. The independent check of conventions, with
       Monte Carlo noise (seed against seed, docs/tables/references.md).
 
@@ -103,8 +105,10 @@ def render_mitsuba(scene: Scene, spp: int | None = None, seed: int = 0, variant:
                          "direction sets), so it takes seed=0; seeds apply to integrator='direct'")
     resolution = _mitsuba.auto_resolution(scene, resolution)
     shadows = _v.boolean("shadows", shadows)
+    # `direct` shades with pomkit_lambert (lit from the shading normal's side whatever the viewer's)
+    bsdf = "pomkit_lambert" if integrator == "direct" else "diffuse"
     key = scene_hash(scene, kind="mitsuba", spp=spp, seed=seed, variant=variant, resolution=resolution,
-                     integrator=integrator, shadows=shadows, mesh=_displaced.MESH) if cache else ""
+                     integrator=integrator, shadows=shadows, mesh=_displaced.MESH, bsdf=bsdf) if cache else ""
 
     def compute():
         t0 = time.perf_counter()
