@@ -94,13 +94,6 @@ pub fn sample_directions(axis: DVec3, tan_r: f64, q: usize, n: usize) -> Vec<DVe
     }
 }
 
-/// Why the oracle cannot render `scene` exactly, or None when it can.
-pub fn oracle_refusal(scene: &Scene) -> Option<String> {
-    super::exact(scene)
-        .err()
-        .map(|e| e.to_string())
-}
-
 /// The exact image of a scene at `spp` samples per pixel (a square, 1 to 256).
 /// `shadows` false leaves out the light and ambient rays (every light fully visible, ao = 1):
 /// the colour of the displacement alone, for methods measured without shadows.

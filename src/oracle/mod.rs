@@ -61,8 +61,8 @@ pub(crate) struct Hit<A> {
     pub(crate) at: A,
 }
 
-/// An exact ray caster against the displaced surface: the planar oracle (`Oracle`, one planar
-/// object) or the shell walk (`shell::Shell`, any mesh).
+/// An exact ray caster against the displaced surface: the shell walk (`shell::Shell`, any mesh),
+/// or in tests the planar closed form (`planar::Oracle`) it is checked against.
 pub(crate) trait Tracer: Sync {
     type At;
     /// The exact first hit of the ray from `eye` along the unit `dir`.

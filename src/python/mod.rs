@@ -95,7 +95,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(oracle_arrays::exact_uv, m)?)?;
     m.add_function(wrap_pyfunction!(oracle_arrays::render_exact, m)?)?;
     m.add_function(wrap_pyfunction!(oracle_arrays::reference_normals, m)?)?;
-    m.add_function(wrap_pyfunction!(oracle_arrays::oracle_refusal, m)?)?;
     m.add_function(wrap_pyfunction!(oracle_arrays::reference_directions, m)?)?;
     m.add_function(wrap_pyfunction!(scene_args::mesh_from_arrays, m)?)?;
     m.add_function(wrap_pyfunction!(assets::load_gltf, m)?)?;

@@ -170,10 +170,3 @@ pub fn reference_directions<'py>(
     Ok((nd_array(py, (m, 3), dirs)?, nd_array(py, m, owner)?))
 }
 
-/// Why `render_exact`'s oracle cannot take `scene` (several objects, a transform, a curved
-/// mesh), or None when it can.
-#[pyfunction]
-pub fn oracle_refusal(scene: &Bound<'_, PyAny>) -> PyResult<Option<String>> {
-    let scene = scene_from_py(scene)?;
-    Ok(crate::oracle::image::oracle_refusal(&scene))
-}
