@@ -144,7 +144,13 @@ def test_the_motion_loops_play(browser, demo_page):
         for i in range(videos.count()):
             v = videos.nth(i)
             v.scroll_into_view_if_needed()
-            v.evaluate("v => new Promise(ok => v.readyState >= 2 ? ok() : v.addEventListener('loadeddata', ok))")
+            # bounded: a video that has not loaded its first frame after 30 s fails the test
+            # instead of hanging it (a stalled load is asked once more, with load())
+            ready = v.evaluate("v => new Promise(ok => { if (v.readyState >= 2) return ok(true);"
+                               " v.addEventListener('loadeddata', () => ok(true));"
+                               " setTimeout(() => { if (v.readyState < 2) v.load(); }, 10000);"
+                               " setTimeout(() => ok(v.readyState >= 2), 30000); })")
+            assert ready, (i, "the loop did not load its first frame in 30 s")
             t0 = v.evaluate("v => v.currentTime")
             pg.wait_for_timeout(700)
             t1, paused, w, h = v.evaluate("v => [v.currentTime, v.paused, v.videoWidth, v.videoHeight]")
