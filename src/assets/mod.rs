@@ -78,7 +78,7 @@ pub fn load_gltf(path: &Path, normals: NormalsMode) -> Result<Vec<AssetNode>> {
             return Err(Error::arg(
                 "path",
                 format!(
-                    "{}: the node graph is not a tree: node {i} is reached twice ({was}, and {now}){};                      glTF requires every node to have at most one parent (re-export the asset, or remove the loop)",
+                    "{}: the node graph is not a tree: node {i} is reached twice ({was}, and {now}){}; glTF requires every node to have at most one parent (re-export the asset, or remove the loop)",
                     path.display(),
                     if ancestors(&reached, from).any(|a| a == i) { ": the graph has a cycle" } else { "" },
                 ),
@@ -181,7 +181,10 @@ fn read_mesh(
                 if n.len() != p.len() {
                     return Err(Error::arg(
                         "path",
-                        at(&format!("NORMAL has {} entries for {} positions", n.len(), p.len()), pi),
+                        at(
+                            &format!("NORMAL has {} entries for {} positions", n.len(), p.len()),
+                            pi,
+                        ),
                     ));
                 }
                 replaced_normals += normals::apply(

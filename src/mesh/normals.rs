@@ -58,6 +58,25 @@ pub fn apply(
     indices: &[u32],
     what: &str,
 ) -> Result<usize> {
+    if normals.len() != positions.len() {
+        return Err(Error::arg(
+            "normals",
+            format!(
+                "{what}expected {} normals (one per position), got {}",
+                positions.len(),
+                normals.len()
+            ),
+        ));
+    }
+    if let Some(i) = indices.iter().find(|&&i| i as usize >= positions.len()) {
+        return Err(Error::arg(
+            "indices",
+            format!(
+                "{what}index {i} is out of range for {} vertices",
+                positions.len()
+            ),
+        ));
+    }
     let bad: Vec<usize> = (0..normals.len())
         .filter(|&i| unusable(&normals[i]))
         .collect();
@@ -169,9 +188,15 @@ mod tests {
         let mut n = vec![[0.0, 1.0, 0.0]; 6];
         n[4] = [0.0, 0.0, 0.0];
         n[5] = [f32::NAN, 0.0, 0.0];
-        let e = apply(NormalsMode::File, &p, &mut n, &i, "mesh \"m\", primitive 0: ")
-            .unwrap_err()
-            .to_string();
+        let e = apply(
+            NormalsMode::File,
+            &p,
+            &mut n,
+            &i,
+            "mesh \"m\", primitive 0: ",
+        )
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("vertex 4"), "{e}");
         assert!(e.contains("and 1 more"), "{e}");
         assert!(e.contains("normals=\"repair\""), "{e}");
@@ -181,13 +206,23 @@ mod tests {
     #[test]
     fn repair_replaces_only_the_bad_and_keeps_hard_edges() {
         let (p, i) = fold();
-        let mut n = vec![[0.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.0; 3], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]];
+        let mut n = vec![
+            [0.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0; 3],
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, 1.0],
+        ];
         let k = apply(NormalsMode::Repair, &p, &mut n, &i, "").unwrap();
         assert_eq!(k, 1);
         // vertex 3 sits on the fold with the vertical face: the flat face is 90 degrees away,
         // past the crease, so it gets the vertical face's normal alone
         let z = n[3];
-        assert!((z[2].abs() - 1.0).abs() < 1e-6 && z[1].abs() < 1e-6, "{z:?}");
+        assert!(
+            (z[2].abs() - 1.0).abs() < 1e-6 && z[1].abs() < 1e-6,
+            "{z:?}"
+        );
         assert_eq!(n[0], [0.0, 1.0, 0.0]);
     }
 
@@ -204,7 +239,10 @@ mod tests {
         ];
         let i = vec![0, 1, 2, 3, 4, 5];
         let mut n = vec![[1.0, 0.0, 0.0]; 6];
-        assert_eq!(apply(NormalsMode::Recompute, &p, &mut n, &i, "").unwrap(), 6);
+        assert_eq!(
+            apply(NormalsMode::Recompute, &p, &mut n, &i, "").unwrap(),
+            6
+        );
         for v in n {
             assert!((v[1] - 1.0).abs() < 1e-6, "{v:?}");
         }

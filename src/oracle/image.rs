@@ -17,8 +17,8 @@
 //! that each pixel averages every direction once however many samples it has.
 
 use super::{
-    disk_directions, oracle_hits, par_rows, perpendiculars, stratified_disk, Hit,
-    OracleHits, Tracer,
+    disk_directions, oracle_hits, par_rows, perpendiculars, stratified_disk, Hit, OracleHits,
+    Tracer,
 };
 use crate::error::{Error, Result};
 use crate::scene::{Albedo, Light, Scene};

@@ -81,15 +81,8 @@ pub(crate) trait Tracer: Sync {
     fn material(&self, object: usize) -> &crate::scene::Material;
 }
 
-
 /// Upper bound on cells walked per ray (a ray at 89.99 degrees over a 4k map stays below it).
 pub const MAX_CELLS: u32 = 4_000_000;
-
-
-
-
-
-
 
 /// The exact tracer of a scene: the shell walk, on every mesh (planes included: the surface
 /// ends at their open border, docs/conventions.md, "The displaced surface").
@@ -206,7 +199,6 @@ pub(crate) fn par_rows<T: Send>(rows: usize, f: impl Fn(usize) -> T + Sync) -> V
     done.into_iter().map(|(_, t)| t).collect()
 }
 
-
 /// Directions toward the scene's first directional light (unit, world space): one for a zero
 /// angular diameter, else 64 over its disk (a stratified 8x8 grid, concentric map), spread on
 /// the plane perpendicular to the light as the penumbra estimates assume. Empty without one.
@@ -265,7 +257,6 @@ pub(crate) fn stratified_disk() -> Vec<DVec2> {
     }
     out
 }
-
 
 #[cfg(test)]
 mod tests;

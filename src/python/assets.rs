@@ -14,7 +14,11 @@ use std::path::PathBuf;
 /// `replaced_normals` (normals recomputed as `normals` asked: "file", "recompute" or "repair").
 #[pyfunction]
 #[pyo3(signature = (path, normals="file"))]
-pub fn load_gltf<'py>(py: Python<'py>, path: PathBuf, normals: &str) -> PyResult<Bound<'py, PyList>> {
+pub fn load_gltf<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    normals: &str,
+) -> PyResult<Bound<'py, PyList>> {
     let mode = NormalsMode::parse(normals)?;
     let nodes = super::errors::interruptible(py, || assets::load_gltf(&path, mode))?;
     let out = PyList::empty(py);

@@ -80,7 +80,9 @@ pub(crate) fn interruptible<T: Send>(
         }
         match worker.join() {
             Ok(r) => r.map_err(PyErr::from),
-            Err(_) => Err(pyo3::exceptions::PyRuntimeError::new_err("a pomkit computation panicked")),
+            Err(_) => Err(pyo3::exceptions::PyRuntimeError::new_err(
+                "a pomkit computation panicked",
+            )),
         }
     })
 }

@@ -79,7 +79,10 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SHADOW_KINDS", crate::methods::Shadows::NAMES.to_vec())?;
     m.add("FILTERING_KINDS", crate::methods::Filtering::NAMES.to_vec())?;
     m.add("CONE_KINDS", crate::methods::Cones::NAMES.to_vec())?;
-    m.add("NORMALS_MODES", crate::mesh::normals::NormalsMode::NAMES.to_vec())?;
+    m.add(
+        "NORMALS_MODES",
+        crate::mesh::normals::NormalsMode::NAMES.to_vec(),
+    )?;
     m.add("REFINE_KINDS", crate::methods::Refine::NAMES.to_vec())?;
     m.add(
         "PATTERN_KINDS",

@@ -51,7 +51,9 @@ pub fn render_exact<'py>(
     shadows: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene_from_py(scene)?;
-    let o = super::errors::interruptible(py, move || crate::oracle::image::render_exact(&scene, spp, shadows))?;
+    let o = super::errors::interruptible(py, move || {
+        crate::oracle::image::render_exact(&scene, spp, shadows)
+    })?;
     let (h, w) = (o.height as usize, o.width as usize);
     let d = PyDict::new(py);
     d.set_item("color", nd_array(py, (h, w, 3), o.color)?)?;
@@ -169,4 +171,3 @@ pub fn reference_directions<'py>(
     let m = owner.len();
     Ok((nd_array(py, (m, 3), dirs)?, nd_array(py, m, owner)?))
 }
-

@@ -54,12 +54,6 @@ pub fn mesh_from_arrays<'py>(
     let mut n = rows::<3>(&normals, "normals")?;
     let u = rows::<2>(&uvs, "uvs")?;
     let i: Vec<u32> = indices.as_array().iter().copied().collect();
-    if n.len() != p.len() {
-        return Err(Error::arg("normals", format!("expected {} normals (one per position), got {}", p.len(), n.len())).into());
-    }
-    if let Some(bad) = i.iter().find(|&&k| k as usize >= p.len()) {
-        return Err(Error::arg("indices", format!("index {bad} is out of range for {} vertices", p.len())).into());
-    }
     let replaced = crate::mesh::normals::apply(mode, &p, &mut n, &i, "")?;
     let t = tangents
         .as_ref()

@@ -213,9 +213,12 @@ fn a_file_without_uvs_names_the_fix() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("TEXCOORD_0") && e.contains("xatlas"), "{e}");
-    let e = load_gltf(std::path::Path::new("/nonexistent/rock.glb"), Default::default())
-        .unwrap_err()
-        .to_string();
+    let e = load_gltf(
+        std::path::Path::new("/nonexistent/rock.glb"),
+        Default::default(),
+    )
+    .unwrap_err()
+    .to_string();
     assert!(e.starts_with("path:") && e.contains("rock.glb"), "{e}");
 }
 
@@ -232,9 +235,14 @@ fn a_node_graph_with_a_cycle_is_refused_at_once() {
     let path = p.with_file_name("cycle.gltf");
     std::fs::write(&path, json).unwrap();
     let t = std::time::Instant::now();
-    let e = load_gltf(&path, Default::default()).unwrap_err().to_string();
+    let e = load_gltf(&path, Default::default())
+        .unwrap_err()
+        .to_string();
     assert!(t.elapsed().as_secs_f64() < 2.0);
-    assert!(e.contains("node 0 is reached twice") && e.contains("cycle"), "{e}");
+    assert!(
+        e.contains("node 0 is reached twice") && e.contains("cycle"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -245,13 +253,19 @@ fn zero_normals_are_refused_naming_the_vertex_or_repaired_on_request() {
     let path = write_gltf("zero-normals.gltf", &q, None);
     let e = load_gltf(&path, NormalsMode::File).unwrap_err().to_string();
     assert!(
-        e.starts_with("normals:") && e.contains("primitive 0") && e.contains("vertex 2") && e.contains("normals=\"repair\""),
+        e.starts_with("normals:")
+            && e.contains("primitive 0")
+            && e.contains("vertex 2")
+            && e.contains("normals=\"repair\""),
         "{e}"
     );
     let n = &load_gltf(&path, NormalsMode::Repair).unwrap()[0];
     assert_eq!(n.replaced_normals, 1);
     let r = n.mesh.normals[2];
-    assert!((r[0] * r[0] + r[1] * r[1] + r[2] * r[2] - 1.0).abs() < 1e-5, "{r:?}");
+    assert!(
+        (r[0] * r[0] + r[1] * r[1] + r[2] * r[2] - 1.0).abs() < 1e-5,
+        "{r:?}"
+    );
     assert!(r[1] > 0.9, "{r:?}");
     // the others are the file's, bit for bit
     assert_eq!(n.mesh.normals[1], q.normals.as_ref().unwrap()[1]);

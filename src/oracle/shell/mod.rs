@@ -181,7 +181,12 @@ impl<'a> Shell<'a> {
         scene.validate()?;
         let mut objects = Vec::new();
         for o in &scene.objects {
-            objects.push(Object::new(&o.mesh, &o.material, o.mesh.key, o.transform.m)?);
+            objects.push(Object::new(
+                &o.mesh,
+                &o.material,
+                o.mesh.key,
+                o.transform.m,
+            )?);
         }
         if objects.is_empty() {
             return Err(Error::arg("scene", "has no objects; add one"));
@@ -661,7 +666,6 @@ impl Geometry {
 }
 
 impl Object<'_> {
-
     /// Whether any part of the object's shell where a ray can enter it (a top, a wall) lies above
     /// triangle `t`'s plane (see the field `overhung`): a query of the bounding volumes, made on
     /// the first call for the triangle and kept (a frame asks it of the few triangles its rays
@@ -681,10 +685,13 @@ impl Object<'_> {
             // the box's highest point along ng
             |lo, hi| 0.5 * ((lo + hi).dot(ng) + (hi - lo).dot(ng.abs())) > base,
             |i| {
-                let q = self.prisms[i as usize].as_ref().expect("an item has a prism");
+                let q = self.prisms[i as usize]
+                    .as_ref()
+                    .expect("an item has a prism");
                 (0..3).any(|k| {
                     q.p[k].dot(ng) > base
-                        || (self.walled[i as usize] && (q.p[k] - q.n[k] * (2.0 * depth)).dot(ng) > base)
+                        || (self.walled[i as usize]
+                            && (q.p[k] - q.n[k] * (2.0 * depth)).dot(ng) > base)
                 })
             },
         );

@@ -207,7 +207,8 @@ impl<'a> Object<'a> {
         (tri, next): (u32, u32),
         (end, a): (&Sample, Local),
     ) -> Option<(u32, Local)> {
-        if ray.part > 0.0 {
+        // seam_free: no uv seam meets either triangle's corners
+        if ray.part > 0.0 || (self.seam_free[tri as usize] && self.seam_free[next as usize]) {
             return None;
         }
         // the same uv on both sides, to float32's rounding of the vertices' uvs: no seam
