@@ -6,7 +6,7 @@ SHELL := /bin/bash
 export XDG_RUNTIME_DIR ?= /tmp/pomkit-xdg-$(shell id -u)
 VENV := .venv/bin
 # the tests that run a second time on the GL backend in `make test` (about five minutes)
-GL_TESTS := tests/test_cost.py tests/test_supersampling.py tests/test_methods.py tests/test_analytic.py tests/test_differential.py tests/test_shadows.py tests/test_throughput.py tests/test_sizes.py tests/test_reference_exact.py tests/test_assets.py tests/test_golden.py tests/test_oracle_curved.py
+GL_TESTS := tests/test_pipelines.py tests/test_cost.py tests/test_supersampling.py tests/test_methods.py tests/test_analytic.py tests/test_differential.py tests/test_shadows.py tests/test_throughput.py tests/test_sizes.py tests/test_reference_exact.py tests/test_assets.py tests/test_golden.py tests/test_oracle_curved.py
 
 .PHONY: setup setup-test setup-bench setup-demo demo check test test-gl bench tables stubs wheel info clean
 

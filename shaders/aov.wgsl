@@ -14,8 +14,8 @@ struct FsOut {
     // the object's index (AOV `object`)
     @location(2) id: u32,
 #ifdef COUNT_FETCHES
-    // x: texel fetches, y: bytes read by the search (AOVs `fetches`, `bytes`: cost.wgsl)
-    @location(3) cost: vec2<u32>,
+    // x: texel fetches, y: bytes read by the search (AOVs `fetches`, `bytes`: cost.wgsl); z, w: 0
+    @location(3) cost: vec4<u32>,
 #endif
 #ifdef DISPLACED_DEPTH
     // the displaced hit's depth (pixel depth offset): objects meet where their displaced
@@ -38,14 +38,32 @@ const FALLBACK_NDV: f32 = 0.6;
 // the pixel shows a surface (AOV `mask`): channel 3's bit 31
 const HIT_BIT: u32 = 0x80000000u;
 
-fn write_aovs(color: vec3<f32>, steps: u32, flags: u32, uv: vec2<f32>, dist: f32, lod: f32) -> FsOut {
-    var o: FsOut;
+// The targets' texels of a hit, as the fragment stage writes them and the compute pipeline
+// stores them (visibility.wgsl).
+struct Packed {
+    color: vec4<u32>,
+    geo: vec4<u32>,
+    id: u32,
+    cost: vec2<u32>,
+}
+
+fn pack_aovs(color: vec3<f32>, steps: u32, flags: u32, uv: vec2<f32>, dist: f32, lod: f32) -> Packed {
+    var o: Packed;
     let c = bitcast<vec3<u32>>(color);
     o.color = vec4<u32>(c, min(steps, 0x0fffffffu) | (flags << 28u) | HIT_BIT);
     o.geo = bitcast<vec4<u32>>(vec4<f32>(uv, dist, lod));
     o.id = u32(G.object_id);
-#ifdef COUNT_FETCHES
     o.cost = cost_counts();
+    return o;
+}
+
+fn write_aovs(p: Packed) -> FsOut {
+    var o: FsOut;
+    o.color = p.color;
+    o.geo = p.geo;
+    o.id = p.id;
+#ifdef COUNT_FETCHES
+    o.cost = vec4<u32>(p.cost, 0u, 0u);
 #endif
     return o;
 }

@@ -119,8 +119,14 @@ fn height_lod(lod: f32) -> f32 {
 
 // Mip level from the texture-space footprint; call in uniform control flow (before loops).
 fn compute_lod(s: vec2<f32>) -> f32 {
-    let px = dpdx(s) * G.map_size;
-    let py = dpdy(s) * G.map_size;
+    return footprint_lod(dpdx(s), dpdy(s));
+}
+
+// Mip level of the footprint whose texture-space sides are `ds_dx` and `ds_dy` (one pixel right,
+// one down).
+fn footprint_lod(ds_dx: vec2<f32>, ds_dy: vec2<f32>) -> f32 {
+    let px = ds_dx * G.map_size;
+    let py = ds_dy * G.map_size;
     let rho = max(dot(px, px), dot(py, py));
     let lod = 0.5 * log2(max(rho, 1e-20));
     return clamp(lod, 0.0, num_mips() - 1.0);

@@ -12,15 +12,19 @@
 //   DISPLACED_DEPTH  the marched hit's depth is written as the fragment's (src/shaders.rs)
 //   VERTEX_EXTRA  the method's own vertex attribute (NCS, CurvedRelief), passed to its march
 //   SHADOWS, FILTERING  see shading.wgsl and height.wgsl
+//
+// Entry points: vs_main/fs_main (the raster pipeline), vs_visibility/fs_visibility then cs_main
+// (the compute pipeline: visibility.wgsl), vs_shadow/fs_shadow (the shadow map).
 
 #import pomkit::globals::{G, V}
 #import pomkit::vertex::{VertexIn, VertexOut, pass_through}
-#import pomkit::aov::{FsOut, write_aovs}
+#import pomkit::aov::{FsOut, Packed, pack_aovs, write_aovs}
 #import pomkit::frame::{TangentFrame, make_frame, to_texture_space}
-#import pomkit::height::{height_normal, height_lod, compute_lod}
+#import pomkit::height::{height_normal, height_lod, compute_lod, footprint_lod}
 #import pomkit::march::{Ray, Hit}
 #import pomkit::shading::shade
 #import pomkit::cost::count_fragment
+#import pomkit::visibility::{VisibilityOut, visibility_vertex, rasterise, visibility_tex, store_color, store_geo, store_id, store_cost}
 #import pomkit::object::{to_world, to_clip, normal_to_world, stretch, clip_depth, shadow_depth, shadow_light_object}
 
 @vertex
@@ -81,14 +85,22 @@ fn lod_bump_weight(lod: f32) -> f32 {
     return clamp(lod - (thr - 1.0), 0.0, 1.0);
 }
 
-@fragment
-fn fs_main(in: VertexOut) -> FsOut {
-    count_fragment(in.clip.xy);
+// What the surface pass puts at a fragment: its targets' texels, or nothing (`hit` false: the
+// march left the shell, a silhouette).
+struct Surfaced {
+    hit: bool,
+    aovs: Packed,
+    frag_depth: f32,
+}
+
+// The surface at fragment `in` whose footprint's mip level is `lod`: the fragment stage's and
+// the compute pipeline's one body.
+fn surface(in: VertexOut, lod: f32) -> Surfaced {
+    var out: Surfaced;
+    out.hit = true;
     let f = make_frame(in.normal, in.tangent, in.uv_scale);
     let tiling = G.tiling;
     let s0 = in.uv * tiling;
-    // explicit LOD, from derivatives taken here in uniform control flow
-    let lod = compute_lod(s0);
     // the mesh, its frame and the march live in object space (`in.world` is the object-space
     // position); distances along the view ray scale to world space by `stretch`
     let to_p = in.world - G.eye_object;
@@ -128,7 +140,8 @@ fn fs_main(in: VertexOut) -> FsOut {
     if (w_bump < 1.0) {
         let hit = method::march(make_ray(in, f, s0, lod, view, in.uv));
         if (hit.exited) {
-            discard;
+            out.hit = false;
+            return out;
         }
         let p = to_world(in.world + view * hit.len);
         let sh = shade(hit.f, hit.s, hit.h, p, normal_to_world(height_normal(hit.f, hit.s, hit.lod)), hit.lod, true, px);
@@ -145,9 +158,60 @@ fn fs_main(in: VertexOut) -> FsOut {
     }
     color = mix(c_march, c_bump, w_bump);
 #endif
-    var o = write_aovs(color, u32(steps), flags, s_hit / tiling, dist, lod);
+    out.aovs = pack_aovs(color, u32(steps), flags, s_hit / tiling, dist, lod);
+    out.frag_depth = frag_depth;
+    return out;
+}
+
+@fragment
+fn fs_main(in: VertexOut) -> FsOut {
+    count_fragment(in.clip.xy);
+    // explicit LOD, from derivatives taken here in uniform control flow
+    let lod = compute_lod(in.uv * G.tiling);
+    let sf = surface(in, lod);
+    if (!sf.hit) {
+        discard;
+    }
+    var o = write_aovs(sf.aovs);
 #ifdef DISPLACED_DEPTH
-    o.depth = frag_depth;
+    o.depth = sf.frag_depth;
 #endif
     return o;
+}
+
+// The compute pipeline (visibility.wgsl): the visibility pass, then the surface per pixel.
+@vertex
+fn vs_visibility(@builtin(vertex_index) vi: u32) -> VisibilityOut {
+    return visibility_vertex(vi);
+}
+
+@fragment
+fn fs_visibility(in: VisibilityOut) -> @location(0) u32 {
+    return in.triangle;
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn cs_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let dims = textureDimensions(visibility_tex);
+    let px = gid.xy;
+    if (px.x >= dims.x || px.y >= dims.y) {
+        return;
+    }
+    let r = rasterise(px, dims, G.tiling);
+    var sf: Surfaced;
+    sf.hit = false;
+    if (r.covered) {
+        sf = surface(r.v, footprint_lod(r.ds_dx, r.ds_dy));
+    }
+    if (!sf.hit) {
+        // the colour target is the one a reader trusts for the hit bit (aovs.rs)
+        store_color(px, vec4<u32>(0u));
+        return;
+    }
+    store_color(px, sf.aovs.color);
+    store_geo(px, sf.aovs.geo);
+    store_id(px, sf.aovs.id);
+#ifdef COUNT_FETCHES
+    store_cost(px, sf.aovs.cost);
+#endif
 }

@@ -260,12 +260,13 @@ impl GpuMesh {
             let vbuf = ctx.upload(
                 "vertices",
                 bytemuck::cast_slice(verts),
-                wgpu::BufferUsages::VERTEX,
+                // STORAGE: the compute pipeline reads the mesh (shaders/visibility.wgsl)
+                wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
             );
             let ibuf = ctx.upload(
                 "indices",
                 bytemuck::cast_slice(indices),
-                wgpu::BufferUsages::INDEX,
+                wgpu::BufferUsages::INDEX | wgpu::BufferUsages::STORAGE,
             );
             Ok(GpuMesh {
                 vbuf,

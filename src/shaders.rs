@@ -31,6 +31,10 @@ pub const LIBRARY: &[(&str, &str)] = &[
     ),
     ("shaders/cost.wgsl", include_str!("../shaders/cost.wgsl")),
     (
+        "shaders/visibility.wgsl",
+        include_str!("../shaders/visibility.wgsl"),
+    ),
+    (
         "shaders/max_tables.wgsl",
         include_str!("../shaders/max_tables.wgsl"),
     ),

@@ -52,7 +52,7 @@ def main(argv=None) -> int:
         print(f"wrote {a.out}/choice.md, choice.png, choice.json ({ch.seconds:.1f} s)")
     elif a.cmd == "info":
         from ._info import format_info, info
-        print(format_info(info(a.adapter)))
+        print(format_info(info(a.adapter, probe=True)))
     return 0
 
 

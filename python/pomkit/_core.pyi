@@ -9,7 +9,7 @@ import numpy as np
 from ._methods import Method
 from ._scene import Scene
 
-__all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "COST_AOV_NAMES", "CONE_KINDS", "FILTERING_KINDS", "HeightData", "MAX_LIGHTS", "NORMALS_MODES",
+__all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "COST_AOV_NAMES", "CONE_KINDS", "FILTERING_KINDS", "HeightData", "MAX_LIGHTS", "NORMALS_MODES", "PIPELINES",
            "MAX_STEPS_LIMIT", "MeshData", "PATTERN_KINDS", "PRISM_BYTES", "PRISM_VERTEX_BYTES", "REFINE_KINDS", "RenderedFrame", "Renderer", "SCHEMA", "SHADOW_KINDS", "WALK_BYTES_PER_TRIANGLE",
            "__version__", "adapters", "bounding_sphere", "check_asset", "exact_uv", "light_power", "load_gltf", "jod", "jod_displays", "load_image", "mesh_cube", "mesh_cylinder", "mesh_from_arrays", "mesh_plane", "mesh_sphere", "mesh_torus", "reference_directions", "reference_normals", "render_exact", "set_cache_dir", "set_progress_hook", "shell_findings", "tessellate"]
 __version__: str
@@ -25,6 +25,7 @@ SHADOW_KINDS: list[str]
 FILTERING_KINDS: list[str]
 CONE_KINDS: list[str]
 NORMALS_MODES: list[str]
+PIPELINES: list[str]
 REFINE_KINDS: list[str]
 PATTERN_KINDS: list[str]
 MAX_STEPS_LIMIT: int
@@ -180,16 +181,19 @@ class RendererInfo(TypedDict):
     max_storage_buffers_per_shader_stage: int
     features: list[tuple[str, bool, str]]
     wgpu_version: str
+    pipeline: Literal["auto", "raster", "compute"]
+    auto_pipeline: Literal["raster", "compute"]
 
 
 @final
 class Renderer:
-    def __new__(cls, adapter: Optional[str] = None) -> "Renderer": ...
+    def __new__(cls, adapter: Optional[str] = None, pipeline: str = "auto") -> "Renderer": ...
     def render(self, scene: Scene, method: Method, aovs: Optional[Sequence[str]] = None, spp: int = 1) -> RenderedFrame: ...
     def render_many(self, scenes: Sequence[Scene], method: Method,
                     aovs: Optional[Sequence[str]] = None, spp: int = 1) -> list[RenderedFrame]: ...
     def update_height(self, old: HeightData, new: HeightData) -> bool: ...
     def info(self) -> RendererInfo: ...
+    def pipeline_probe(self) -> tuple[float, float]: ...
     def _provoke_validation_error(self) -> None: ...
     def _destroy_device(self) -> None: ...
 

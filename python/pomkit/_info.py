@@ -12,8 +12,9 @@ from typing import Any, Optional
 __all__ = ["info", "machine", "format_info"]
 
 
-def info(adapter: Optional[str | int] = None) -> dict[str, Any]:
-    """Everything `python -m pomkit info` prints, as a dict."""
+def info(adapter: Optional[str | int] = None, probe: bool = False) -> dict[str, Any]:
+    """Everything `python -m pomkit info` prints, as a dict. `probe`: also time "auto"'s probe
+    (POM on a plane at 512² in both pipelines: a second or two) and report its medians."""
     import numpy as np
 
     from ._core import __version__
@@ -28,7 +29,17 @@ def info(adapter: Optional[str | int] = None) -> dict[str, Any]:
         limits=dict(max_texture_dimension_2d=i["max_texture_dimension_2d"], max_buffer_size=i["max_buffer_size"],
                     max_storage_buffer_binding_size=i["max_storage_buffer_binding_size"],
                     max_storage_buffers_per_shader_stage=i["max_storage_buffers_per_shader_stage"]),
+        pipeline=dict(auto=i["auto_pipeline"], probe_ms=_probe(r) if probe else None),
     )
+
+
+def _probe(r: Any) -> Optional[dict[str, float]]:
+    """The probe's medians, or None where the adapter has no compute pipeline."""
+    try:
+        raster, compute = r._r.pipeline_probe()
+    except ValueError:
+        return None
+    return dict(raster=raster, compute=compute)
 
 
 def machine() -> dict[str, str]:
@@ -48,4 +59,9 @@ def format_info(d: dict[str, Any]) -> str:
         mark = "yes" if f["present"] else "NO "
         lines.append(f"  {mark} {f['feature']}" + ("" if f["present"] else f"  -> fallback: {f['fallback']}"))
     lines += ["", "limits:"] + [f"  {k}: {v}" for k, v in d["limits"].items()]
+    p = d["pipeline"]
+    lines += ["", f"pipeline: \"auto\" draws the per-pixel methods with the {p['auto']} pipeline"]
+    if p["probe_ms"]:
+        t = p["probe_ms"]
+        lines.append(f"  probe (POM, plane, 512²): raster {t['raster']:.3f} ms, compute {t['compute']:.3f} ms")
     return "\n".join(lines)

@@ -31,18 +31,29 @@ class Renderer:
     adapter: None for the best adapter, or an index / a substring of the adapter's name / a
     backend name ("vulkan", "gl") from `pomkit.adapters()`. All Renderers share one device per
     process; renders from several threads are serialised on it.
+
+    pipeline: "raster" draws the method's fragment shader over the rasterised mesh; "compute"
+    rasterises only the nearest triangle's index (a visibility pass) and runs the same method
+    in a compute shader per pixel, which uses the whole chip where the graphics units are few
+    (datacenter GPUs); "auto" (the default) takes the adapter's rule (`pipeline_rule`, printed by
+    `python -m pomkit info`). The two agree (docs/cost.md, "Two pipelines"). Prism, frames of
+    several objects and the `fragments` AOV are always rasterised: "compute" refuses them,
+    "auto" rasterises them.
     """
 
-    def __init__(self, adapter: Optional[str | int] = None):
+    def __init__(self, adapter: Optional[str | int] = None, pipeline: str = "auto"):
         if adapter is not None and not isinstance(adapter, (str, int)):
             raise ArgumentTypeError(f"adapter: expected a name or an index, got {type(adapter).__name__}")
-        self._r = _core.Renderer(None if adapter is None else str(adapter))
+        if not isinstance(pipeline, str):
+            raise ArgumentTypeError(f"pipeline: expected one of {', '.join(map(repr, _core.PIPELINES))}, got {type(pipeline).__name__}")
+        self._r = _core.Renderer(None if adapter is None else str(adapter), pipeline)
+        self.pipeline = pipeline
         self.info: _core.RendererInfo = self._r.info()
         _progress.install()
 
     def __repr__(self) -> str:
         i = self.info
-        return f"Renderer({i['name']!r}, backend={i['backend']!r}, timestamps={i['timestamps']})"
+        return f"Renderer({i['name']!r}, backend={i['backend']!r}, pipeline={self.pipeline!r}, timestamps={i['timestamps']})"
 
     def render(self, scene: Scene, method: Method, aovs: Aovs = "all", spp: int = 1) -> Frame:
         """Render `scene` with `method`. `aovs`: "all" (the default: every AOV but the cost

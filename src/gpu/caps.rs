@@ -32,6 +32,12 @@ pub struct Capabilities {
     pub fragment_counters: bool,
     /// compute shaders (the mip and max pyramids, methods' tables): required
     pub compute_shaders: bool,
+    /// The compute pipeline (`pk.Renderer(pipeline="compute")`): a visibility pass whose vertex
+    /// stage reads the mesh from storage, and a compute pass that stores the targets as storage
+    /// textures (Rgba32Uint, R32Uint). Without it every frame is rasterised.
+    pub compute_pipeline: bool,
+    /// what the adapter lacks of it (empty: it has the compute pipeline)
+    pub compute_pipeline_missing: Vec<String>,
     /// textureGather on the R32Float height map (the max-mip walk's cell corners): WGSL core
     /// wherever the format can be sampled, which is what is detected; required
     pub gather: bool,
@@ -49,12 +55,49 @@ pub struct Capabilities {
     pub sparse_attachments: bool,
 }
 
+/// What `adapter` lacks of the compute pipeline's needs (Capabilities::compute_pipeline).
+fn compute_pipeline_missing(adapter: &wgpu::Adapter) -> Vec<String> {
+    let d = adapter.get_downlevel_capabilities();
+    let l = adapter.limits();
+    let mut m = Vec::new();
+    if !d.flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS) {
+        m.push("compute shaders".to_string());
+    }
+    if !d.flags.contains(wgpu::DownlevelFlags::VERTEX_STORAGE) {
+        m.push("storage buffers in vertex shaders".to_string());
+    }
+    if l.max_storage_textures_per_shader_stage < 4 {
+        m.push(format!(
+            "4 storage textures a stage (it has {})",
+            l.max_storage_textures_per_shader_stage
+        ));
+    }
+    if l.max_bind_groups < 4 {
+        m.push(format!("4 bind groups (it has {})", l.max_bind_groups));
+    }
+    for f in [
+        wgpu::TextureFormat::Rgba32Uint,
+        wgpu::TextureFormat::R32Uint,
+    ] {
+        if !adapter
+            .get_texture_format_features(f)
+            .allowed_usages
+            .contains(wgpu::TextureUsages::STORAGE_BINDING)
+        {
+            m.push(format!("{f:?} storage textures"));
+        }
+    }
+    m
+}
+
 impl Capabilities {
     pub(super) fn detect(adapter: &wgpu::Adapter) -> Self {
         let f = adapter.features();
         let d = adapter.get_downlevel_capabilities();
         let gl = adapter.get_info().backend == wgpu::Backend::Gl;
+        let missing = compute_pipeline_missing(adapter);
         Capabilities {
+            compute_pipeline: missing.is_empty(),
             timestamps: f.contains(wgpu::Features::TIMESTAMP_QUERY),
             timestamps_inside_passes: f.contains(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES),
             float32_filterable: f.contains(wgpu::Features::FLOAT32_FILTERABLE),
@@ -67,6 +110,7 @@ impl Capabilities {
                 && adapter.limits().max_storage_buffers_per_shader_stage
                     > STORAGE_BUFFERS_PER_STAGE,
             compute_shaders: d.flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS),
+            compute_pipeline_missing: missing,
             gather: adapter
                 .get_texture_format_features(wgpu::TextureFormat::R32Float)
                 .allowed_usages
@@ -116,6 +160,11 @@ impl Capabilities {
                 "writable storage in fragment shaders",
                 self.fragment_counters,
                 "the `fragments` AOV (overdraw) raises an error naming the adapter",
+            ),
+            (
+                "compute pipeline (visibility pass, surface in compute)",
+                self.compute_pipeline,
+                "pipeline=\"compute\" raises an error naming the adapter; \"auto\" rasterises",
             ),
             (
                 "compute shaders",

@@ -30,6 +30,8 @@ pub struct Context {
     lost: Arc<AtomicBool>,
     lost_msg: Arc<Mutex<String>>,
     uncaptured: Arc<Mutex<Option<String>>>,
+    /// "auto"'s verdict on this device, measured on first use (render::Renderer::auto_compute)
+    pub auto_compute: OnceLock<bool>,
 }
 
 /// Which backends to try: POMKIT_BACKEND=vulkan|metal|dx12|gl|all forces them (default: every
@@ -216,6 +218,7 @@ impl Context {
             lost,
             lost_msg,
             uncaptured,
+            auto_compute: OnceLock::new(),
         })
     }
 

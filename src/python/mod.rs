@@ -76,6 +76,10 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
         docs.set_item(a.name, a.doc)?;
     }
     m.add("AOV_DOCS", docs)?;
+    m.add(
+        "PIPELINES",
+        crate::render::pipelines::Choice::NAMES.to_vec(),
+    )?;
     m.add("SHADOW_KINDS", crate::methods::Shadows::NAMES.to_vec())?;
     m.add("FILTERING_KINDS", crate::methods::Filtering::NAMES.to_vec())?;
     m.add("CONE_KINDS", crate::methods::Cones::NAMES.to_vec())?;

@@ -19,11 +19,12 @@ pub struct PyRenderer {
 #[pymethods]
 impl PyRenderer {
     #[new]
-    #[pyo3(signature = (adapter=None))]
-    fn new(py: Python<'_>, adapter: Option<String>) -> PyResult<Self> {
+    #[pyo3(signature = (adapter=None, pipeline="auto"))]
+    fn new(py: Python<'_>, adapter: Option<String>, pipeline: &str) -> PyResult<Self> {
+        let choice = crate::render::pipelines::Choice::parse(pipeline)?;
         let r = py.detach(|| {
             let ctx = crate::gpu::shared(adapter.as_deref())?;
-            Renderer::new(ctx)
+            Renderer::new(ctx, choice)
         })?;
         Ok(Self { inner: Arc::new(r) })
     }
@@ -113,7 +114,24 @@ impl PyRenderer {
         }
         d.set_item("features", feats)?;
         d.set_item("wgpu_version", crate::gpu::WGPU_VERSION)?;
+        d.set_item("pipeline", self.inner.pipeline.name())?;
+        // what "auto" draws the per-pixel methods with on this adapter
+        d.set_item(
+            "auto_pipeline",
+            if self.inner.auto_compute() {
+                "compute"
+            } else {
+                "raster"
+            },
+        )?;
         Ok(d)
+    }
+
+    /// "auto"'s probe on this device: (raster ms, compute ms), the median of five frames of POM
+    /// on a plane at 512² each (`python -m pomkit info` prints it).
+    fn pipeline_probe(&self, py: Python<'_>) -> PyResult<(f64, f64)> {
+        let r = self.inner.clone();
+        py.detach(move || r.probe()).map_err(PyErr::from)
     }
 
     /// Trigger a wgpu validation error (tests: it must raise GpuError and leave the renderer usable).

@@ -68,8 +68,10 @@ pub const TARGETS: [TargetDesc; 4] = [
     },
     TargetDesc {
         label: "cost",
-        format: wgpu::TextureFormat::Rg32Uint,
-        words: 2,
+        // x, y: the counters; Rgba32Uint (not Rg32Uint) so that the compute pipeline can store
+        // it on every adapter (wgpu's GL backend has no Rg32Uint storage textures)
+        format: wgpu::TextureFormat::Rgba32Uint,
+        words: 4,
         clear: None,
     },
 ];

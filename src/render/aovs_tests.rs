@@ -30,7 +30,7 @@ fn every_aov_decodes_to_its_declared_type_and_size() {
                     .collect(),
             ),
             Some(vec![4; n]),
-            Some([9, 36].repeat(n)),
+            Some([9, 36, 0, 0].repeat(n)),
         ],
         Some((0..n as u32).collect()),
     );

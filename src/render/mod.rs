@@ -36,12 +36,16 @@ use crate::heightmap::MipBuilder;
 use crate::methods::Method;
 use crate::scene::{HeightMap, Keyed, Scene};
 use crate::shaders::SceneDefs;
-use pipelines::Pipelines;
+use pipelines::{Kind, Pipelines};
 use resources::Resources;
 use std::sync::{Arc, Mutex};
 use targets::Targets;
 
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// "auto" draws in compute where the probe's compute time is below this fraction of its raster
+/// time (the raster pipeline, the reference, keeps a tie).
+pub const AUTO_MARGIN: f64 = 0.9;
 
 /// Samplers, and the stand-in bound where a frame has no shadow map.
 struct Fixed {
@@ -49,6 +53,9 @@ struct Fixed {
     albedo_sampler: wgpu::Sampler,
     shadow_sampler: wgpu::Sampler,
     no_shadow: wgpu::TextureView,
+    /// the index array bound for a non-indexed mesh in the compute pipeline (one word:
+    /// shaders/visibility.wgsl)
+    no_indices: wgpu::Buffer,
 }
 
 impl Fixed {
@@ -96,6 +103,7 @@ impl Fixed {
                     compare: Some(wgpu::CompareFunction::LessEqual),
                     ..Default::default()
                 }),
+                no_indices: ctx.upload("no indices", &[0u8; 4], wgpu::BufferUsages::STORAGE),
                 no_shadow: tex1(
                     "no shadow map",
                     DEPTH_FORMAT,
@@ -108,6 +116,8 @@ impl Fixed {
 
 pub struct Renderer {
     pub ctx: Arc<Context>,
+    /// the pipeline asked for (pipelines::Choice)
+    pub pipeline: pipelines::Choice,
     pipelines: Pipelines,
     fixed: Fixed,
     mips: MipBuilder,
@@ -128,9 +138,10 @@ fn poisoned<T>(_: T) -> Error {
 }
 
 impl Renderer {
-    pub fn new(ctx: Arc<Context>) -> Result<Self> {
+    pub fn new(ctx: Arc<Context>, pipeline: pipelines::Choice) -> Result<Self> {
         let pipelines = Pipelines::new(&ctx)?;
         Ok(Self {
+            pipeline,
             fixed: Fixed::new(&ctx)?,
             mips: MipBuilder::new(&ctx, &pipelines.lib)?,
             builders: Builders::default(),
@@ -271,7 +282,20 @@ impl Renderer {
     /// read back and unpacked, so that the unpacking overlaps the GPU's work. Each frame is the
     /// one `render_aovs` would give.
     pub fn render_many(&self, scenes: &[Scene], method: &Method, aovs: Aovs) -> Result<Vec<Frame>> {
+        self.render_with(scenes, method, aovs, self.pipeline)
+    }
+
+    /// `render_many` with the pipeline `choice` (the Renderer's, or the probe's).
+    fn render_with(
+        &self,
+        scenes: &[Scene],
+        method: &Method,
+        aovs: Aovs,
+        choice: pipelines::Choice,
+    ) -> Result<Vec<Frame>> {
         method.validate()?;
+        // "auto"'s verdict is measured before the submission lock (the probe renders)
+        let auto = choice == pipelines::Choice::Auto && self.auto_compute();
         self.ctx.check_alive()?;
         if aovs.counts_fragments() && !self.ctx.caps.fragment_counters {
             return Err(Error::arg(
@@ -296,7 +320,12 @@ impl Renderer {
             // and the ones the pass writes: those, or (where attachments cannot have gaps)
             // every target up to the last one read
             let read = aovs.targets_for(scene.objects.len());
-            let written = aovs::written(read, self.ctx.caps.sparse_attachments);
+            let kind = self.kind(choice, auto, scene, &spec, aovs)?;
+            let written = match kind {
+                // the compute pass stores every target
+                Kind::Compute => [true; aovs::TARGETS.len()],
+                Kind::Raster => aovs::written(read, self.ctx.caps.sparse_attachments),
+            };
             let variant = self.pipelines.get(
                 &self.ctx,
                 &spec,
@@ -314,6 +343,7 @@ impl Renderer {
                 },
                 written,
                 arg,
+                kind,
             )?;
             let shadow_view = shadow
                 .as_ref()
@@ -340,6 +370,155 @@ impl Renderer {
             frames.push(self.finish(p)?);
         }
         Ok(frames)
+    }
+
+    /// Why the compute pipeline cannot draw `scene` with `spec` (None: it can).
+    pub fn compute_refusal(&self, scene: &Scene, spec: &Spec, aovs: Aovs) -> Option<String> {
+        if !self.ctx.caps.compute_pipeline {
+            return Some(format!(
+                "this adapter ({}, {}) lacks what it needs: {} (python -m pomkit info lists its features)",
+                self.ctx.info.name,
+                self.ctx.info.backend,
+                self.ctx.caps.compute_pipeline_missing.join(", ")
+            ));
+        }
+        if !matches!(spec.pass, crate::contract::Pass::Surface { .. }) {
+            return Some(
+                "the method draws geometry of its own (prisms: a pixel may need several of them), which only the raster pipeline draws".into(),
+            );
+        }
+        if scene.objects.len() > 1 {
+            return Some(
+                "a frame of several objects orders them by their displaced depth, which a visibility pass at the base mesh's depth cannot".into(),
+            );
+        }
+        if aovs.counts_fragments() {
+            return Some(
+                "the `fragments` AOV counts the raster pipeline's fragment invocations (the compute pipeline runs one invocation a pixel)".into(),
+            );
+        }
+        let extra = if spec.defs.contains(&"VERTEX_EXTRA") {
+            16
+        } else {
+            0
+        };
+        let stride = pipelines::vertex_layout(&spec.geometry).array_stride;
+        if stride != std::mem::size_of::<crate::mesh::Vertex>() as u64 + extra {
+            return Some(format!(
+                "the method's geometry has {stride}-byte vertices, a layout shaders/visibility.wgsl does not read"
+            ));
+        }
+        None
+    }
+
+    /// The pipeline that draws `scene` with `spec`: the one asked for, or for "auto" the
+    /// adapter's verdict (`auto_compute`) where the compute pipeline can draw the frame.
+    pub fn kind(
+        &self,
+        choice: pipelines::Choice,
+        auto_compute: bool,
+        scene: &Scene,
+        spec: &Spec,
+        aovs: Aovs,
+    ) -> Result<Kind> {
+        match choice {
+            pipelines::Choice::Raster => Ok(Kind::Raster),
+            pipelines::Choice::Compute => match self.compute_refusal(scene, spec, aovs) {
+                None => Ok(Kind::Compute),
+                Some(why) => Err(Error::arg(
+                    "pipeline",
+                    format!("'compute' cannot draw this frame: {why}; use pipeline='raster', or 'auto' (which rasterises such frames)"),
+                )),
+            },
+            pipelines::Choice::Auto => Ok(
+                if auto_compute && self.compute_refusal(scene, spec, aovs).is_none() {
+                    Kind::Compute
+                } else {
+                    Kind::Raster
+                },
+            ),
+        }
+    }
+
+    /// "auto"'s rule: whether this device draws the per-pixel methods faster in compute. A CPU
+    /// adapter rasterises (measured on llvmpipe: docs/cost.md, "Two pipelines"); any other
+    /// adapter with the compute pipeline is measured once, on first use: POM on a plane at
+    /// 512², both pipelines interleaved, and compute wins where its median GPU time is below
+    /// `AUTO_MARGIN` of the raster pipeline's.
+    pub fn auto_compute(&self) -> bool {
+        if !self.ctx.caps.compute_pipeline || self.ctx.info.device_type == "Cpu" {
+            return false;
+        }
+        *self.ctx.auto_compute.get_or_init(|| match self.probe() {
+            Ok((r, c)) => c < AUTO_MARGIN * r,
+            Err(_) => false,
+        })
+    }
+
+    /// "auto"'s probe on this device: the median ms of the raster and the compute pipeline.
+    pub fn probe(&self) -> Result<(f64, f64)> {
+        Ok((
+            self.probe_ms(pipelines::Choice::Raster)?,
+            self.probe_ms(pipelines::Choice::Compute)?,
+        ))
+    }
+
+    /// The median time (GPU time, or wall time without timestamps) of "auto"'s probe frame with
+    /// `choice`, after a warm-up.
+    fn probe_ms(&self, choice: pipelines::Choice) -> Result<f64> {
+        use crate::methods::{PerPixel, Pom};
+        let n = 256u32;
+        let field: Vec<f32> = (0..n * n)
+            .map(|i| {
+                let (x, y) = ((i % n) as f32 / n as f32, (i / n) as f32 / n as f32);
+                0.5 + 0.25 * ((x * 50.0).sin() + (y * 40.0).cos())
+            })
+            .collect();
+        let scene = Scene::single(
+            crate::scene::shared(crate::mesh::Mesh::plane(2.0, 1)?)?,
+            crate::scene::Material {
+                height: crate::scene::shared(HeightMap::new(n, n, field)?)?,
+                depth: 0.08,
+                tiling: 1.0,
+                albedo: None,
+            },
+            crate::scene::Camera {
+                eye: [0.0, 1.2, 1.6],
+                target: [0.0; 3],
+                up: [0.0, 1.0, 0.0],
+                fov_y: 40.0,
+                width: 512,
+                height: 512,
+                window: None,
+                samples: 1,
+            },
+            vec![],
+            [0.5; 3],
+        );
+        let method = Method::Pom(
+            Pom {
+                min_steps: 8,
+                max_steps: 50,
+                lod_threshold: 4.0,
+                adaptive: true,
+            },
+            PerPixel::off(),
+        );
+        let mut times = Vec::new();
+        for i in 0..7 {
+            let f = self.render_with(
+                std::slice::from_ref(&scene),
+                &method,
+                Aovs::STANDARD,
+                choice,
+            )?;
+            if i >= 2 {
+                let f = &f[0];
+                times.push(f.gpu_ms.unwrap_or(f.wall_ms));
+            }
+        }
+        times.sort_by(f64::total_cmp);
+        Ok(times[times.len() / 2])
     }
 
     /// Read back a submitted frame once its submission has finished.
@@ -513,7 +692,13 @@ impl Renderer {
             if aovs.counts_fragments() {
                 tg.encode_counter_clear(&mut enc);
             }
+            if let pipelines::Main::Compute {
+                visibility,
+                surface,
+            } = &variant.main
             {
+                self.encode_compute(&mut enc, &tg, (visibility, surface), binds, draws)?;
+            } else if let pipelines::Main::Raster(main) = &variant.main {
                 let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some("surface"),
                     color_attachments: &tg.attachments(written),
@@ -535,7 +720,7 @@ impl Renderer {
                     occlusion_query_set: None,
                     multiview_mask: None,
                 });
-                pass.set_pipeline(&variant.main);
+                pass.set_pipeline(main);
                 pass.set_bind_group(0, &binds.view, &[]);
                 for d in draws {
                     pass.set_bind_group(1, &d.object, &[]);
@@ -554,6 +739,108 @@ impl Renderer {
                 read,
             })
         })
+    }
+}
+
+impl Renderer {
+    /// The compute pipeline's passes: the visibility pass (triangle ids under the same depth
+    /// test), then the surface per pixel into the targets. Timed from the first pass's start to
+    /// the second's end.
+    fn encode_compute(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        tg: &Targets,
+        (visibility, surface): (&wgpu::RenderPipeline, &wgpu::ComputePipeline),
+        binds: &FrameBinds,
+        draws: &[Draw],
+    ) -> Result<()> {
+        use wgpu::BindingResource as R;
+        let ctx = &self.ctx;
+        let vis_view = tg
+            .visibility
+            .as_ref()
+            .ok_or_else(|| Error::Gpu("no visibility target on this adapter".into()))?;
+        let mesh_groups: Vec<(wgpu::BindGroup, wgpu::BindGroup)> = draws
+            .iter()
+            .map(|d| {
+                let idx = d.mesh.ibuf.as_ref().unwrap_or(&self.fixed.no_indices);
+                let vis = ctx.bind_group(
+                    "visibility mesh",
+                    &self.pipelines.visibility_bgl,
+                    vec![d.mesh.vbuf.as_entire_binding(), idx.as_entire_binding()],
+                );
+                let mut e = vec![
+                    d.mesh.vbuf.as_entire_binding(),
+                    idx.as_entire_binding(),
+                    R::TextureView(vis_view),
+                ];
+                e.extend(tg.targets.iter().map(|t| R::TextureView(&t.v)));
+                let cs = ctx.bind_group("compute surface", &self.pipelines.compute_bgl, e);
+                (vis, cs)
+            })
+            .collect();
+        {
+            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("visibility"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: vis_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &tg.depth_v,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Discard,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: tg
+                    .queries
+                    .as_ref()
+                    .map(|q| wgpu::RenderPassTimestampWrites {
+                        query_set: q,
+                        beginning_of_pass_write_index: Some(0),
+                        end_of_pass_write_index: None,
+                    }),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(visibility);
+            pass.set_bind_group(0, &binds.view, &[]);
+            for (d, (vis, _)) in draws.iter().zip(&mesh_groups) {
+                pass.set_bind_group(1, &d.object, &[]);
+                pass.set_bind_group(2, &d.method, &[]);
+                pass.set_bind_group(3, vis, &[]);
+                pass.draw(0..d.mesh.count, 0..1);
+            }
+        }
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("compute surface"),
+                timestamp_writes: tg
+                    .queries
+                    .as_ref()
+                    .map(|q| wgpu::ComputePassTimestampWrites {
+                        query_set: q,
+                        beginning_of_pass_write_index: None,
+                        end_of_pass_write_index: Some(1),
+                    }),
+            });
+            pass.set_pipeline(surface);
+            pass.set_bind_group(0, &binds.view, &[]);
+            for (d, (_, cs)) in draws.iter().zip(&mesh_groups) {
+                pass.set_bind_group(1, &d.object, &[]);
+                pass.set_bind_group(2, &d.method, &[]);
+                pass.set_bind_group(3, cs, &[]);
+                pass.dispatch_workgroups(tg.w.div_ceil(8), tg.h.div_ceil(8), 1);
+            }
+        }
+        Ok(())
     }
 }
 

@@ -25,13 +25,44 @@ pub fn depth_state() -> Option<wgpu::DepthStencilState> {
     })
 }
 
+crate::option_enum!(
+    /// The pipeline a Renderer asks for (`pk.Renderer(pipeline=...)`): "raster", "compute", or
+    /// "auto" (the adapter's rule: `Renderer::auto_kind`).
+    Choice, "pipeline", {
+        Auto = "auto",
+        Raster = "raster",
+        Compute = "compute",
+    }
+);
+
+/// Which pipeline draws a frame: the fragment stage over the rasterised mesh, or a visibility
+/// pass and the surface in compute (shaders/visibility.wgsl).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Kind {
+    Raster,
+    Compute,
+}
+
+/// A variant's surface pipelines.
+pub enum Main {
+    Raster(wgpu::RenderPipeline),
+    /// the visibility pass (triangle ids) and the surface per pixel
+    Compute {
+        visibility: wgpu::RenderPipeline,
+        surface: wgpu::ComputePipeline,
+    },
+}
+
 /// A variant's pipelines: the pass, the shadow-map pass (when the frame has a shadow map), and
 /// the method's layout (its bind groups are made with it).
 pub struct Variant {
-    pub main: wgpu::RenderPipeline,
+    pub main: Main,
     pub shadow: Option<wgpu::RenderPipeline>,
     pub method: Arc<MethodLayout>,
 }
+
+/// The visibility target's format: the nearest triangle's index + 1, 0 where none.
+pub const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 
 pub struct Pipelines {
     pub lib: ShaderLib,
@@ -40,15 +71,23 @@ pub struct Pipelines {
     /// group 1: the object block, the height map and its sampler, the albedo and its sampler,
     /// the max pyramid (level 0, the atlas, the children atlas)
     pub object_bgl: wgpu::BindGroupLayout,
+    /// group 3 of the visibility pass: the mesh's vertices and indices as storage
+    pub visibility_bgl: wgpu::BindGroupLayout,
+    /// group 3 of the compute surface pass: the mesh, the visibility target and the targets as
+    /// storage textures (shaders/visibility.wgsl)
+    pub compute_bgl: wgpu::BindGroupLayout,
     /// group 2 per declaration of a method's resources, with the pipeline layout over all three
     method_layouts: Mutex<HashMap<Vec<ResourceKind>, Arc<MethodLayout>>>,
     cache: Mutex<HashMap<u64, Arc<Variant>>>,
 }
 
-/// A method's bind-group layout (group 2) and the pipeline layout of groups 0-2.
+/// A method's bind-group layout (group 2) and the pipeline layouts of groups 0-2 (raster) and
+/// 0-3 (the compute pipeline's two passes).
 pub struct MethodLayout {
     pub bgl: wgpu::BindGroupLayout,
     pipeline: wgpu::PipelineLayout,
+    visibility: wgpu::PipelineLayout,
+    compute: wgpu::PipelineLayout,
 }
 
 /// The key of a shader variant: the composed shader defs themselves (the same `shaders::defs`
@@ -59,8 +98,10 @@ fn variant_key(
     filtering: Filtering,
     frame: SceneDefs,
     targets: [bool; TARGETS.len()],
+    kind: Kind,
 ) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
+    kind.hash(&mut h);
     let mut defs: Vec<(String, String)> = crate::shaders::defs(spec, filtering, frame)
         .into_iter()
         .map(|(k, v)| (k, format!("{v:?}")))
@@ -82,7 +123,7 @@ fn variant_key(
     h.finish()
 }
 
-fn vertex_layout(g: &Geometry) -> wgpu::VertexBufferLayout<'static> {
+pub fn vertex_layout(g: &Geometry) -> wgpu::VertexBufferLayout<'static> {
     match g {
         Geometry::Base => Vertex::layout(),
         Geometry::Own(g) => g.vertex_layout(),
@@ -95,7 +136,9 @@ impl Pipelines {
         let filterable = ctx.caps.float32_filterable;
         ctx.scoped(|| {
             let dev = &ctx.device;
-            let vf = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX;
+            let vf = wgpu::ShaderStages::FRAGMENT
+                | wgpu::ShaderStages::VERTEX
+                | wgpu::ShaderStages::COMPUTE;
             let tex = |b: u32, filterable: bool| {
                 layout::texture(b, vf, wgpu::TextureSampleType::Float { filterable })
             };
@@ -141,10 +184,49 @@ impl Pipelines {
                     tex(7, false),
                 ],
             });
+            let storage = |b: u32, stages| {
+                layout::buffer(
+                    b,
+                    stages,
+                    wgpu::BufferBindingType::Storage { read_only: true },
+                )
+            };
+            let visibility_bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("pomkit visibility"),
+                // (an adapter without the compute pipeline never binds it, and may lack
+                // storage buffers in vertex shaders)
+                entries: &{
+                    let vs = if ctx.caps.compute_pipeline {
+                        wgpu::ShaderStages::VERTEX
+                    } else {
+                        wgpu::ShaderStages::COMPUTE
+                    };
+                    [storage(0, vs), storage(1, vs)]
+                },
+            });
+            let cs = wgpu::ShaderStages::COMPUTE;
+            let mut compute_entries = vec![
+                storage(0, cs),
+                storage(1, cs),
+                layout::texture(2, cs, wgpu::TextureSampleType::Uint),
+            ];
+            for (i, t) in TARGETS.iter().enumerate() {
+                compute_entries.push(layout::storage_texture(3 + i as u32, cs, t.format));
+            }
+            let compute_bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("pomkit compute surface"),
+                entries: if ctx.caps.compute_pipeline {
+                    &compute_entries
+                } else {
+                    &compute_entries[..3]
+                },
+            });
             Ok(Self {
                 lib,
                 view_bgl,
                 object_bgl,
+                visibility_bgl,
+                compute_bgl,
                 method_layouts: Mutex::new(HashMap::new()),
                 cache: Mutex::new(HashMap::new()),
             })
@@ -164,7 +246,8 @@ impl Pipelines {
         if let Some(l) = g.get(kinds) {
             return Ok(l.clone());
         }
-        let vf = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX;
+        let vf =
+            wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::COMPUTE;
         let mut entries = vec![layout::buffer(
             crate::shaders::PARAMS_BINDING,
             vf,
@@ -189,14 +272,24 @@ impl Pipelines {
                     label: Some("pomkit method"),
                     entries: &entries,
                 });
-            let pipeline = ctx
-                .device
-                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                    label: Some("pomkit pass"),
-                    bind_group_layouts: &[Some(&self.view_bgl), Some(&self.object_bgl), Some(&bgl)],
-                    immediate_size: 0,
-                });
-            Ok(Arc::new(MethodLayout { bgl, pipeline }))
+            let layout = |label, third: Option<&wgpu::BindGroupLayout>| {
+                let mut groups = vec![Some(&self.view_bgl), Some(&self.object_bgl), Some(&bgl)];
+                if let Some(t) = third {
+                    groups.push(Some(t));
+                }
+                ctx.device
+                    .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                        label: Some(label),
+                        bind_group_layouts: &groups,
+                        immediate_size: 0,
+                    })
+            };
+            Ok(Arc::new(MethodLayout {
+                pipeline: layout("pomkit pass", None),
+                visibility: layout("pomkit visibility", Some(&self.visibility_bgl)),
+                compute: layout("pomkit compute surface", Some(&self.compute_bgl)),
+                bgl,
+            }))
         })?;
         g.insert(kinds.to_vec(), l.clone());
         Ok(l)
@@ -212,8 +305,9 @@ impl Pipelines {
         frame: SceneDefs,
         written: [bool; TARGETS.len()],
         arg: &str,
+        kind: Kind,
     ) -> Result<Arc<Variant>> {
-        let key = variant_key(spec, filtering, frame, written);
+        let key = variant_key(spec, filtering, frame, written, kind);
         if let Some(v) = self
             .cache
             .lock()
@@ -262,32 +356,76 @@ impl Pipelines {
                     })
                 })
                 .collect();
-            let main = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("pomkit pass"),
-                layout: Some(&layout.pipeline),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some(vs),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(vertex_layout.clone())],
+            let main = match kind {
+                Kind::Compute => Main::Compute {
+                    visibility: dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                        label: Some("pomkit visibility"),
+                        layout: Some(&layout.visibility),
+                        vertex: wgpu::VertexState {
+                            module: &module,
+                            entry_point: Some("vs_visibility"),
+                            compilation_options: Default::default(),
+                            buffers: &[],
+                        },
+                        primitive: wgpu::PrimitiveState {
+                            topology: wgpu::PrimitiveTopology::TriangleList,
+                            front_face: wgpu::FrontFace::Ccw,
+                            cull_mode: Some(wgpu::Face::Back),
+                            ..Default::default()
+                        },
+                        depth_stencil: depth_state(),
+                        multisample: Default::default(),
+                        fragment: Some(wgpu::FragmentState {
+                            module: &module,
+                            entry_point: Some("fs_visibility"),
+                            compilation_options: Default::default(),
+                            targets: &[Some(wgpu::ColorTargetState {
+                                format: VISIBILITY_FORMAT,
+                                blend: None,
+                                write_mask: wgpu::ColorWrites::ALL,
+                            })],
+                        }),
+                        multiview_mask: None,
+                        cache: None,
+                    }),
+                    surface: dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                        label: Some("pomkit compute surface"),
+                        layout: Some(&layout.compute),
+                        module: &module,
+                        entry_point: Some("cs_main"),
+                        compilation_options: Default::default(),
+                        cache: None,
+                    }),
                 },
-                primitive: wgpu::PrimitiveState {
-                    topology: wgpu::PrimitiveTopology::TriangleList,
-                    front_face: wgpu::FrontFace::Ccw,
-                    cull_mode: Some(wgpu::Face::Back),
-                    ..Default::default()
-                },
-                depth_stencil: depth_state(),
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some(fs),
-                    compilation_options: Default::default(),
-                    targets: &targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            });
+                Kind::Raster => {
+                    Main::Raster(dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                        label: Some("pomkit pass"),
+                        layout: Some(&layout.pipeline),
+                        vertex: wgpu::VertexState {
+                            module: &module,
+                            entry_point: Some(vs),
+                            compilation_options: Default::default(),
+                            buffers: &[Some(vertex_layout.clone())],
+                        },
+                        primitive: wgpu::PrimitiveState {
+                            topology: wgpu::PrimitiveTopology::TriangleList,
+                            front_face: wgpu::FrontFace::Ccw,
+                            cull_mode: Some(wgpu::Face::Back),
+                            ..Default::default()
+                        },
+                        depth_stencil: depth_state(),
+                        multisample: Default::default(),
+                        fragment: Some(wgpu::FragmentState {
+                            module: &module,
+                            entry_point: Some(fs),
+                            compilation_options: Default::default(),
+                            targets: &targets,
+                        }),
+                        multiview_mask: None,
+                        cache: None,
+                    }))
+                }
+            };
             let shadow = frame.shadow_map.then(|| {
                 dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                     label: Some("pomkit shadow map"),

@@ -23,6 +23,9 @@ pub struct Targets {
     /// aligned with `TARGETS`
     pub targets: Vec<Target>,
     pub depth_v: wgpu::TextureView,
+    /// the compute pipeline's visibility target (pipelines::VISIBILITY_FORMAT), where the
+    /// adapter has that pipeline
+    pub visibility: Option<wgpu::TextureView>,
     pub queries: Option<wgpu::QuerySet>,
     pub ts_resolve: Option<wgpu::Buffer>,
     pub ts_read: Option<wgpu::Buffer>,
@@ -53,7 +56,12 @@ impl Targets {
             })
         };
         let rb = wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST;
-        let rt = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        let compute = ctx.caps.compute_pipeline;
+        let mut rt = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        if compute {
+            // the compute pipeline stores into the same targets
+            rt |= wgpu::TextureUsages::STORAGE_BINDING;
+        }
         let targets = TARGETS
             .iter()
             .map(|d| {
@@ -81,6 +89,15 @@ impl Targets {
             h,
             targets,
             depth_v: depth_t.create_view(&Default::default()),
+            visibility: compute.then(|| {
+                ctx.texture_2d(
+                    "visibility",
+                    (w, h),
+                    super::pipelines::VISIBILITY_FORMAT,
+                    wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                )
+                .create_view(&Default::default())
+            }),
             queries: ts.then(|| {
                 dev.create_query_set(&wgpu::QuerySetDescriptor {
                     label: Some("pass time"),

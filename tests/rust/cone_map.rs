@@ -68,8 +68,11 @@ fn field(m: &HeightMap, x: f64, y: f64) -> f64 {
 
 #[test]
 fn conservative_cones_hold_against_brute_force() {
-    let r = Renderer::new(gpu::shared(None).expect("an adapter (install mesa-vulkan-drivers)"))
-        .unwrap();
+    let r = Renderer::new(
+        gpu::shared(None).expect("an adapter (install mesa-vulkan-drivers)"),
+        pomkit::render::pipelines::Choice::Raster,
+    )
+    .unwrap();
     let grid = [0.0, 0.25, 0.5, 0.75, 1.0];
     for (w, h, seed) in [(16u32, 16u32, 1u64), (12, 20, 2), (8, 8, 3)] {
         let map = random_map(w, h, seed);

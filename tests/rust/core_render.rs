@@ -42,7 +42,11 @@ fn scene(height: HeightMap, theta_deg: f64, size: u32) -> Scene {
 }
 
 fn renderer() -> Renderer {
-    Renderer::new(gpu::shared(None).expect("an adapter (install mesa-vulkan-drivers)")).unwrap()
+    Renderer::new(
+        gpu::shared(None).expect("an adapter (install mesa-vulkan-drivers)"),
+        pomkit::render::pipelines::Choice::Raster,
+    )
+    .unwrap()
 }
 
 #[test]

@@ -30,7 +30,7 @@
 #import pomkit::cost::{fetched, count_fragment}
 #import pomkit::globals::{G, V}
 #import pomkit::vertex::{VertexIn, VertexOut, pass_through}
-#import pomkit::aov::{FsOut, write_aovs, FLAG_BOUND}
+#import pomkit::aov::{FsOut, write_aovs, pack_aovs, FLAG_BOUND}
 #import pomkit::frame::{TangentFrame, make_frame}
 #import pomkit::height::{height_at, height_normal, height_lod, compute_lod}
 #import pomkit::march::{Segment, linear_search_from, refine_linear, pom_sample_count}
@@ -527,7 +527,7 @@ fn fs_prism(in: VertexOut) -> FsOut {
     if (is_transformed()) {
         dist = length(p_obj - G.eye_object) * stretch(view);
     }
-    var o = write_aovs(sh.color, u32(ph.steps + sh.steps), ph.flags, ph.s / tiling, dist, lod);
+    var o = write_aovs(pack_aovs(sh.color, u32(ph.steps + sh.steps), ph.flags, ph.s / tiling, dist, lod));
 #ifdef DISPLACED_DEPTH
     o.depth = clip_depth(p);
 #endif

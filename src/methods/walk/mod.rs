@@ -297,7 +297,7 @@ impl MethodGeometry for WalkMesh {
                 vbuf: ctx.upload(
                     "walk vertices",
                     bytemuck::cast_slice(&verts),
-                    wgpu::BufferUsages::VERTEX,
+                    wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
                 ),
                 ibuf: None,
                 count: verts.len() as u32,
