@@ -24,7 +24,7 @@
 #import pomkit::march::{Ray, Hit}
 #import pomkit::shading::shade
 #import pomkit::cost::count_fragment
-#import pomkit::visibility::{VisibilityOut, visibility_vertex, rasterise, visibility_tex, store_color, store_geo, store_id, store_cost}
+#import pomkit::visibility::{VisibilityOut, visibility_vertex, rasterise, tile_pixel, visibility_tex, store_color, store_geo, store_id, store_cost}
 #import pomkit::object::{to_world, to_clip, normal_to_world, stretch, clip_depth, shadow_depth, shadow_light_object}
 
 @vertex
@@ -190,10 +190,10 @@ fn fs_visibility(in: VisibilityOut) -> @location(0) u32 {
     return in.triangle;
 }
 
-@compute @workgroup_size(8, 8, 1)
-fn cs_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+@compute @workgroup_size(64, 1, 1)
+fn cs_main(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) li: u32) {
     let dims = textureDimensions(visibility_tex);
-    let px = gid.xy;
+    let px = tile_pixel(wg.xy, li);
     if (px.x >= dims.x || px.y >= dims.y) {
         return;
     }

@@ -148,6 +148,15 @@ fn rasterise(px: vec2<u32>, dims: vec2<u32>, tiling: f32) -> Rasterised {
     return r;
 }
 
+// Pixel of invocation `li` (0..63) of workgroup `wg`, which covers an 8 x 8 tile: each run of
+// eight invocations (a SIMD group on a CPU adapter, a quarter of a GPU's) covers a 4 x 2 block,
+// as a fragment stage's lanes do, so that neighbours march together.
+fn tile_pixel(wg: vec2<u32>, li: u32) -> vec2<u32> {
+    let k = li >> 3u;
+    let j = li & 7u;
+    return wg * 8u + vec2<u32>((k & 1u) * 4u + (j & 3u), (k >> 1u) * 2u + (j >> 2u));
+}
+
 // The targets' texels at pixel `px` (the fragment stage's colour attachments; aov.wgsl's Packed).
 fn store_color(px: vec2<u32>, c: vec4<u32>) {
     textureStore(out_color, vec2<i32>(px), c);

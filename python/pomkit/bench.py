@@ -350,15 +350,18 @@ def pareto_front(points):
 COST_TERMS = ("fetches", "bytes", "fragments", "quads")
 
 def cost_rows(r: _render.Renderer, scenes: dict, methods: list, min_repeats: int = 3,
-              max_repeats: int = 9) -> list[dict]:
+              max_repeats: int = 9, counter: Optional[_render.Renderer] = None) -> list[dict]:
     """Per scene and method: GPU ms (`time_methods`: warm-up, interleaved rounds, median) and
     the frame's totals of fetches, bytes, fragments and steps (one render that counts them, not
-    timed), the search's counts per SIMD group (`group_total`) and its primitives."""
+    timed), the search's counts per SIMD group (`group_total`) and its primitives. `counter`:
+    the renderer that counts (default `r`; the compute pipeline counts no fragments, so its rows
+    take their counts from a raster renderer's)."""
     rows = []
+    counter = counter or r
     for sname, sc in scenes.items():
         ts = time_methods(r, sc, methods, min_repeats=min_repeats, max_repeats=max_repeats)
         for m, t in zip(methods, ts):
-            f = r.render(sc, m, aovs=("mask", "fetches", "bytes", "fragments", "steps"))
+            f = counter.render(sc, m, aovs=("mask", "fetches", "bytes", "fragments", "steps"))
             submitted, facing, nquads = triangle_counts(sc, m)
             rows.append(dict(chart="cost_model", scene=sname, method=m.name, label=label(m), gpu_ms=t["ms"],
                              gpu_ms_p25=t["ms_p25"], gpu_ms_p75=t["ms_p75"], march_ms=t["march_ms"], timing=t["timing"],
