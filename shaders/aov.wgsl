@@ -14,7 +14,8 @@ struct FsOut {
     // the object's index (AOV `object`)
     @location(2) id: u32,
 #ifdef COUNT_FETCHES
-    // x: texel fetches, y: bytes read by the search (AOVs `fetches`, `bytes`: cost.wgsl); z, w: 0
+    // x: texel fetches, y: bytes read by the search, z: the chain of dependent fetches (AOVs
+    // `fetches`, `bytes`, `chain`: cost.wgsl); w: 0
     @location(3) cost: vec4<u32>,
 #endif
 #ifdef DISPLACED_DEPTH
@@ -44,7 +45,7 @@ struct Packed {
     color: vec4<u32>,
     geo: vec4<u32>,
     id: u32,
-    cost: vec2<u32>,
+    cost: vec4<u32>,
 }
 
 fn pack_aovs(color: vec3<f32>, steps: u32, flags: u32, uv: vec2<f32>, dist: f32, lod: f32) -> Packed {
@@ -63,7 +64,7 @@ fn write_aovs(p: Packed) -> FsOut {
     o.geo = p.geo;
     o.id = p.id;
 #ifdef COUNT_FETCHES
-    o.cost = vec4<u32>(p.cost, 0u, 0u);
+    o.cost = p.cost;
 #endif
     return o;
 }

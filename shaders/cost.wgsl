@@ -11,6 +11,13 @@
 //            instruction; its filter reads 4 texels, 8 between two levels).
 //   bytes:   the bytes those fetches read: 4 per float32 texel, 16 for a filtered bilinear sample
 //            (32 trilinear), 16 per gather, 16 per walk record (vec4), 96 per prism visited.
+//   chain:   the longest chain of dependent fetches: the rounds of fetches in which a round's
+//            addresses wait on a value the round before it read (a traversal's next node, a
+//            walk's next step, a binary search's next midpoint, a shadow ray from the hit). A
+//            search whose addresses all follow from the ray (the POM family's linear search)
+//            is one round however many fetches it takes; a GPU issues them together, where it
+//            waits a fetch's latency for each round. The methods mark each new round
+//            (`chained`); 0 where the search fetched nothing.
 //   fragments: the fragment invocations of the surface pass at the pixel (overdraw): every
 //            fragment the method's geometry puts there that runs its shader, whether it then
 //            writes or discards (a prism face tested and missed counts). Counted only in the
@@ -36,21 +43,30 @@ fn count_fragment(px: vec2<f32>) {
 #ifdef COUNT_FETCHES
 var<private> cost_fetches: u32;
 var<private> cost_bytes: u32;
+var<private> cost_rounds: u32;
 #endif
 
-// `n` fetches reading `b` bytes.
+// `n` fetches reading `b` bytes (the first fetch opens the first round).
 fn fetched(n: u32, b: u32) {
 #ifdef COUNT_FETCHES
     cost_fetches = cost_fetches + n;
     cost_bytes = cost_bytes + b;
+    cost_rounds = max(cost_rounds, 1u);
 #endif
 }
 
-// The counts so far: (fetches, bytes).
-fn cost_counts() -> vec2<u32> {
+// The fetches from here on wait on a value read before: a new round of the chain.
+fn chained() {
 #ifdef COUNT_FETCHES
-    return vec2<u32>(cost_fetches, cost_bytes);
+    cost_rounds = cost_rounds + 1u;
+#endif
+}
+
+// The counts so far: (fetches, bytes, chain, 0).
+fn cost_counts() -> vec4<u32> {
+#ifdef COUNT_FETCHES
+    return vec4<u32>(cost_fetches, cost_bytes, select(0u, cost_rounds, cost_fetches > 0u), 0u);
 #else
-    return vec2<u32>(0u);
+    return vec4<u32>(0u);
 #endif
 }

@@ -17,7 +17,7 @@
 
 #import pomkit::globals::{G, height_tex, height_samp, max_children}
 #import pomkit::height::max_at
-#import pomkit::cost::fetched
+#import pomkit::cost::{fetched, chained}
 
 // A point in cell space as a whole cell index and the offset within that cell ([0, 1) each).
 // Kept apart, positions relative to a cell are taken as an exact integer difference plus a small
@@ -239,6 +239,8 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
                     break;
                 }
                 it = it + 1u;
+                // the node's address follows from the last node's verdict
+                chained();
                 let c4 = node_children(node, size, isize, inv_cells);
                 let m = max(max(c4.x, c4.y), max(c4.z, c4.w));
                 // The children the ray crosses over [t, t_exit], in order: the one it is in at t

@@ -15,6 +15,7 @@
 #import pomkit::shadows::{ShadowResult, shadow_march, exact_shadow, exact_ao, shadow_map_visibility}
 #import pomkit::horizon::{horizon_shadow, horizon_ao}
 #import pomkit::object::dir_to_object
+#import pomkit::cost::chained
 
 // The visibility of light i at the hit: the method's self-shadowing (when `self_shadows`), times
 // the scene's shadow map where it has one for this light (CAST_SHADOWS; Tessellated's own
@@ -38,6 +39,8 @@ fn light_visibility(f: TangentFrame, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3
 #else
 #if SHADOWS != 0
     if (self_shadows) {
+        // the light ray starts at the hit the view ray's search read
+        chained();
         var lo = ls;
         lo.dir = dir_to_object(ls.dir);
 #if SHADOWS == 3

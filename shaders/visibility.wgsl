@@ -170,6 +170,6 @@ fn store_id(px: vec2<u32>, id: u32) {
     textureStore(out_id, vec2<i32>(px), vec4<u32>(id, 0u, 0u, 0u));
 }
 
-fn store_cost(px: vec2<u32>, c: vec2<u32>) {
-    textureStore(out_cost, vec2<i32>(px), vec4<u32>(c, 0u, 0u));
+fn store_cost(px: vec2<u32>, c: vec4<u32>) {
+    textureStore(out_cost, vec2<i32>(px), c);
 }

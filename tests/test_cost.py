@@ -168,3 +168,43 @@ def test_a_silhouette_ray_that_does_not_descend_is_not_walked(renderer, method):
     f = renderer.render(sc, method, aovs=("mask", "steps", "flags"))
     assert f.mask.sum() > 3000
     assert not np.any(f.flags[f.mask] & 1) and f.steps.max() < 400, (int((f.flags & 1).sum()), int(f.steps.max()))
+
+
+# ---------------------------------------------------------------- the chain of dependent fetches
+
+CHAIN = ("fetches", "chain", "steps", "mask")
+
+
+@pytest.mark.parametrize("n", [4, 33])
+def test_a_linear_search_is_one_round(renderer, flat0, n):
+    """Steep's and POM's addresses all follow from the ray: one round however many fetches."""
+    for m in (pk.SteepParallax(steps=n), pk.POM(min_steps=n, max_steps=n, shadows="none")):
+        f = renderer.render(flat0, m, aovs=CHAIN)
+        assert np.all(f.chain[f.mask] == 1) and f.fetches[f.mask].min() > n / 2
+        assert np.all(f.chain[~f.mask] == 0)
+
+
+def test_a_shadow_ray_is_a_round_of_its_own(renderer):
+    sc = plane_scene(pk.textures.bricks(64), theta_deg=50.0, size=40, lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0)])
+    f = renderer.render(sc, pk.POM(shadows="hard"), aovs=CHAIN)
+    assert np.all(f.chain[f.mask] == 2)
+
+
+def test_each_binary_step_waits_on_the_last(renderer, flat0):
+    """Relief on a constant floor: the linear search ends below it, then every midpoint of the
+    binary search follows from the last verdict."""
+    f = renderer.render(flat0, pk.Relief(linear_steps=8, binary_steps=6), aovs=CHAIN)
+    assert np.all(f.chain[f.mask] == 1 + 6)
+
+
+@pytest.mark.parametrize("method", [pk.Exact(), pk.ConeStep(), pk.DistanceMapping(), pk.NCS()], ids=lambda m: m.name)
+def test_a_walk_is_as_long_as_its_steps(renderer, method):
+    """The traversals and walks wait on every step: their chain grows with their steps, and is
+    far longer than a linear search's at the same fetches."""
+    sc = plane_scene(pk.textures.bricks(128), theta_deg=60.0, size=48)
+    f = renderer.render(sc, method, aovs=CHAIN)
+    hit = f.mask & (f.fetches > 0)
+    assert np.all(f.chain[hit] >= 1)
+    assert np.all(f.chain[hit] <= f.fetches[hit])
+    assert np.corrcoef(f.chain[hit], f.steps[hit])[0, 1] > 0.8
+    assert f.chain[hit].max() >= 4

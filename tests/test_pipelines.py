@@ -99,11 +99,13 @@ def test_compute_is_bit_identical_where_the_arithmetic_is(pair):
 def test_compute_counts_the_same_fetches(pair):
     raster, compute = pair
     scene = _scene("torus")
-    a = raster.render(scene, pk.POM(), aovs=("mask", "fetches", "bytes"))
-    b = compute.render(scene, pk.POM(), aovs=("mask", "fetches", "bytes"))
-    both = a.mask & b.mask
-    assert (a.fetches == b.fetches)[both].mean() >= 0.98
-    assert abs(float(a.fetches[both].sum()) / float(b.fetches[both].sum()) - 1.0) < 0.01
+    for method in (pk.POM(), pk.Exact()):
+        a = raster.render(scene, method, aovs=("mask", "fetches", "bytes", "chain"))
+        b = compute.render(scene, method, aovs=("mask", "fetches", "bytes", "chain"))
+        both = a.mask & b.mask
+        assert (a.fetches == b.fetches)[both].mean() >= 0.98
+        assert (a.chain == b.chain)[both].mean() >= 0.98
+        assert abs(float(a.fetches[both].sum()) / float(b.fetches[both].sum()) - 1.0) < 0.01
 
 
 def test_compute_supersamples(pair):

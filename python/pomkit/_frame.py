@@ -15,7 +15,7 @@ __all__ = ["Frame", "AovName", "AOV_NAMES", "COST_AOVS"]
 
 #: the AOVs a render can return (`Renderer.render(..., aovs=...)`): the core's list, the one
 #: source; the Literal types them (tests/test_contracts.py holds the two equal)
-AovName = Literal["color", "uv", "depth", "mask", "coverage", "steps", "lod", "flags", "object", "fetches", "bytes", "fragments"]
+AovName = Literal["color", "uv", "depth", "mask", "coverage", "steps", "lod", "flags", "object", "fetches", "bytes", "chain", "fragments"]
 AOV_NAMES: tuple[str, ...] = tuple(_core.AOV_NAMES)
 #: the cost counters: counted only when named in `aovs=` (not in "all")
 COST_AOVS: tuple[str, ...] = tuple(_core.COST_AOV_NAMES)
@@ -60,6 +60,7 @@ class Frame:
     object: np.ndarray
     fetches: np.ndarray
     bytes: np.ndarray
+    chain: np.ndarray
     fragments: np.ndarray
 
     def __init__(self, *, method: str = "", gpu_ms: Optional[float] = None, wall_ms: Optional[float] = None,

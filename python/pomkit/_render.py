@@ -59,7 +59,7 @@ class Renderer:
         """Render `scene` with `method`. `aovs`: "all" (the default: every AOV but the cost
         counters) or the AOVs to return, e.g. ("color", "uv"). The render targets no requested AOV
         needs are neither written nor read back, and the Frame holds only what was asked for. The
-        cost counters (`COST_AOVS`: "fetches", "bytes", "fragments") are counted only when named, e.g.
+        cost counters (`COST_AOVS`: "fetches", "bytes", "chain", "fragments") are counted only when named, e.g.
         aovs=("color", "steps", "fetches"): counting costs the search a little.
 
         `spp`: samples per pixel, a square number (1, 4, 9, 16, ...): k x k stratified samples on

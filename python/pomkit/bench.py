@@ -352,8 +352,9 @@ COST_TERMS = ("fetches", "bytes", "fragments", "quads")
 def cost_rows(r: _render.Renderer, scenes: dict, methods: list, min_repeats: int = 3,
               max_repeats: int = 9, counter: Optional[_render.Renderer] = None) -> list[dict]:
     """Per scene and method: GPU ms (`time_methods`: warm-up, interleaved rounds, median) and
-    the frame's totals of fetches, bytes, fragments and steps (one render that counts them, not
-    timed), the search's counts per SIMD group (`group_total`) and its primitives. `counter`:
+    the frame's totals of fetches, bytes, the chain of dependent fetches, fragments and steps (one
+    render that counts them, not timed), the search's counts per SIMD group (`group_total`) and its
+    primitives. `counter`:
     the renderer that counts (default `r`; the compute pipeline counts no fragments, so its rows
     take their counts from a raster renderer's)."""
     rows = []
@@ -361,7 +362,7 @@ def cost_rows(r: _render.Renderer, scenes: dict, methods: list, min_repeats: int
     for sname, sc in scenes.items():
         ts = time_methods(r, sc, methods, min_repeats=min_repeats, max_repeats=max_repeats)
         for m, t in zip(methods, ts):
-            f = counter.render(sc, m, aovs=("mask", "fetches", "bytes", "fragments", "steps"))
+            f = counter.render(sc, m, aovs=("mask", "fetches", "bytes", "chain", "fragments", "steps"))
             submitted, facing, nquads = triangle_counts(sc, m)
             rows.append(dict(chart="cost_model", scene=sname, method=m.name, label=label(m), gpu_ms=t["ms"],
                              gpu_ms_p25=t["ms_p25"], gpu_ms_p75=t["ms_p75"], march_ms=t["march_ms"], timing=t["timing"],
@@ -371,7 +372,8 @@ def cost_rows(r: _render.Renderer, scenes: dict, methods: list, min_repeats: int
                              rasterised=float(facing), quads=nquads,
                              bytes=float(f.bytes.sum(dtype=np.float64)),
                              fetches_group=group_total(f.fetches), steps_group=group_total(f.steps),
-                             bytes_group=group_total(f.bytes),
+                             bytes_group=group_total(f.bytes), chain=float(f.chain.sum(dtype=np.float64)),
+                             chain_group=group_total(f.chain),
                              pixels=int(f.mask.size)))
     return rows
 
@@ -439,7 +441,31 @@ def cost_model_suite(size: int = 256, quick: bool = False) -> tuple[dict, list]:
 #: the model's two forms: the counts themselves, and with the search's counts taken per SIMD
 #: group (a group waits for its longest lane)
 COST_MODELS = {"per pixel": COST_TERMS,
-               "per SIMD group": ("fetches_group", "bytes_group", "fragments", "quads")}
+               "per SIMD group": ("fetches_group", "bytes_group", "fragments", "quads"),
+               # latency: a SIMD group waits a fetch's latency once a round of its longest chain
+               "latency": ("fetches_group", "chain_group", "fragments", "quads")}
+
+
+def loo_r2(rows: list[dict], terms: Iterable[str], y: str = "gpu_ms", key: str = "method") -> float:
+    """Leave-one-method-out R²: each method's rows predicted by the model fitted on every other
+    method's (`fit_model`), R² of those predictions. A model that only memorises the methods it
+    was fitted on scores low; one whose terms explain time carries over to a method it has not
+    seen."""
+    terms = list(terms)
+    rows = [x for x in rows if np.isfinite(x.get(y, np.nan)) and float(x[y]) > 0]
+    pred, obs = [], []
+    for m in sorted({x[key] for x in rows}):
+        fit = fit_model([x for x in rows if x[key] != m], terms, y)
+        if not np.isfinite(fit["a"]):
+            continue
+        for x in rows:
+            if x[key] == m:
+                pred.append(fit["a"] + sum(fit["coef"][t] * float(x[t]) for t in terms))
+                obs.append(float(x[y]))
+    if len(obs) < 3:
+        return float("nan")
+    p, o = np.array(pred), np.array(obs)
+    return 1.0 - float(np.sum((o - p) ** 2)) / float(np.sum((o - o.mean()) ** 2))
 
 
 def cost_model(r: _render.Renderer, size: int = 256, quick: bool = False) -> dict:

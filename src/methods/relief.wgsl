@@ -9,6 +9,7 @@
 
 #import pomkit::march::{Ray, Hit, Segment, planar_hit, linear_search, segment_h}
 #import pomkit::height::height_at
+#import pomkit::cost::chained
 
 fn relief_depth_bias(ndotv: f32) -> f32 {
     var db = 1.0 - clamp(ndotv, 0.0, 1.0);
@@ -31,6 +32,8 @@ fn march(r: Ray) -> Hit {
         let nb = i32(params.binary_steps);
         for (var i = 0; i < nb; i = i + 1) {
             let mid = 0.5 * (hi + lo);
+            // each midpoint follows from the last verdict
+            chained();
             let d = mid - height_at(r.s + dsdh * (1.0 - mid), r.lod);
             steps = steps + 1.0;
             if (d <= 0.0) {

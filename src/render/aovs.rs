@@ -111,7 +111,7 @@ pub struct Aov {
 }
 
 /// Every AOV, in the order of `Frame.aovs` and Python's `AOV_NAMES`.
-pub const AOVS: [Aov; 12] = [
+pub const AOVS: [Aov; 13] = [
     Aov {
         name: "color",
         comps: 3,
@@ -188,6 +188,13 @@ pub const AOVS: [Aov; 12] = [
         dtype: Dtype::U32,
         source: Source::Cost(1),
         doc: "bytes those fetches read (a filtered sample: 4 bytes per texel its filter reads); 0 where no hit",
+    },
+    Aov {
+        name: "chain",
+        comps: 1,
+        dtype: Dtype::U32,
+        source: Source::Cost(2),
+        doc: "the longest chain of dependent fetches: rounds of fetches whose addresses wait on a value the round before read (1 where every address follows from the ray); 0 where no hit",
     },
     Aov {
         name: "fragments",

@@ -15,7 +15,7 @@
 // flagged (FLAG_BOUND).
 #define_import_path pomkit::methods::cone_step
 
-#import pomkit::cost::fetched
+#import pomkit::cost::{fetched, chained}
 #import pomkit::globals::G
 #import pomkit::aov::FLAG_BOUND
 #import pomkit::march::{Ray, Hit, planar_hit, does_not_descend}
@@ -73,6 +73,8 @@ fn march(r: Ray) -> Hit {
             break;
         }
         i = i + 1u;
+        // each step's cell follows from the last cone read
+        chained();
         let p = p0 + d * t;
         let c = cell_ahead(p, d);
         let edge = vec2<f32>(c) + select(vec2<f32>(0.0), vec2<f32>(1.0), d > vec2<f32>(0.0));
@@ -112,6 +114,8 @@ fn march(r: Ray) -> Hit {
         if (i >= n || t >= 1.0) {
             break;
         }
+        // each step's cell follows from the last cone read
+        chained();
         if (below(r, t)) {
             inside = true;
             break;
@@ -137,6 +141,7 @@ fn march(r: Ray) -> Hit {
         var hi = t;
         for (var k = 0u; k < u32(params.binary_steps); k = k + 1u) {
             let mid = 0.5 * (lo + hi);
+            chained();
             if (below(r, mid)) {
                 hi = mid;
             } else {

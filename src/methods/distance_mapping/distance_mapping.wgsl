@@ -6,7 +6,7 @@
 // `binary_steps` bisections. `max_steps` bounds the walk (flagged).
 #define_import_path pomkit::methods::distance_mapping
 
-#import pomkit::cost::fetched
+#import pomkit::cost::{fetched, chained}
 #import pomkit::globals::G
 #import pomkit::aov::FLAG_BOUND
 #import pomkit::march::{Ray, Hit, planar_hit}
@@ -47,6 +47,8 @@ fn march(r: Ray) -> Hit {
             break;
         }
         it = it + 1;
+        // sphere tracing: each step's length is the last distance read
+        chained();
         let x = wrap_f(x0 + dx * u, wv);
         let y = wrap_f(y0 + dy * u, hv);
         let z = clamp(slices * (1.0 - u), 0.0, slices - 0.5);
@@ -80,6 +82,7 @@ fn march(r: Ray) -> Hit {
         for (var k = 0; k < nb; k = k + 1) {
             let mid = 0.5 * (lo + hi);
             steps = steps + 1.0;
+            chained();
             if (1.0 - mid <= height_at(r.s + r.dsdh * mid, r.lod)) {
                 hi = mid;
             } else {

@@ -27,7 +27,7 @@
 // (DISPLACED_DEPTH); with one, the entries' rasterised depth orders the fragments (a ray's later
 // entry lies behind its earlier one's whole walk), which keeps the early depth test.
 
-#import pomkit::cost::{fetched, count_fragment}
+#import pomkit::cost::{fetched, chained, count_fragment}
 #import pomkit::globals::{G, V}
 #import pomkit::vertex::{VertexIn, VertexOut, pass_through}
 #import pomkit::aov::{FsOut, write_aovs, pack_aovs, FLAG_BOUND}
@@ -398,6 +398,8 @@ fn prism_walk(face_prism: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> Prism
                 break;
             }
             k = k + 1u;
+            // the next prism is the one the last prism's record names across its exit side
+            chained();
             let sp = prism_span(p, o, view);
             steps = steps + 1.0;
             if (!sp.ok || sp.t_out <= t0) {
