@@ -44,7 +44,10 @@ def test_ctrl_c_reaches_python_during_a_long_oracle_call(tmp_path):
 
     script = tmp_path / "long.py"
     script.write_text(
-        "import sys, time, pomkit as pk\n"
+        "import signal, sys, time, pomkit as pk\n"
+        # Python's own handler, whatever the parent left (a job started in the background by a
+        # non-interactive shell inherits SIGINT ignored, and Python then installs no handler)
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
         "sc = pk.Scene(mesh=pk.Mesh.torus(), material=pk.Material(height=pk.textures.cobblestones(256), depth=0.1),\n"
         "              camera=pk.Camera.look_at((0.0, 1.2, 2.4), width=256, height=256),\n"
         "              lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0, angular_diameter=4.0)], ambient=0.2)\n"

@@ -19,7 +19,7 @@
 #import pomkit::aov::{FLAG_FALLBACK, FALLBACK_NDV}
 #import pomkit::height::height_at
 #import pomkit::cost::chained
-#import pomkit::walk::{walk_point, walk_move, walk_frame, walk_start, no_corners}
+#import pomkit::walk::{walk_point, walk_move, walk_frame, walk_start}
 
 // the ray's height in the shell (1 at the curved base, 0 at the floor) at world distance t
 fn ray_h(q: f32, c: f32, depth: f32, t: f32) -> f32 {
@@ -64,8 +64,6 @@ fn march(r: Ray) -> Hit {
     // the last point above the height field (lo) and the first below (hi), each a walk point
     // at world distance t along the view; dir: uv per world length in the point's chart
     var lo = walk_point(walk_start(r.extra), r.uv);
-    // the current triangle's records, kept across the steps in it
-    var corners = no_corners();
     lo.dir = r.v_ts.xy / tiling;
     var hi = lo;
     var t_lo = 0.0;
@@ -75,7 +73,7 @@ fn march(r: Ray) -> Hit {
     let ni = i32(n);
     for (var i = 1; i <= ni; i = i + 1) {
         t_hi = dt * f32(i);
-        hi = walk_move(&corners, lo.tri, lo.uv, lo.dir, dt);
+        hi = walk_move(lo.tri, lo.uv, lo.dir, dt);
         steps = steps + 1.0;
         if (!hi.on) {
             // out through an open border: off the surface
@@ -114,7 +112,7 @@ fn march(r: Ray) -> Hit {
         let mid = 0.5 * (t_lo + t_hi);
         // each midpoint follows from the last verdict
         chained();
-        let w = walk_move(&corners, lo.tri, lo.uv, lo.dir, mid - t_lo);
+        let w = walk_move(lo.tri, lo.uv, lo.dir, mid - t_lo);
         steps = steps + 1.0;
         if (ray_h(q, c, depth, mid) <= height_at(w.uv * tiling, r.lod)) {
             hi = w;
@@ -128,6 +126,6 @@ fn march(r: Ray) -> Hit {
     hit.h = clamp(ray_h(q, c, depth, t_hi), 0.0, 1.0);
     hit.len = t_hi;
     hit.steps = steps;
-    hit.f = walk_frame(&corners, hi);
+    hit.f = walk_frame(hi);
     return hit;
 }

@@ -23,7 +23,7 @@
 #import pomkit::frame::{TangentFrame, make_frame}
 #import pomkit::height::height_at
 #import pomkit::march::{Ray, Hit, pom_sample_count}
-#import pomkit::walk::{walk_point, walk_move, walk_frame, walk_start, no_corners}
+#import pomkit::walk::{walk_point, walk_move, walk_frame, walk_start}
 
 fn ncs_hit(r: Ray, uv: vec2<f32>, h: f32, len: f32, steps: f32, flags: u32, f: TangentFrame) -> Hit {
     var hit: Hit;
@@ -68,8 +68,6 @@ fn march(r: Ray) -> Hit {
     let view = r.view;
     // the march's point on the base mesh (its triangle, uv and barycentrics)
     var p = walk_point(walk_start(r.extra), r.uv);
-    // the current triangle's records, kept across the steps in it
-    var corners = no_corners();
     var h = 1.0;
     var len = 0.0;
     var d = h - height_at(p.uv * tiling, r.lod);
@@ -92,7 +90,7 @@ fn march(r: Ray) -> Hit {
     for (var i = 0; i < ni; i = i + 1) {
         // each step bends along the frame the last step read
         chained();
-        let w = walk_move(&corners, p.tri, p.uv, st.xy, 1.0);
+        let w = walk_move(p.tri, p.uv, st.xy, 1.0);
         h1 = h + st.z;
         steps = steps + 1.0;
         if (h1 > 1.0 || !w.on) {
@@ -111,7 +109,7 @@ fn march(r: Ray) -> Hit {
         h = h1;
         len = len + st.w;
         d = d1;
-        st = frame_step(walk_frame(&corners, p), view, n, dl0, inv_depth);
+        st = frame_step(walk_frame(p), view, n, dl0, inv_depth);
     }
     if (lost) {
         // the stated fallback: the base mesh's point at the fragment (never worse than the base)
@@ -126,9 +124,9 @@ fn march(r: Ray) -> Hit {
     if (flags == 0u) {
         // the crossing between the last two points
         let t = d / max(d - d1, 1e-12);
-        p = walk_move(&corners, p.tri, p.uv, st.xy, t);
+        p = walk_move(p.tri, p.uv, st.xy, t);
         h = mix(h, h1, t);
         len = len + st.w * t;
     }
-    return ncs_hit(r, p.uv, h, len, steps, flags, walk_frame(&corners, p));
+    return ncs_hit(r, p.uv, h, len, steps, flags, walk_frame(p));
 }

@@ -59,63 +59,13 @@ fn walk_point(tri: u32, uv: vec2<f32>) -> WalkPoint {
     return WalkPoint(tri, uv, vec2<f32>(0.0), true, walk_bary(tri, uv));
 }
 
-// The records of a triangle that a walk reads at every step (its barycentric rows, records 0
-// and 1, and its corner frames, 8-13), kept across the steps that stay in it: a walk's steps span
-// a few texels and its triangles many, so most steps fetch nothing but the height field.
-struct Corners {
-    tri: u32,
-    // uv -> b1, uv -> b2
-    row_b: vec4<f32>,
-    row_c: vec4<f32>,
-    // corner c's (normal, S_tangent) and (tangent, sign * S_binormal)
-    n_a: vec4<f32>,
-    t_a: vec4<f32>,
-    n_b: vec4<f32>,
-    t_b: vec4<f32>,
-    n_c: vec4<f32>,
-    t_c: vec4<f32>,
-}
-
-// No triangle yet: the first `corners_of` fetches.
-fn no_corners() -> Corners {
-    var c: Corners;
-    c.tri = 0xffffffffu;
-    return c;
-}
-
-// `c` made triangle tri's, fetched unless it is already.
-fn corners_of(c: ptr<function, Corners>, tri: u32) {
-    if ((*c).tri == tri) {
-        return;
-    }
-    // the triangle is known from the records read before
-    chained();
-    fetched(8u, 128u);
-    (*c).tri = tri;
-    (*c).row_b = walk_rec(tri, 0u);
-    (*c).row_c = walk_rec(tri, 1u);
-    (*c).n_a = walk_rec(tri, 8u);
-    (*c).t_a = walk_rec(tri, 9u);
-    (*c).n_b = walk_rec(tri, 10u);
-    (*c).t_b = walk_rec(tri, 11u);
-    (*c).n_c = walk_rec(tri, 12u);
-    (*c).t_c = walk_rec(tri, 13u);
-}
-
-fn corners_bary(c: ptr<function, Corners>, uv: vec2<f32>) -> vec3<f32> {
-    let b1 = walk_row((*c).row_b, uv);
-    let b2 = walk_row((*c).row_c, uv);
-    return vec3<f32>(1.0 - b1 - b2, b1, b2);
-}
-
-// Move from (tri, uv) by dir * len (dir in tri's chart), reading triangles' records through `c`.
-fn walk_move(c: ptr<function, Corners>, tri_in: u32, uv_in: vec2<f32>, dir: vec2<f32>, len: f32) -> WalkPoint {
+// Move from (tri, uv) by dir * len (dir in tri's chart).
+fn walk_move(tri_in: u32, uv_in: vec2<f32>, dir: vec2<f32>, len: f32) -> WalkPoint {
     var w = WalkPoint(tri_in, uv_in, dir, true, vec3<f32>(0.0));
     var rest = dir * len;
     for (var i = 0; i < MAX_CROSSINGS; i = i + 1) {
         let e = w.uv + rest;
-        corners_of(c, w.tri);
-        let be = corners_bary(c, e);
+        let be = walk_bary(w.tri, e);
         if (all(be >= vec3<f32>(-1e-6))) {
             w.uv = e;
             w.b = be;
@@ -123,7 +73,7 @@ fn walk_move(c: ptr<function, Corners>, tri_in: u32, uv_in: vec2<f32>, dir: vec2
         }
         // the side the segment leaves through: the first corner whose barycentric reaches 0
         // (side (c + 1) % 3 lies opposite corner c)
-        let bs = corners_bary(c, w.uv);
+        let bs = walk_bary(w.tri, w.uv);
         var s = 2.0;
         var side = 0u;
         for (var c = 0u; c < 3u; c = c + 1u) {
@@ -137,6 +87,8 @@ fn walk_move(c: ptr<function, Corners>, tri_in: u32, uv_in: vec2<f32>, dir: vec2
         }
         let x = w.uv + rest * s;
         rest = rest * (1.0 - s);
+        // the triangle across is named by the record read here
+        chained();
         fetched(2u, 32u);
         let r0 = walk_rec(w.tri, 2u + 2u * side);
         let r1 = walk_rec(w.tri, 3u + 2u * side);
@@ -152,18 +104,18 @@ fn walk_move(c: ptr<function, Corners>, tri_in: u32, uv_in: vec2<f32>, dir: vec2
         w.tri = u32(r0.w);
     }
     w.uv = w.uv + rest;
-    corners_of(c, w.tri);
-    w.b = corners_bary(c, w.uv);
+    w.b = walk_bary(w.tri, w.uv);
     return w;
 }
 
 // The mesh's frame at a walk point: the corners' normals, tangents and uv scales interpolated.
-fn walk_frame(c: ptr<function, Corners>, w: WalkPoint) -> TangentFrame {
-    corners_of(c, w.tri);
+fn walk_frame(w: WalkPoint) -> TangentFrame {
+    let tri = w.tri;
     let b = clamp(w.b, vec3<f32>(0.0), vec3<f32>(1.0));
-    let t0 = (*c).t_a;
-    let n = (*c).n_a * b.x + (*c).n_b * b.y + (*c).n_c * b.z;
-    let t = t0 * b.x + (*c).t_b * b.y + (*c).t_c * b.z;
+    fetched(6u, 96u);
+    let t0 = walk_rec(tri, 9u);
+    let n = walk_rec(tri, 8u) * b.x + walk_rec(tri, 10u) * b.y + walk_rec(tri, 12u) * b.z;
+    let t = t0 * b.x + walk_rec(tri, 11u) * b.y + walk_rec(tri, 13u) * b.z;
     // the handedness is the triangle's (its corners agree in a chart)
     let sign = select(1.0, -1.0, t0.w < 0.0);
     return make_frame(n.xyz, vec4<f32>(t.xyz, sign), vec2<f32>(n.w, abs(t.w)));
