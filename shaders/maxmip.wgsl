@@ -212,6 +212,16 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
     // parent: most rays meet the surface within a few cells of where they enter, and a top-down
     // start paid a descent through every level for each of them.
     var cand = min(h0, h0 + dh * t_exit) <= max_at(st.base, 0);
+#ifdef PREFETCH
+    // the children of the node the walk goes on to next, read a round early: with the start
+    // cell's max here (the next cell's parent, where a start cell that is no candidate walks
+    // on), with a candidate's patch below
+    var pre = vec4<f32>(0.0);
+    var have_pre = top > 0;
+    if (have_pre) {
+        pre = node_children(floor(across_exit(node, step, tf) * 0.5), 2.0, 0.5, inv_cells);
+    }
+#endif
     loop {
         if (!cand) {
             // on from the current cell (its patch missed, or the start cell): across the face
@@ -239,9 +249,20 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
                     break;
                 }
                 it = it + 1u;
+#ifdef PREFETCH
+                var c4 = pre;
+                if (have_pre) {
+                    have_pre = false;
+                } else {
+                    // the node's address follows from the last node's verdict
+                    chained();
+                    c4 = node_children(node, size, isize, inv_cells);
+                }
+#else
                 // the node's address follows from the last node's verdict
                 chained();
                 let c4 = node_children(node, size, isize, inv_cells);
+#endif
                 let m = max(max(c4.x, c4.y), max(c4.z, c4.w));
                 // The children the ray crosses over [t, t_exit], in order: the one it is in at t
                 // (which side of each middle face, decided by the t at which it crosses that face,
@@ -301,6 +322,17 @@ fn maxmip_traverse(st: CellPoint, h0: f32, dx: f32, dy: f32, dh: f32, t_max: f32
             }
         }
         cand = false;
+        // the candidate was found by a max read before: its patch is a round of its own
+        chained();
+#ifdef PREFETCH
+        // Latency hiding: the node a miss walks on to (the next cell's parent, as the walk above
+        // takes it) is known now, so its children are read in the same round as the patch. A
+        // miss then starts its next trip without waiting; a hit wastes one read.
+        if (top > 0) {
+            pre = node_children(floor(across_exit(node, step, tf) * 0.5), 2.0, 0.5, inv_cells);
+            have_pre = true;
+        }
+#endif
         let th = cell_intersect_f(node, st, h0, dx, dy, dh, t, t_exit);
         if (th >= 0.0) {
             found = true;

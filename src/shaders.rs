@@ -132,6 +132,9 @@ pub struct SceneDefs {
     pub transformed: bool,
     /// the frame has a sphere light (SPHERE_LIGHTS); without one, lights.wgsl is directional only
     pub sphere_lights: bool,
+    /// the max-mip walk reads its next node with a candidate's patch (PREFETCH, maxmip.wgsl):
+    /// the adapter's `Capabilities::prefetch`
+    pub prefetch: bool,
 }
 
 /// The shader defs of a variant.
@@ -151,6 +154,7 @@ pub fn defs(
     for (on, def) in [
         (frame.transformed, "TRANSFORMED"),
         (frame.sphere_lights, "SPHERE_LIGHTS"),
+        (frame.prefetch, "PREFETCH"),
     ] {
         if on {
             d.insert(def.to_string(), ShaderDefValue::Bool(true));

@@ -208,3 +208,40 @@ def test_a_walk_is_as_long_as_its_steps(renderer, method):
     assert np.all(f.chain[hit] <= f.fetches[hit])
     assert np.corrcoef(f.chain[hit], f.steps[hit])[0, 1] > 0.8
     assert f.chain[hit].max() >= 4
+
+
+def test_prefetch_reads_a_round_early_and_changes_no_bit(tmp_path):
+    """The max-mip walk's latency hiding (POMKIT_PREFETCH, on by default on GPUs): the node a walk
+    goes on to is read a round early, with the start cell's max and with a candidate's patch.
+    The frames are the same to the bit; the chain of dependent fetches is shorter; the reads
+    spent early on a walk that ends there are the extra fetches."""
+    import os
+    import subprocess
+    import sys
+
+    script = tmp_path / "walk.py"
+    script.write_text(
+        "import sys, numpy as np, pomkit as pk\n"
+        "sc = pk.Scene(mesh=pk.Mesh.torus(), material=pk.Material(height=pk.textures.bricks(128), depth=0.05, tiling=2.0),\n"
+        "              camera=pk.Camera.look_at((0.0, 1.6, 2.0), fov_y=40.0, width=96, height=96),\n"
+        "              lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0)], ambient=0.1)\n"
+        "r = pk.Renderer(pipeline='raster')\n"
+        "out = {}\n"
+        "for i, m in enumerate([pk.Exact(), pk.Exact(shadows='exact'), pk.Prism(exact=True)]):\n"
+        "    f = r.render(sc, m, aovs=('color', 'uv', 'mask', 'steps', 'fetches', 'chain'))\n"
+        "    out.update({f'{i}_{k}': getattr(f, k) for k in ('color', 'uv', 'mask', 'steps', 'fetches', 'chain')})\n"
+        "np.savez(sys.argv[1], **out)\n"
+    )
+    runs = {}
+    for flag in ("0", "1"):
+        path = tmp_path / f"prefetch{flag}.npz"
+        subprocess.run([sys.executable, str(script), str(path)], check=True, env={**os.environ, "POMKIT_PREFETCH": flag})
+        runs[flag] = np.load(path)
+    off, on = runs["0"], runs["1"]
+    for i in range(3):
+        for k in ("color", "uv", "mask", "steps"):
+            assert np.array_equal(off[f"{i}_{k}"], on[f"{i}_{k}"], equal_nan=True), (i, k)
+        hit = off[f"{i}_mask"]
+        assert np.all(on[f"{i}_chain"][hit] <= off[f"{i}_chain"][hit])
+        assert on[f"{i}_chain"][hit].mean() < 0.9 * off[f"{i}_chain"][hit].mean()
+        assert np.all(on[f"{i}_fetches"][hit] >= off[f"{i}_fetches"][hit])

@@ -38,6 +38,12 @@ pub struct Capabilities {
     pub compute_pipeline: bool,
     /// what the adapter lacks of it (empty: it has the compute pipeline)
     pub compute_pipeline_missing: Vec<String>,
+    /// The max-mip walk (Exact, ConeStep's exact refinement, exact shadows, the exact Prism)
+    /// reads the node a candidate's miss walks on to in the same round as the candidate's patch
+    /// (maxmip.wgsl, PREFETCH): a GPU waits one fetch latency less a miss. On a CPU adapter
+    /// (llvmpipe) every lane runs both sides of the branch, so the read is extra work: off.
+    /// POMKIT_PREFETCH=1 or 0 overrides (the tests compare both on any adapter).
+    pub prefetch: bool,
     /// textureGather on the R32Float height map (the max-mip walk's cell corners): WGSL core
     /// wherever the format can be sampled, which is what is detected; required
     pub gather: bool,
@@ -98,6 +104,11 @@ impl Capabilities {
         let missing = compute_pipeline_missing(adapter);
         Capabilities {
             compute_pipeline: missing.is_empty(),
+            prefetch: match std::env::var("POMKIT_PREFETCH").ok().as_deref() {
+                Some("1") => true,
+                Some("0") => false,
+                _ => adapter.get_info().device_type != wgpu::DeviceType::Cpu,
+            },
             timestamps: f.contains(wgpu::Features::TIMESTAMP_QUERY),
             timestamps_inside_passes: f.contains(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES),
             float32_filterable: f.contains(wgpu::Features::FLOAT32_FILTERABLE),
@@ -165,6 +176,11 @@ impl Capabilities {
                 "compute pipeline (visibility pass, surface in compute)",
                 self.compute_pipeline,
                 "pipeline=\"compute\" raises an error naming the adapter; \"auto\" rasterises",
+            ),
+            (
+                "max-mip prefetch (the walk's next node read a round early; POMKIT_PREFETCH)",
+                self.prefetch,
+                "off on a CPU adapter: each miss waits a round more, one read less",
             ),
             (
                 "compute shaders",

@@ -340,6 +340,7 @@ impl Renderer {
                         .lights
                         .iter()
                         .any(|l| matches!(l, crate::scene::Light::Sphere(_))),
+                    prefetch: self.ctx.caps.prefetch,
                 },
                 written,
                 arg,

@@ -185,6 +185,7 @@ fn every_variant_translates_to_every_backend() {
                 count_fragments: all,
                 transformed: all,
                 sphere_lights: all,
+                prefetch: all,
             };
             let what = format!("{m:?} ({frame:?})");
             let module = lib
