@@ -63,7 +63,7 @@ struct ObjectUniforms {
     top_max_level: f32,
     // bound on the iterations of every max-mip traversal
     max_iterations: f32,
-    // x offset of each max-pyramid level k >= 1 in max_atlas (heightmap.rs's max_atlas)
+    // x offset of each max-pyramid level k >= 1 in max_atlas (src/heightmap/mod.rs's max_atlas)
     max_offsets: array<vec4<u32>, 4>,
     // the object drawn (one block per object; see object.wgsl): object-to-world matrix, the
     // inverse transpose (normals), the inverse (world-to-object), the eye in object space, the
@@ -98,6 +98,6 @@ struct ObjectUniforms {
 @group(1) @binding(6) var max_atlas: texture_2d<f32>;
 // The same levels 1 ..= top again, each node's texel holding its four children's maxes (x: child
 // (0, 1), y: (1, 1), z: (1, 0), w: (0, 0), as a gather), level 1 at (0, 0) and levels 2.. in a
-// column to its right (heightmap.rs's children_atlas): the max-mip walk reads a node's children
+// column to its right (src/heightmap/mod.rs's children_atlas): the max-mip walk reads a node's children
 // with one load, and descends only into a child the ray dips below (maxmip.wgsl).
 @group(1) @binding(7) var max_children: texture_2d<f32>;

@@ -125,7 +125,7 @@ struct Traversal {
 //   crosses fewer than 4 million cells.
 // - The offset: level 1 at (0, 0), level k >= 2 at (W / 2, H / 2 - 2 H / 2^k) (the heights of
 //   levels 2 .. k - 1 above it sum to that when 2^(k - 1) divides H, as it does up to the top
-//   level: heightmap.rs's children_atlas and its test).
+//   level: src/heightmap/mod.rs's children_atlas and its test).
 fn node_children(nf: vec2<f32>, size: f32, isize: f32, inv_cells: vec2<f32>) -> vec4<f32> {
     let dims = G.map_size * isize;
     let p = nf - floor((nf + 0.5) * (size * inv_cells)) * dims;

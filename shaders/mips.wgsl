@@ -73,12 +73,12 @@ fn max_reduce(@builtin(global_invocation_id) id: vec3<u32>) {
     textureStore(mdst, vec2<u32>(id.xy), vec4<f32>(v, 0.0, 0.0, 0.0));
 }
 
-// ---- the children atlas (heightmap.rs's children_atlas): at each node of a level k in
+// ---- the children atlas (src/heightmap/mod.rs's children_atlas): at each node of a level k in
 // 1 ..= top, its four children's maxes (level k - 1: level 0, or the finished atlas) in one
 // rgba8unorm texel, in textureGather's order: x (0, 1), y (1, 1), z (1, 0), w (0, 0). The max-mip
 // walk reads a node's children with one load (maxmip.wgsl). Up to the top level the children of
 // every node lie inside their level: no clamping.
-// Each max is rounded up to a code (heightmap.rs's CHILD_MAX_CODES): the smallest c with
+// Each max is rounded up to a code (src/heightmap/mod.rs's CHILD_MAX_CODES): the smallest c with
 // c / 255 >= m + 0.01 / 255, 0 kept at 0. A max is never understated (the walk only descends
 // where it must, and may descend where it need not: a patch test answers exactly), and is
 // overstated by at most 1.01 / 255 of the shell. One 32-bit texel, not four float32: lavapipe

@@ -1,4 +1,4 @@
-// Cone step mapping over the cone map (shaders/conemap.wgsl): from a point of the ray at height
+// Cone step mapping over the cone map (cone_map.wgsl beside this file): from a point of the ray at height
 // hr above the cell's cone (base, w), the ray may drop by (hr - base) w / (w + a) (a: the ray's
 // horizontal run in cells per unit of height, L-inf) without meeting the surface. With
 // conservative cones no step crosses the bilinear surface.
