@@ -8,6 +8,9 @@ use std::fmt;
 pub enum Error {
     /// A bad argument: names the argument and says how to fix it.
     InvalidArgument { arg: String, msg: String },
+    /// An argument of the wrong type (a field that is not a number, a handle that is not one):
+    /// names the argument and the type it takes.
+    WrongType { arg: String, msg: String },
     /// A size over a device limit: names the argument and the limit.
     Limit { arg: String, msg: String },
     /// No GPU adapter could be found or opened.
@@ -27,6 +30,12 @@ impl Error {
             msg: msg.into(),
         }
     }
+    pub fn wrong_type(arg: &str, msg: impl Into<String>) -> Self {
+        Error::WrongType {
+            arg: arg.to_string(),
+            msg: msg.into(),
+        }
+    }
     pub fn limit(arg: &str, msg: impl Into<String>) -> Self {
         Error::Limit {
             arg: arg.to_string(),
@@ -40,6 +49,7 @@ impl fmt::Display for Error {
         match self {
             Error::InvalidArgument { arg, msg } => write!(f, "{arg}: {msg}"),
             Error::Limit { arg, msg } => write!(f, "{arg}: {msg}"),
+            Error::WrongType { arg, msg } => write!(f, "{arg}: {msg}"),
             Error::NoAdapter(m) => write!(f, "no GPU adapter: {m}"),
             Error::Gpu(m) => write!(f, "GPU error: {m}"),
             Error::DeviceLost(m) => write!(f, "GPU device lost: {m}"),

@@ -26,6 +26,7 @@ def test_plane_matches_the_oracle(renderer, filtering):
 
 
 @pytest.mark.parametrize("name", ["torus", "sphere"])
+@pytest.mark.reference
 def test_silhouettes_without_prisms(renderer, name):
     pytest.importorskip("mitsuba")
     # coverage against Mitsuba's displaced mesh (128^2): the curved reference surface lets rays

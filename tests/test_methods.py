@@ -140,6 +140,7 @@ def test_shadow_kinds_behind_the_wall(renderer, method):
     assert lum[front].min() > 0.1 and lum[far].min() > 0.1, method
 
 
+@pytest.mark.reference
 def test_ambient_occlusion_against_mitsuba():
     pytest.importorskip("mitsuba")
     # ambient light only (Mitsuba: a constant environment with the direct integrator, the AO

@@ -16,6 +16,8 @@ from conftest import plane_scene
 
 pytest.importorskip("mitsuba", reason="needs the [reference] extra")
 pytest.importorskip("trimesh", reason="needs the [reference] extra")
+# Mitsuba and trimesh: the [reference] extra (`make check` leaves these out)
+pytestmark = pytest.mark.reference
 
 R = pk.reference
 

@@ -50,15 +50,16 @@ def test_ranges_and_kinds_come_from_the_table():
 
 def test_a_wrong_value_that_crosses_the_boundary_names_its_field():
     """A value that skipped Python's checks (set after construction) is refused by the core's
-    reader with the field's name, not a generic cast error."""
+    reader with the field's name, not a generic cast error: a wrong type is pomkit's
+    ArgumentTypeError (a TypeError)."""
     s = plane_scene(pk.textures.bricks(32), size=16)
     cam = s.camera
     object.__setattr__(cam, "fov_y", "wide")
-    with pytest.raises(ValueError, match="fov_y: expected a number"):
+    with pytest.raises(pk.ArgumentTypeError, match="fov_y: expected a number"):
         pk.Renderer().render(s, pk.Flat())
     light = pk.DirectionalLight((0, -1, 0))
     object.__setattr__(light, "irradiance", "bright")
-    with pytest.raises(ValueError, match="irradiance: expected three numbers"):
+    with pytest.raises(TypeError, match="irradiance: expected three numbers"):
         pk.Renderer().render(plane_scene(pk.textures.bricks(32), size=16, lights=[light]), pk.Flat())
 
 

@@ -13,6 +13,7 @@ def curved(mesh, eye=(0.0, 1.0, 2.8), size=128, depth=0.12):
 
 
 @pytest.mark.parametrize("name", ["torus", "sphere"])
+@pytest.mark.reference
 def test_ncs_silhouette_beats_pom(renderer, name):
     pytest.importorskip("mitsuba")
     # coverage against Mitsuba's render of the displaced mesh (pixel-centre AOVs). Measured at
@@ -26,6 +27,7 @@ def test_ncs_silhouette_beats_pom(renderer, name):
 
 
 @pytest.mark.parametrize("name", ["torus", "sphere"])
+@pytest.mark.reference
 def test_prism_silhouette(renderer, name):
     pytest.importorskip("mitsuba")
     # prism POM follows the displaced surface out to the true outline: coverage IoU >= 0.98 (the
@@ -43,6 +45,7 @@ def test_prism_silhouette(renderer, name):
 
 
 @pytest.mark.parametrize("mesh,content", [("torus", "moon"), ("sphere", "gravel")])
+@pytest.mark.reference
 def test_prism_tight_shell_is_the_same_surface_or_closer(renderer, mesh, content):
     pytest.importorskip("mitsuba")
     # the tight shell (each vertical edge's top at the highest height beside it) crosses less
@@ -119,6 +122,7 @@ def test_step_scale_trades_early_terminations_for_error(renderer):
 
 
 @pytest.mark.parametrize("name", ["torus", "sphere"])
+@pytest.mark.reference
 def test_silhouette_coverage_against_mitsuba(renderer, name):
     pytest.importorskip("mitsuba")
     # issue 12's bars at 256^2, every method at its defaults: Prism >= 0.998 (measured torus

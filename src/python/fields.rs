@@ -26,7 +26,7 @@ impl<'py> PyFields<'py> {
     fn get<T: for<'a> FromPyObjectOwned<'a>>(&self, name: &str, expected: &str) -> Result<T> {
         let v = self.attr(name)?;
         v.extract::<T>()
-            .map_err(|_| Error::arg(name, format!("expected {expected}, got {v}")))
+            .map_err(|_| Error::wrong_type(name, format!("expected {expected}, got {v}")))
     }
 }
 
@@ -57,7 +57,7 @@ impl Fields for PyFields<'_> {
         let h = self
             .ob
             .call_method1("_handle_of", (name,))
-            .map_err(|e| Error::arg(name, format!("expected {}: {e}", self.what)))?;
+            .map_err(|e| Error::wrong_type(name, format!("expected {}: {e}", self.what)))?;
         if h.is_none() {
             return Ok(None);
         }
@@ -67,20 +67,20 @@ impl Fields for PyFields<'_> {
         if let Ok(d) = h.cast::<PyAlbedoData>() {
             return Ok(Some(d.get().0.clone() as Handle));
         }
-        Err(Error::arg(name, format!("expected {}", self.what)))
+        Err(Error::wrong_type(name, format!("expected {}", self.what)))
     }
     fn f32_map(&self, name: &str) -> Result<Vec<(String, f32)>> {
         let v = self.attr(name)?;
         let d = v
             .cast::<PyDict>()
-            .map_err(|_| Error::arg(name, "expected a dict of name -> number"))?;
+            .map_err(|_| Error::wrong_type(name, "expected a dict of name -> number"))?;
         d.iter()
             .map(|(k, v)| {
                 Ok((
                     k.extract::<String>()
-                        .map_err(|_| Error::arg(name, "names must be strings"))?,
+                        .map_err(|_| Error::wrong_type(name, "names must be strings"))?,
                     v.extract::<f64>()
-                        .map_err(|_| Error::arg(name, "values must be numbers"))?
+                        .map_err(|_| Error::wrong_type(name, "values must be numbers"))?
                         as f32,
                 ))
             })
