@@ -1,5 +1,6 @@
-"""The README's Layout names every folder of src/, every WGSL module of shaders/ and every module
-and folder of python/pomkit/, so that a newcomer's map of the tree is the tree."""
+"""The README's Layout names every folder of src/, every WGSL module of shaders/, every module
+and folder of python/pomkit/, every Rust file of the core's folders and every page of docs/, so
+that a newcomer's map of the tree is the tree."""
 
 from __future__ import annotations
 
@@ -37,4 +38,23 @@ def test_the_layout_names_every_folder_and_module():
             missing.append(f"python/pomkit/{p.name}")
     for top in ("src", "shaders", "python/pomkit", "tools", "scripts", "notebooks", "tests", "docs"):
         missing += [] if _named(layout, top + "/") else [top + "/"]
+    assert not missing, f"README.md's Layout does not name: {', '.join(missing)}"
+
+
+def test_the_layout_names_every_source_file():
+    """Every Rust file of the core's folders (src/methods/ is covered by its `<name>.rs` line and
+    its folders), every page of docs/ and every app is named by its file name or its stem."""
+    layout = _layout()
+    missing = []
+    for d in ("src", "src/gpu", "src/render", "src/python", "src/mesh", "src/oracle", "src/assets", "src/heightmap",
+              "src/scene"):
+        for f in sorted((ROOT / d).glob("*.rs")):
+            if f.stem in ("mod", "lib", "tests"):
+                continue
+            if not (_named(layout, f.name) or _named(layout, f.stem)):
+                missing.append(f"{d}/{f.name}")
+    for f in sorted((ROOT / "docs").glob("*.md")):
+        missing += [] if _named(layout, f.name) else [f"docs/{f.name}"]
+    for f in sorted((ROOT / "python" / "pomkit" / "apps").glob("*.py")):
+        missing += [] if f.stem == "__init__" or _named(layout, f.stem) else [f"python/pomkit/apps/{f.name}"]
     assert not missing, f"README.md's Layout does not name: {', '.join(missing)}"
