@@ -1,8 +1,9 @@
 """The methods: small frozen dataclasses with validated fields.
 
 The Rust core extracts each dataclass field by field into its typed `Method` (the class
-attribute `_kind` picks the variant): the defaults a user gets are these, and the core checks
-the ranges (`check_range` in src/contract.rs). See
+attribute `_kind` picks the variant): the defaults a user gets are these; the ranges are checked
+here, at construction, with the core's limits (`_core.MAX_STEPS_LIMIT`), and again by the core
+when it reads them. See
 docs/methods.md for what each implements and which paper it follows, and
 docs/custom_methods.md for `Custom`.
 
