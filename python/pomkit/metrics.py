@@ -1,12 +1,14 @@
 """Error metrics between a Frame and a reference Frame.
 
 uv_error and depth_error compare geometry where both frames hit; flip, psnr and ssim compare
-colour as displayed (sRGB, clamped to [0, 1]). Each returns plain floats or dicts; pass
-`image=True` to the colour metrics to also get a per-pixel error image for plotting (uv_error's
-dict always holds one under "image").
+colour as displayed (sRGB, clamped to [0, 1]). Each returns plain floats or a typed dict
+(`UvError`, `DepthError`, `ShadowError`, `Comparison`); pass `image=True` to the colour metrics to
+also get a per-pixel error image for plotting (uv_error's result always holds one under "image").
 """
 
 from __future__ import annotations
+
+from typing import TypedDict, cast
 
 from ._errors import ArgumentError, ArgumentTypeError, MissingExtraError
 import numpy as np
@@ -16,7 +18,62 @@ from ._color import linear_to_srgb
 from ._scene import Scene
 from . import _core
 
-__all__ = ["uv_error", "depth_error", "mask_iou", "shadow_error", "flip", "psnr", "ssim", "jod", "regions", "compare"]
+__all__ = ["uv_error", "depth_error", "mask_iou", "shadow_error", "flip", "psnr", "ssim", "jod", "regions", "compare",
+           "ErrorStats", "UvError", "DepthError", "ShadowError", "Comparison"]
+
+
+class ErrorStats(TypedDict):
+    """An error's distribution over the pixels compared (NaN and n = 0 where there are none)."""
+    mean: float
+    p50: float
+    p95: float
+    p99: float
+    max: float
+    n: int
+
+
+class UvError(ErrorStats):
+    """`uv_error`: texels, the mask IoU, and the per-pixel error (NaN where not compared)."""
+    mask_iou: float
+    image: np.ndarray
+
+
+class DepthError(ErrorStats):
+    """`depth_error`: relative or world units, and the per-pixel error (NaN where not compared)."""
+    image: np.ndarray
+
+
+class ShadowError(TypedDict):
+    """`shadow_error`: see its docstring."""
+    iou: float
+    vis_error: float
+    false_shadow: float
+    false_light: float
+    shadowed: float
+    ref_shadowed: float
+    n: int
+    compared: float
+    image: np.ndarray
+
+
+class Comparison(TypedDict, total=False):
+    """`compare`: the keys of what both frames hold (colour: the flip keys; uv: the uv keys;
+    visibility and the oracle: the shadow keys)."""
+    mask_iou: float
+    interior_px: int
+    silhouette_px: int
+    flip_floor: float
+    flip: float
+    flip_interior: float
+    flip_silhouette: float
+    uv_p50_interior: float
+    uv_p95_interior: float
+    uv_p99_interior: float
+    uv_p95_silhouette: float
+    shadow_iou: float
+    shadow_vis_error: float
+    shadow_false_shadow: float
+    shadow_false_light: float
 
 
 def _check(frame, ref):
@@ -35,11 +92,11 @@ def mask_iou(frame: Frame, ref: Frame) -> float:
     return float(inter / union) if union else 1.0
 
 
-def _stats(e: np.ndarray) -> dict:
+def _stats(e: np.ndarray) -> ErrorStats:
     if e.size == 0:
-        return dict(mean=float("nan"), p50=float("nan"), p95=float("nan"), p99=float("nan"), max=float("nan"), n=0)
-    return dict(mean=float(e.mean()), p50=float(np.percentile(e, 50)), p95=float(np.percentile(e, 95)),
-                p99=float(np.percentile(e, 99)), max=float(e.max()), n=int(e.size))
+        return ErrorStats(mean=float("nan"), p50=float("nan"), p95=float("nan"), p99=float("nan"), max=float("nan"), n=0)
+    return ErrorStats(mean=float(e.mean()), p50=float(np.percentile(e, 50)), p95=float(np.percentile(e, 95)),
+                      p99=float(np.percentile(e, 99)), max=float(e.max()), n=int(e.size))
 
 
 def _texels(o) -> np.ndarray:
@@ -49,7 +106,7 @@ def _texels(o) -> np.ndarray:
     return np.array([w * t, h * t], np.float64)
 
 
-def uv_error(frame: Frame, ref: Frame, scene: Scene) -> dict:
+def uv_error(frame: Frame, ref: Frame, scene: Scene) -> UvError:
     """uv error in texels (|du| W t, |dv| H t, Euclidean) over the pixels both frames hit:
     mean, p50, p95, p99, max, n, plus mask_iou and the per-pixel "image" (NaN elsewhere).
 
@@ -68,13 +125,10 @@ def uv_error(frame: Frame, ref: Frame, scene: Scene) -> dict:
     d = (np.asarray(frame.uv, np.float64) - np.asarray(ref.uv, np.float64)) * scale
     err = np.linalg.norm(d, axis=-1)
     img = np.where(both, err, np.nan)
-    out = _stats(err[both])
-    out["mask_iou"] = mask_iou(frame, ref)
-    out["image"] = img
-    return out
+    return cast(UvError, dict(_stats(err[both]), mask_iou=mask_iou(frame, ref), image=img))
 
 
-def shadow_error(frame: Frame, ref: Frame, scene: Scene, *, uv_tol: float = 0.5, threshold: float = 0.5) -> dict:
+def shadow_error(frame: Frame, ref: Frame, scene: Scene, *, uv_tol: float = 0.5, threshold: float = 0.5) -> ShadowError:
     """Self-shadowing against a reference, where both frames show the same surface point.
 
     Both frames need `visibility` (the first directional light's, in [0, 1]): take the method's
@@ -107,7 +161,7 @@ def shadow_error(frame: Frame, ref: Frame, scene: Scene, *, uv_tol: float = 0.5,
     n = int(both.sum())
     union = int((a | b).sum())
     diff = np.where(both, va - vb, np.nan)
-    return dict(
+    return ShadowError(
         iou=float((a & b).sum() / union) if union else 1.0,
         vis_error=float(np.abs(diff[both]).mean()) if n else float("nan"),
         false_shadow=float((a & ~b).sum() / n) if n else float("nan"),
@@ -120,16 +174,14 @@ def shadow_error(frame: Frame, ref: Frame, scene: Scene, *, uv_tol: float = 0.5,
     )
 
 
-def depth_error(frame: Frame, ref: Frame, relative: bool = True) -> dict:
+def depth_error(frame: Frame, ref: Frame, relative: bool = True) -> DepthError:
     """Distance error where both hit: |d - d_ref| / d_ref (relative, default) or world units."""
     _check(frame, ref)
     both = frame.mask & ref.mask
     e = np.abs(np.asarray(frame.depth, np.float64) - ref.depth)
     if relative:
         e = e / np.abs(ref.depth)
-    out = _stats(e[both])
-    out["image"] = np.where(both, e, np.nan)
-    return out
+    return cast(DepthError, dict(_stats(e[both]), image=np.where(both, e, np.nan)))
 
 
 def _ldr(f: Frame) -> np.ndarray:
@@ -227,7 +279,7 @@ def _grow(m: np.ndarray, n: int) -> np.ndarray:
 
 
 def compare(frame: Frame, reference: Frame, scene: Scene, *, band: int = 4, visibility: Frame | None = None,
-            oracle: Frame | None = None) -> dict:
+            oracle: Frame | None = None) -> Comparison:
     """A frame's error against a reference, decomposed (a planar method's outline error, the
     aliasing of one sample per pixel and the interior's displacement error are different
     failures):
@@ -245,7 +297,7 @@ def compare(frame: Frame, reference: Frame, scene: Scene, *, band: int = 4, visi
     reference's `noise_floor`: 0 for `pk.oracle.image`, NaN when unknown), and shadow_iou,
     shadow_vis_error, shadow_false_shadow, shadow_false_light when given."""
     reg = regions(frame, reference, band)
-    out: dict = dict(mask_iou=mask_iou(frame, reference), interior_px=int(reg["interior"].sum()),
+    out = Comparison(mask_iou=mask_iou(frame, reference), interior_px=int(reg["interior"].sum()),
                      silhouette_px=int(reg["silhouette"].sum()))
     # the reference's own noise: the floor under every FLIP against it (0 for render_exact)
     floor = getattr(reference, "noise_floor", None)
@@ -253,19 +305,22 @@ def compare(frame: Frame, reference: Frame, scene: Scene, *, band: int = 4, visi
     if frame.has("color") and reference.has("color"):
         whole, emap = flip(frame, reference, image=True)
         out["flip"] = whole
-        for k, m in reg.items():
-            out[f"flip_{k}"] = float(emap[m].mean()) if m.any() else float("nan")
+
+        def region_flip(m: np.ndarray) -> float:
+            return float(emap[m].mean()) if m.any() else float("nan")
+        out["flip_interior"] = region_flip(reg["interior"])
+        out["flip_silhouette"] = region_flip(reg["silhouette"])
     if frame.has("uv") and reference.has("uv"):
         e = uv_error(frame, reference, scene)["image"]
         for k, m in reg.items():
             v = e[m & np.isfinite(e)]
             st = _stats(v)
             if k == "interior":
-                out.update(uv_p50_interior=st["p50"], uv_p95_interior=st["p95"], uv_p99_interior=st["p99"])
+                out["uv_p50_interior"], out["uv_p95_interior"], out["uv_p99_interior"] = st["p50"], st["p95"], st["p99"]
             else:
                 out["uv_p95_silhouette"] = st["p95"]
     if visibility is not None and oracle is not None:
         sh = shadow_error(visibility, oracle, scene)
-        out.update(shadow_iou=sh["iou"], shadow_vis_error=sh["vis_error"], shadow_false_shadow=sh["false_shadow"],
-                   shadow_false_light=sh["false_light"])
+        out["shadow_iou"], out["shadow_vis_error"] = sh["iou"], sh["vis_error"]
+        out["shadow_false_shadow"], out["shadow_false_light"] = sh["false_shadow"], sh["false_light"]
     return out
