@@ -1,4 +1,6 @@
-"""pytest helpers for your own test suite (registered as the `pomkit` pytest plugin).
+"""pytest helpers for your own test suite: a plugin you opt into, with
+`pytest_plugins = ["pomkit.testing"]` in your top-level conftest.py or `pytest -p pomkit.testing`
+(it is not registered on install, so that a pytest run that does not ask never imports pomkit).
 
     def test_my_method(reference_frame):
         ref = reference_frame(scene, kind="oracle_image", spp=16)   # noise-free, cached on disk
