@@ -32,11 +32,7 @@ pub struct Capabilities {
     pub fragment_counters: bool,
     /// compute shaders (the mip and max pyramids, methods' tables): required
     pub compute_shaders: bool,
-    /// The compute pipeline (`pk.Renderer(pipeline="compute")`): a visibility pass whose vertex
-    /// stage reads the mesh from storage, and a compute pass that stores the targets as storage
-    /// textures (Rgba32Uint, R32Uint). Without it every frame is rasterised.
-    pub compute_pipeline: bool,
-    /// what the adapter lacks of it (empty: it has the compute pipeline)
+    /// What the adapter lacks of the compute pipeline (`compute_pipeline`; empty: it has it).
     pub compute_pipeline_missing: Vec<String>,
     /// The max-mip walk (Exact, ConeStep's exact refinement, exact shadows, the exact Prism)
     /// reads the node a candidate's miss walks on to in the same round as the candidate's patch
@@ -101,9 +97,7 @@ impl Capabilities {
         let f = adapter.features();
         let d = adapter.get_downlevel_capabilities();
         let gl = adapter.get_info().backend == wgpu::Backend::Gl;
-        let missing = compute_pipeline_missing(adapter);
         Capabilities {
-            compute_pipeline: missing.is_empty(),
             prefetch: match std::env::var("POMKIT_PREFETCH").ok().as_deref() {
                 Some("1") => true,
                 Some("0") => false,
@@ -121,7 +115,7 @@ impl Capabilities {
                 && adapter.limits().max_storage_buffers_per_shader_stage
                     > STORAGE_BUFFERS_PER_STAGE,
             compute_shaders: d.flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS),
-            compute_pipeline_missing: missing,
+            compute_pipeline_missing: compute_pipeline_missing(adapter),
             gather: adapter
                 .get_texture_format_features(wgpu::TextureFormat::R32Float)
                 .allowed_usages
@@ -130,6 +124,13 @@ impl Capabilities {
             storage_mip_views: !gl,
             sparse_attachments: !gl,
         }
+    }
+
+    /// The compute pipeline (`pk.Renderer(pipeline="compute")`): a visibility pass whose vertex
+    /// stage reads the mesh from storage, and a compute pass that stores the targets as storage
+    /// textures (Rgba32Uint, R32Uint). Without it every frame is rasterised.
+    pub fn compute_pipeline(&self) -> bool {
+        self.compute_pipeline_missing.is_empty()
     }
 
     /// The features pomkit asks the device for (those it uses, where present).
@@ -174,7 +175,7 @@ impl Capabilities {
             ),
             (
                 "compute pipeline (visibility pass, surface in compute)",
-                self.compute_pipeline,
+                self.compute_pipeline(),
                 "pipeline=\"compute\" raises an error naming the adapter; \"auto\" rasterises",
             ),
             (

@@ -375,7 +375,7 @@ impl Renderer {
 
     /// Why the compute pipeline cannot draw `scene` with `spec` (None: it can).
     pub fn compute_refusal(&self, scene: &Scene, spec: &Spec, aovs: Aovs) -> Option<String> {
-        if !self.ctx.caps.compute_pipeline {
+        if !self.ctx.caps.compute_pipeline() {
             return Some(format!(
                 "this adapter ({}, {}) lacks what it needs: {} (python -m pomkit info lists its features)",
                 self.ctx.info.name,
@@ -447,7 +447,7 @@ impl Renderer {
     /// 512², both pipelines interleaved, and compute wins where its median GPU time is below
     /// `AUTO_MARGIN` of the raster pipeline's.
     pub fn auto_compute(&self) -> bool {
-        if !self.ctx.caps.compute_pipeline || self.ctx.info.device_type == "Cpu" {
+        if !self.ctx.caps.compute_pipeline() || self.ctx.info.device_type == "Cpu" {
             return false;
         }
         *self.ctx.auto_compute.get_or_init(|| match self.probe() {
@@ -693,40 +693,33 @@ impl Renderer {
             if aovs.counts_fragments() {
                 tg.encode_counter_clear(&mut enc);
             }
-            if let pipelines::Main::Compute {
-                visibility,
-                surface,
-            } = &variant.main
-            {
-                self.encode_compute(&mut enc, &tg, (visibility, surface), binds, draws)?;
-            } else if let pipelines::Main::Raster(main) = &variant.main {
-                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("surface"),
-                    color_attachments: &tg.attachments(written),
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &tg.depth_v,
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(1.0),
-                            store: wgpu::StoreOp::Discard,
+            match &variant.main {
+                pipelines::Main::Compute {
+                    visibility,
+                    surface,
+                } => self.encode_compute(&mut enc, &tg, (visibility, surface), binds, draws)?,
+                pipelines::Main::Raster(main) => {
+                    let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some("surface"),
+                        color_attachments: &tg.attachments(written),
+                        depth_stencil_attachment: Some(tg.depth_attachment()),
+                        timestamp_writes: tg.queries.as_ref().map(|q| {
+                            wgpu::RenderPassTimestampWrites {
+                                query_set: q,
+                                beginning_of_pass_write_index: Some(0),
+                                end_of_pass_write_index: Some(1),
+                            }
                         }),
-                        stencil_ops: None,
-                    }),
-                    timestamp_writes: tg.queries.as_ref().map(|q| {
-                        wgpu::RenderPassTimestampWrites {
-                            query_set: q,
-                            beginning_of_pass_write_index: Some(0),
-                            end_of_pass_write_index: Some(1),
-                        }
-                    }),
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
-                pass.set_pipeline(main);
-                pass.set_bind_group(0, &binds.view, &[]);
-                for d in draws {
-                    pass.set_bind_group(1, &d.object, &[]);
-                    pass.set_bind_group(2, &d.method, &[]);
-                    d.mesh.draw(&mut pass);
+                        occlusion_query_set: None,
+                        multiview_mask: None,
+                    });
+                    pass.set_pipeline(main);
+                    pass.set_bind_group(0, &binds.view, &[]);
+                    for d in draws {
+                        pass.set_bind_group(1, &d.object, &[]);
+                        pass.set_bind_group(2, &d.method, &[]);
+                        d.mesh.draw(&mut pass);
+                    }
                 }
             }
             tg.encode_readback(&mut enc, read, aovs.counts_fragments());
@@ -792,14 +785,7 @@ impl Renderer {
                         store: wgpu::StoreOp::Store,
                     },
                 })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &tg.depth_v,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Discard,
-                    }),
-                    stencil_ops: None,
-                }),
+                depth_stencil_attachment: Some(tg.depth_attachment()),
                 timestamp_writes: tg
                     .queries
                     .as_ref()

@@ -53,6 +53,45 @@ pub enum Main {
     },
 }
 
+/// A pipeline over a triangle list with the passes' depth test: its vertex entry and buffers,
+/// the faces it culls, and its fragment entry and colour targets (None: depth only).
+fn mesh_pipeline(
+    dev: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    (vs, buffers): (&str, &[Option<wgpu::VertexBufferLayout<'_>>]),
+    cull_mode: Option<wgpu::Face>,
+    fragment: Option<(&str, &[Option<wgpu::ColorTargetState>])>,
+) -> wgpu::RenderPipeline {
+    dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some(vs),
+            compilation_options: Default::default(),
+            buffers,
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            front_face: wgpu::FrontFace::Ccw,
+            cull_mode,
+            ..Default::default()
+        },
+        depth_stencil: depth_state(),
+        multisample: Default::default(),
+        fragment: fragment.map(|(fs, targets)| wgpu::FragmentState {
+            module,
+            entry_point: Some(fs),
+            compilation_options: Default::default(),
+            targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
 /// A variant's pipelines: the pass, the shadow-map pass (when the frame has a shadow map), and
 /// the method's layout (its bind groups are made with it).
 pub struct Variant {
@@ -196,7 +235,7 @@ impl Pipelines {
                 // (an adapter without the compute pipeline never binds it, and may lack
                 // storage buffers in vertex shaders)
                 entries: &{
-                    let vs = if ctx.caps.compute_pipeline {
+                    let vs = if ctx.caps.compute_pipeline() {
                         wgpu::ShaderStages::VERTEX
                     } else {
                         wgpu::ShaderStages::COMPUTE
@@ -215,7 +254,7 @@ impl Pipelines {
             }
             let compute_bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("pomkit compute surface"),
-                entries: if ctx.caps.compute_pipeline {
+                entries: if ctx.caps.compute_pipeline() {
                     &compute_entries
                 } else {
                     &compute_entries[..3]
@@ -358,36 +397,22 @@ impl Pipelines {
                 .collect();
             let main = match kind {
                 Kind::Compute => Main::Compute {
-                    visibility: dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                        label: Some("pomkit visibility"),
-                        layout: Some(&layout.visibility),
-                        vertex: wgpu::VertexState {
-                            module: &module,
-                            entry_point: Some("vs_visibility"),
-                            compilation_options: Default::default(),
-                            buffers: &[],
-                        },
-                        primitive: wgpu::PrimitiveState {
-                            topology: wgpu::PrimitiveTopology::TriangleList,
-                            front_face: wgpu::FrontFace::Ccw,
-                            cull_mode: Some(wgpu::Face::Back),
-                            ..Default::default()
-                        },
-                        depth_stencil: depth_state(),
-                        multisample: Default::default(),
-                        fragment: Some(wgpu::FragmentState {
-                            module: &module,
-                            entry_point: Some("fs_visibility"),
-                            compilation_options: Default::default(),
-                            targets: &[Some(wgpu::ColorTargetState {
+                    visibility: mesh_pipeline(
+                        dev,
+                        "pomkit visibility",
+                        &layout.visibility,
+                        &module,
+                        ("vs_visibility", &[]),
+                        Some(wgpu::Face::Back),
+                        Some((
+                            "fs_visibility",
+                            &[Some(wgpu::ColorTargetState {
                                 format: VISIBILITY_FORMAT,
                                 blend: None,
                                 write_mask: wgpu::ColorWrites::ALL,
                             })],
-                        }),
-                        multiview_mask: None,
-                        cache: None,
-                    }),
+                        )),
+                    ),
                     surface: dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                         label: Some("pomkit compute surface"),
                         layout: Some(&layout.compute),
@@ -397,65 +422,29 @@ impl Pipelines {
                         cache: None,
                     }),
                 },
-                Kind::Raster => {
-                    Main::Raster(dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                        label: Some("pomkit pass"),
-                        layout: Some(&layout.pipeline),
-                        vertex: wgpu::VertexState {
-                            module: &module,
-                            entry_point: Some(vs),
-                            compilation_options: Default::default(),
-                            buffers: &[Some(vertex_layout.clone())],
-                        },
-                        primitive: wgpu::PrimitiveState {
-                            topology: wgpu::PrimitiveTopology::TriangleList,
-                            front_face: wgpu::FrontFace::Ccw,
-                            cull_mode: Some(wgpu::Face::Back),
-                            ..Default::default()
-                        },
-                        depth_stencil: depth_state(),
-                        multisample: Default::default(),
-                        fragment: Some(wgpu::FragmentState {
-                            module: &module,
-                            entry_point: Some(fs),
-                            compilation_options: Default::default(),
-                            targets: &targets,
-                        }),
-                        multiview_mask: None,
-                        cache: None,
-                    }))
-                }
+                Kind::Raster => Main::Raster(mesh_pipeline(
+                    dev,
+                    "pomkit pass",
+                    &layout.pipeline,
+                    &module,
+                    (vs, &[Some(vertex_layout.clone())]),
+                    Some(wgpu::Face::Back),
+                    Some((fs, &targets)),
+                )),
             };
             let shadow = frame.shadow_map.then(|| {
-                dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some("pomkit shadow map"),
-                    layout: Some(&layout.pipeline),
-                    vertex: wgpu::VertexState {
-                        module: &module,
-                        entry_point: Some(shadow_vs),
-                        compilation_options: Default::default(),
-                        buffers: &[Some(vertex_layout)],
-                    },
-                    primitive: wgpu::PrimitiveState {
-                        topology: wgpu::PrimitiveTopology::TriangleList,
-                        // a mesh casts from both sides (an open mesh lit from behind), unless
-                        // its geometry says otherwise
-                        cull_mode:
-                            matches!(&spec.geometry, Geometry::Own(g) if g.shadow_cull_back())
-                                .then_some(wgpu::Face::Back),
-                        ..Default::default()
-                    },
-                    depth_stencil: depth_state(),
-                    multisample: Default::default(),
-                    fragment: shadow_fs.map(|fs| wgpu::FragmentState {
-                        module: &module,
-                        entry_point: Some(fs),
-                        compilation_options: Default::default(),
-                        targets: &[],
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                })
+                mesh_pipeline(
+                    dev,
+                    "pomkit shadow map",
+                    &layout.pipeline,
+                    &module,
+                    (shadow_vs, &[Some(vertex_layout)]),
+                    // a mesh casts from both sides (an open mesh lit from behind), unless its
+                    // geometry says otherwise
+                    matches!(&spec.geometry, Geometry::Own(g) if g.shadow_cull_back())
+                        .then_some(wgpu::Face::Back),
+                    shadow_fs.map(|fs| (fs, &[][..])),
+                )
             });
             Ok(Arc::new(Variant {
                 main,

@@ -56,7 +56,7 @@ impl Targets {
             })
         };
         let rb = wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST;
-        let compute = ctx.caps.compute_pipeline;
+        let compute = ctx.caps.compute_pipeline();
         let mut rt = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
         if compute {
             // the compute pipeline stores into the same targets
@@ -126,6 +126,19 @@ impl Targets {
                     buf("fragment counter read", size, rb),
                 )
             }),
+        }
+    }
+
+    /// The depth buffer of a frame's mesh pass (the raster pass, or the visibility pass): cleared
+    /// to the far plane, not kept.
+    pub fn depth_attachment(&self) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+        wgpu::RenderPassDepthStencilAttachment {
+            view: &self.depth_v,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(1.0),
+                store: wgpu::StoreOp::Discard,
+            }),
+            stencil_ops: None,
         }
     }
 
