@@ -5,7 +5,8 @@ visibility pass plus compute); the cost model fitted there; Flat and POM against
 and fetch bounds on the chips it knows; and a table written to docs/tables/gpu/<adapter>.md with
 its numbers as JSON beside it.
 
-It needs the installed pomkit wheel, numpy and scipy (the `bench` extra): no Rust toolchain. The rank correlation
+It needs the installed pomkit wheel, numpy and scipy (the `bench` extra) and the checkout's
+tools/ (the cost model's fitting, tools/costfit.py): no Rust toolchain. The rank correlation
 against llvmpipe reads docs/tables/gpu/llvmpipe*-vulkan.json (this script's output on llvmpipe's
 Vulkan), when there is one.
 
@@ -17,13 +18,16 @@ import argparse
 import json
 import re
 import subprocess
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
 import pomkit as pk
-from pomkit import bench
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
+import costfit  # noqa: E402
 
 SIZES = {"512²": (512, 512), "1920x1080": (1920, 1080)}
 
@@ -55,7 +59,7 @@ def measure(rounds: int) -> dict:
     is timed in the raster pipeline only), the counts from the raster pipeline."""
     raster = pk.Renderer(pipeline="raster")
     info = raster.info
-    scenes, methods = bench.cost_model_suite(256, quick=True)
+    scenes, methods = costfit.cost_model_suite(256, quick=True)
     out: dict = dict(adapter=f"{info['name']} ({info['backend']})", driver=info["driver"], commit=_commit(),
                      auto=info["auto_pipeline"], pipelines={})
     pipelines = {"raster": (raster, methods)}
@@ -66,8 +70,8 @@ def measure(rounds: int) -> dict:
         for size_name, wh in SIZES.items():
             t0 = time.perf_counter()
             sized = {k: _sized(v, wh) for k, v in scenes.items()}
-            rows = bench.cost_rows(r, sized, ms, min_repeats=2, max_repeats=rounds, counter=raster)
-            fits = {k: bench.fit_model(rows, t) for k, t in bench.COST_MODELS.items()}
+            rows = costfit.cost_rows(r, sized, ms, min_repeats=2, max_repeats=rounds, counter=raster)
+            fits = {k: costfit.fit_model(rows, t) for k, t in costfit.COST_MODELS.items()}
             per: dict[str, list[float]] = {}
             for row in rows:
                 per.setdefault(row["label"], []).append(row["gpu_ms"])

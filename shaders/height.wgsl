@@ -7,7 +7,7 @@
 #define_import_path pomkit::height
 
 #import pomkit::globals::{G, height_tex, height_samp, albedo_tex, albedo_samp, max0_tex, max_atlas}
-#import pomkit::frame::TangentFrame
+#import pomkit::basis::Basis
 #import pomkit::cost::fetched
 
 // x mod n in [0, n), also for negative x. Written with f32 floor: on lavapipe (Mesa 22.3)
@@ -18,7 +18,7 @@ fn wrap_i(x: i32, n: i32) -> i32 {
 }
 
 // The four texels around a point of a repeating grid, and the bilinear weights: the one
-// bilinear fetch of pomkit (height field, NCS frame maps, Exact's cells).
+// bilinear fetch of pomkit (height field, Exact's cells).
 struct Taps {
     xa: i32,
     xb: i32,
@@ -98,7 +98,7 @@ fn height_at(s: vec2<f32>, lod: f32) -> f32 {
 // Shading normal of the displaced surface, world space, from central differences of the
 // height field (one texel of the level in use). Shared by every method and by the tessellated
 // reference, so that a shading difference is a geometry difference.
-fn height_normal(f: TangentFrame, s: vec2<f32>, lod: f32) -> vec3<f32> {
+fn height_normal(f: Basis, s: vec2<f32>, lod: f32) -> vec3<f32> {
     let texel = exp2(max(floor(lod), 0.0)) / G.map_size;
     let hx = sample_height(s + vec2<f32>(texel.x, 0.0), lod) - sample_height(s - vec2<f32>(texel.x, 0.0), lod);
     let hy = sample_height(s + vec2<f32>(0.0, texel.y), lod) - sample_height(s - vec2<f32>(0.0, texel.y), lod);

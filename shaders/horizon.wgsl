@@ -6,14 +6,14 @@
 #define_import_path pomkit::horizon
 
 #import pomkit::globals::{G, PI}
-#import pomkit::frame::{TangentFrame, to_texture_space}
+#import pomkit::basis::{Basis, to_texture_space}
 #import pomkit::height::max_at
 #import pomkit::lights::LightSample
 #import pomkit::shadows::{ShadowResult, disk_occlusion}
 
 // tan of the horizon's elevation above the base tangent plane, along texture-space direction
 // `dir` (unit, in texel units), from the point (s, h).
-fn horizon_tan(f: TangentFrame, s: vec2<f32>, h: f32, dir: vec2<f32>) -> f32 {
+fn horizon_tan(f: Basis, s: vec2<f32>, h: f32, dir: vec2<f32>) -> f32 {
     let k_max = min(i32(G.horizon_samples), i32(G.top_max_level) + 1);
     // world length of one texel step along dir
     let texel_world = length(vec2<f32>(dir.x * f.scale.x / G.map_size.x, dir.y * f.scale.y / G.map_size.y)) / G.tiling;
@@ -31,7 +31,7 @@ fn horizon_tan(f: TangentFrame, s: vec2<f32>, h: f32, dir: vec2<f32>) -> f32 {
     return best;
 }
 
-fn horizon_shadow(f: TangentFrame, s: vec2<f32>, h: f32, ls: LightSample) -> ShadowResult {
+fn horizon_shadow(f: Basis, s: vec2<f32>, h: f32, ls: LightSample) -> ShadowResult {
     var r: ShadowResult;
     r.steps = G.horizon_samples;
     let l_ts = to_texture_space(f, ls.dir);
@@ -60,7 +60,7 @@ fn ign(px: vec2<f32>) -> f32 {
 
 // Ambient occlusion: the cosine-weighted visible fraction of the hemisphere over `n` directions;
 // in a slice whose horizon rises alpha above the tangent plane the visible fraction is cos^2(alpha).
-fn horizon_ao(f: TangentFrame, s: vec2<f32>, h: f32, px: vec2<f32>) -> vec2<f32> {
+fn horizon_ao(f: Basis, s: vec2<f32>, h: f32, px: vec2<f32>) -> vec2<f32> {
     let n = i32(G.ao_directions);
     if (n <= 0) {
         return vec2<f32>(1.0, 0.0);

@@ -6,7 +6,7 @@
 // The surface pass (surface.wgsl) builds the Ray, calls it, and shades the Hit: docs/custom_methods.md.
 #define_import_path pomkit::march
 
-#import pomkit::frame::TangentFrame
+#import pomkit::basis::Basis
 #import pomkit::height::height_at
 
 // The view ray at a rasterised fragment of the base mesh.
@@ -26,14 +26,14 @@ struct Ray {
     view: vec3<f32>,
     // the view direction in texture space per unit of world length (ds_u, ds_v, dh)
     v_ts: vec3<f32>,
-    // the base frame at the entry
-    f: TangentFrame,
+    // the base mesh's basis at the entry
+    f: Basis,
     // the method's per-vertex attribute at the entry (its geometry's, with VERTEX_EXTRA; else 0)
     extra: vec4<f32>,
 }
 
 // What a method returns. `planar_hit` fills every field from (s, h) for methods that march in
-// the entry's tangent frame.
+// the entry's tangent basis.
 struct Hit {
     // texture coordinate of the hit (tiled units) and its height in [0, 1]
     s: vec2<f32>,
@@ -46,13 +46,13 @@ struct Hit {
     lod: f32,
     // world length from the entry to the hit
     len: f32,
-    // the base frame at the hit (shading and shadows)
-    f: TangentFrame,
+    // the base mesh's basis at the hit (shading and shadows)
+    f: Basis,
     // the ray left the shell without a hit: nothing is drawn (a silhouette)
     exited: bool,
 }
 
-// A ray that does not descend into the shell in its fragment's frame (v_ts.z >= -GRAZING: on
+// A ray that does not descend into the shell in its fragment's basis (v_ts.z >= -GRAZING: on
 // a curved mesh, a silhouette fragment whose interpolated normal faces away from the view): no
 // walk can find the field along it (its slope, dsdh, is clamped to 1e6 texture units per
 // height), so the traversals (Exact, ConeStep) end at the entry, as Flat shows it, instead of

@@ -9,7 +9,7 @@
 #define_import_path pomkit::shading
 
 #import pomkit::globals::{G, V, PI, MAX_LIGHTS}
-#import pomkit::frame::TangentFrame
+#import pomkit::basis::Basis
 #import pomkit::height::albedo_at
 #import pomkit::lights::{LightSample, light_sample}
 #import pomkit::shadows::{ShadowResult, shadow_march, exact_shadow, exact_ao, shadow_map_visibility}
@@ -21,7 +21,7 @@
 // the scene's shadow map where it has one for this light (CAST_SHADOWS; Tessellated's own
 // shadows are that map). `p` and `n` are in world space; the self-shadow marches run in the
 // object's texture space, so the light's direction goes to object space first.
-fn light_visibility(f: TangentFrame, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, i: u32, ls: LightSample, lod: f32, self_shadows: bool, px: vec2<f32>) -> ShadowResult {
+fn light_visibility(f: Basis, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, i: u32, ls: LightSample, lod: f32, self_shadows: bool, px: vec2<f32>) -> ShadowResult {
     var r: ShadowResult;
     r.visibility = 1.0;
     r.steps = 0.0;
@@ -67,9 +67,9 @@ struct Shaded {
     steps: f32,
 }
 
-// `f` is the object-space tangent frame at the hit, `p` the world hit point, `n` the world
+// `f` is the object-space tangent basis at the hit, `p` the world hit point, `n` the world
 // shading normal.
-fn shade(f: TangentFrame, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, lod: f32, with_shadows: bool, px: vec2<f32>) -> Shaded {
+fn shade(f: Basis, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, lod: f32, with_shadows: bool, px: vec2<f32>) -> Shaded {
     var o: Shaded;
     o.steps = 0.0;
     let albedo = albedo_at(s, lod);

@@ -13,7 +13,7 @@
 #define_import_path pomkit::shadows
 
 #import pomkit::globals::{G, V, shadow_tex, shadow_samp, PI}
-#import pomkit::frame::{TangentFrame, to_texture_space}
+#import pomkit::basis::{Basis, to_texture_space}
 #import pomkit::height::{height_at, height_exact_level}
 #import pomkit::cost::fetched
 #import pomkit::lights::LightSample
@@ -32,7 +32,7 @@ fn disk_occlusion(x: f32) -> f32 {
     return 1.0 - (acos(c) - c * sqrt(max(1.0 - c * c, 0.0))) / PI;
 }
 
-fn shadow_march(f: TangentFrame, s: vec2<f32>, h_march: f32, ls: LightSample, lod: f32) -> ShadowResult {
+fn shadow_march(f: Basis, s: vec2<f32>, h_march: f32, ls: LightSample, lod: f32) -> ShadowResult {
     var r: ShadowResult;
     r.visibility = 1.0;
     r.steps = 0.0;
@@ -135,7 +135,7 @@ const EXACT_SHADOW_BIAS: f32 = 1e-6;
 // One exact ray from the surface at (s, h_march) along the object-space direction `dir`:
 // visibility 1 if it leaves the shell, 0 if the field blocks it (or it points below the base
 // plane, where the tiled field continues).
-fn exact_ray(f: TangentFrame, s: vec2<f32>, h_march: f32, dir: vec3<f32>) -> ShadowResult {
+fn exact_ray(f: Basis, s: vec2<f32>, h_march: f32, dir: vec3<f32>) -> ShadowResult {
     var r: ShadowResult;
     let l_ts = to_texture_space(f, dir);
     if (l_ts.z <= 1e-7) {
@@ -210,7 +210,7 @@ fn perpendiculars(v: vec3<f32>, pick_y: bool) -> mat2x3<f32> {
 // a disk (a directional light's angular diameter, a sphere light's apparent radius) is the
 // fraction of the reference's 64 directions over it that leave the shell, this sample tracing
 // its share (`sample_share`).
-fn exact_shadow(f: TangentFrame, s: vec2<f32>, h_march: f32, ls: LightSample, px: vec2<f32>) -> ShadowResult {
+fn exact_shadow(f: Basis, s: vec2<f32>, h_march: f32, ls: LightSample, px: vec2<f32>) -> ShadowResult {
     if (ls.tan_radius <= 0.0) {
         return exact_ray(f, s, h_march, ls.dir);
     }
@@ -234,7 +234,7 @@ fn exact_shadow(f: TangentFrame, s: vec2<f32>, h_march: f32, ls: LightSample, px
 // Exact ambient occlusion: the fraction of the reference's 64 cosine-weighted directions about
 // the world shading normal `n` (the disk lifted to the hemisphere) that leave the shell, this
 // sample tracing its share. (visibility, steps)
-fn exact_ao(f: TangentFrame, s: vec2<f32>, h_march: f32, n: vec3<f32>, px: vec2<f32>) -> vec2<f32> {
+fn exact_ao(f: Basis, s: vec2<f32>, h_march: f32, n: vec3<f32>, px: vec2<f32>) -> vec2<f32> {
     let e = perpendiculars(n, !(abs(n.x) < 0.9));
     let sh = sample_share(px);
     var open = 0.0;

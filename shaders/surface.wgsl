@@ -1,5 +1,5 @@
 // surface.wgsl: the mesh pass. It rasterises the base mesh (or, for Tessellated, the displaced
-// mesh), builds the view ray in the fragment's tangent frame, calls the method's
+// mesh), builds the view ray in the fragment's tangent basis, calls the method's
 // `method::march` (src/methods/*.wgsl or a user's pk.Custom; the composer imports it as
 // `method`), and shades the hit. One pipeline per method and shader-def combination.
 //
@@ -19,7 +19,7 @@
 #import pomkit::globals::{G, V}
 #import pomkit::vertex::{VertexIn, VertexOut, pass_through}
 #import pomkit::aov::{FsOut, Packed, pack_aovs, write_aovs}
-#import pomkit::frame::{TangentFrame, make_frame, to_texture_space}
+#import pomkit::basis::{Basis, make_basis, to_texture_space}
 #import pomkit::height::{height_normal, height_lod, compute_lod, footprint_lod}
 #import pomkit::march::{Ray, Hit}
 #import pomkit::shading::shade
@@ -41,8 +41,8 @@ fn vs_shadow(v: VertexIn) -> VertexOut {
     return pass_through(v, to_clip(v.position, V.shadow_vp));
 }
 
-// The ray of a fragment along `view` (object space, unit) in its tangent frame.
-fn make_ray(in: VertexOut, f: TangentFrame, s0: vec2<f32>, lod: f32, view: vec3<f32>, uv: vec2<f32>) -> Ray {
+// The ray of a fragment along `view` (object space, unit) in its tangent basis.
+fn make_ray(in: VertexOut, f: Basis, s0: vec2<f32>, lod: f32, view: vec3<f32>, uv: vec2<f32>) -> Ray {
     var r: Ray;
 #ifdef VERTEX_EXTRA
     r.extra = in.extra;
@@ -61,7 +61,7 @@ fn make_ray(in: VertexOut, f: TangentFrame, s0: vec2<f32>, lod: f32, view: vec3<
 #ifdef MARCH
 @fragment
 fn fs_shadow(in: VertexOut) -> @builtin(frag_depth) f32 {
-    let f = make_frame(in.normal, in.tangent, in.uv_scale);
+    let f = make_basis(in.normal, in.tangent, in.uv_scale);
     let s0 = in.uv * G.tiling;
     let lod = compute_lod(s0);
     let view = shadow_light_object();
@@ -98,10 +98,10 @@ struct Surfaced {
 fn surface(in: VertexOut, lod: f32) -> Surfaced {
     var out: Surfaced;
     out.hit = true;
-    let f = make_frame(in.normal, in.tangent, in.uv_scale);
+    let f = make_basis(in.normal, in.tangent, in.uv_scale);
     let tiling = G.tiling;
     let s0 = in.uv * tiling;
-    // the mesh, its frame and the march live in object space (`in.world` is the object-space
+    // the mesh, its basis and the march live in object space (`in.world` is the object-space
     // position); distances along the view ray scale to world space by `stretch`
     let to_p = in.world - G.eye_object;
     let base_dist = length(to_p);
@@ -125,7 +125,7 @@ fn surface(in: VertexOut, lod: f32) -> Surfaced {
     color = shade(f, s0, 1.0, p_base, normal_to_world(height_normal(f, s0, lod)), lod, false, px).color;
 #endif
 #ifdef TESSELLATED
-    // base frame, height-field normal at the rasterised uv, level 0: this is the true surface
+    // base mesh's basis, height-field normal at the rasterised uv, level 0: this is the true surface
     // (h = 0: the exact shadows start from the field's own height at s0)
     let sh = shade(f, s0, 0.0, p_base, normal_to_world(height_normal(f, s0, 0.0)), lod, true, px);
     color = sh.color;

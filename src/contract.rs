@@ -496,3 +496,23 @@ pub fn check_finite(name: &str, v: f32) -> Result<()> {
     }
     Ok(())
 }
+
+/// One method's unit: its parameter struct says what the renderer runs (`spec`) and checks what
+/// the core needs for safety (`validate`).
+pub trait Unit {
+    /// Whether the method takes the per-pixel options (shadows, filtering, AO): the Python
+    /// dataclass then derives from `_PerPixel`. Otherwise the options are `PerPixel::off()`.
+    const PER_PIXEL: bool = true;
+    /// Parameter sets whose shader variants the tests compose, translate and check
+    /// (`builtin_variants`): each once per shadow mode and filtering for a per-pixel method.
+    fn examples() -> Vec<Self>
+    where
+        Self: Sized,
+    {
+        Vec::new()
+    }
+    fn spec(&self, o: &PerPixel) -> Spec;
+    fn validate(&self) -> Result<()> {
+        Ok(())
+    }
+}

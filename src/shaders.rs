@@ -39,7 +39,7 @@ pub const LIBRARY: &[(&str, &str)] = &[
         include_str!("../shaders/max_tables.wgsl"),
     ),
     ("shaders/aov.wgsl", include_str!("../shaders/aov.wgsl")),
-    ("shaders/frame.wgsl", include_str!("../shaders/frame.wgsl")),
+    ("shaders/basis.wgsl", include_str!("../shaders/basis.wgsl")),
     (
         "shaders/height.wgsl",
         include_str!("../shaders/height.wgsl"),

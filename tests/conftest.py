@@ -13,8 +13,8 @@ if os.path.exists(_BLENDER):
 import pomkit as pk  # noqa: E402
 from hypothesis import settings  # noqa: E402
 # pomkit's pytest helpers are opt-in (a package's tests import its fixture, or run pytest with
-# -p pomkit.testing): this suite's tests use its `reference_frame` fixture
-from pomkit.testing import reference_frame  # noqa: E402,F401
+# -p pomkit.testing): this suite's tests use its `oracle_frame` and `reference_frame` fixtures
+from pomkit.testing import oracle_frame, reference_frame  # noqa: E402,F401
 
 # Hypothesis draws the same examples on every run (CI is repeatable); POMKIT_HYPOTHESIS_RANDOM=1
 # draws fresh ones, to search further (with POMKIT_DIFF_EXAMPLES / POMKIT_FUZZ_EXAMPLES for more)

@@ -58,3 +58,17 @@ def test_the_layout_names_every_source_file():
     for f in sorted((ROOT / "python" / "pomkit" / "apps").glob("*.py")):
         missing += [] if f.stem == "__init__" or _named(layout, f.stem) else [f"python/pomkit/apps/{f.name}"]
     assert not missing, f"README.md's Layout does not name: {', '.join(missing)}"
+
+
+def test_reference_pages_are_short():
+    """Every page of docs/ but the journals is a reference page, kept under 400 lines: what is,
+    not how it came to be (issue 67). Dated measurements and tries go to a journal, a file whose
+    name says so (docs/cost_journal_2026.md)."""
+    long = []
+    for f in sorted((ROOT / "docs").glob("*.md")):
+        if "journal" in f.name:
+            continue
+        n = len(f.read_text().splitlines())
+        if n >= 400:
+            long.append(f"docs/{f.name} ({n} lines)")
+    assert not long, f"reference pages of 400 lines or more: {', '.join(long)}"

@@ -40,7 +40,7 @@ def test_displaced_mesh_on_texel_centres_and_along_normals():
         else:
             # the sphere's base point is interpolated on a 16x8 polygon, so its radius < 1:
             # check the displacement along the (interpolated) normal instead, through the
-            # Tessellated base frame: the vertex lies depth*(1-h) inside the base surface
+            # Tessellated base mesh's basis: the vertex lies depth*(1-h) inside the base surface
             assert np.linalg.norm(v) < 1.0 and np.linalg.norm(v) > 1.0 - 0.1 * (1 - expect) - 0.05
         assert len(tm.vertex_normals) == len(tm.vertices)
 
@@ -218,13 +218,13 @@ def test_assert_close_reports_numbers_and_writes_a_diff(tmp_path, monkeypatch):
     assert (tmp_path / "demo_diff.png").exists()
 
 
-def test_reference_frame_fixture(reference_frame):
+def test_the_oracle_fixture_answers_and_the_reference_fixture_refuses_the_oracle(oracle_frame, reference_frame):
     scene = plane_scene(pk.textures.sine(16, 2), size=16)
-    hits = reference_frame(scene, kind="oracle_hits")
+    hits = oracle_frame(scene, kind="hits")
     assert hits.mask.any()
-    with pytest.warns(DeprecationWarning, match="oracle_hits"):
-        old = reference_frame(scene, kind="exact")
-    np.testing.assert_array_equal(old.uv, hits.uv)
+    np.testing.assert_array_equal(hits.uv, pk.oracle.hits(scene).uv)
+    with pytest.raises(pk.ArgumentError, match="oracle_frame"):
+        reference_frame(scene, kind="oracle_hits")
 
 
 def test_the_old_names_of_the_oracle_warn_and_answer_alike():

@@ -42,7 +42,7 @@ def test_deterministic_and_cached(tmp_path, monkeypatch):
     s = _plane(pk.textures.bricks(64), diameter=3.0, ambient=0.1, size=32)
     a = pk.oracle.image(s, spp=4)
     b = pk.oracle.image(s, spp=4, cache=False)
-    assert np.array_equal(a.color, b.color) and len(list(tmp_path.glob("exact-*.npz"))) == 1
+    assert np.array_equal(a.color, b.color) and len(list(tmp_path.glob("oracle_image-*.npz"))) == 1
 
 
 def test_occlusion_darkens_the_grooves_only(tmp_path, monkeypatch):

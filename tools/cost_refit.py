@@ -1,7 +1,7 @@
 """The cost model refitted with latency: the timings of `scripts/gpu_check.sh` (its JSON in
 docs/tables/gpu/) joined with the chain of dependent fetches (AOV `chain`, counted here: counts
-are the same on every adapter), and every model of `pomkit.bench.COST_MODELS` fitted to each
-adapter's timings, with its R² and its leave-one-method-out R² (`bench.loo_r2`).
+are the same on every adapter), and every model of `costfit.COST_MODELS` (tools/costfit.py)
+fitted to each adapter's timings, with its R² and its leave-one-method-out R² (`costfit.loo_r2`).
 
 A table's rows keep their own fetch, byte, fragment and quad counts (those of the code that was
 timed); only `chain` and `chain_group` are counted here, on the same scenes at the same sizes.
@@ -19,7 +19,9 @@ import numpy as np
 
 import pomkit as pk
 from pomkit import bench
-from pomkit._quads import group_total
+
+import costfit
+from quads import group_total
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
 from gpu_check import SIZES, _sized  # noqa: E402
@@ -28,7 +30,7 @@ from gpu_check import SIZES, _sized  # noqa: E402
 def chains() -> dict[tuple[str, str, str], tuple[float, float]]:
     """(size, scene, label) -> (chain, chain_group) over the quick cost suite."""
     r = pk.Renderer(pipeline="raster")
-    scenes, methods = bench.cost_model_suite(256, quick=True)
+    scenes, methods = costfit.cost_model_suite(256, quick=True)
     out = {}
     for size_name, wh in SIZES.items():
         for sname, sc in scenes.items():
@@ -64,9 +66,9 @@ def refit(tables: list[Path]) -> str:
                 for x in rows:
                     x["chain"], x["chain_group"] = ch.get((size_name, x["scene"], x["label"]), (np.nan, np.nan))
                 rows = [x for x in rows if np.isfinite(x["chain"])]
-                for name, terms in bench.COST_MODELS.items():
-                    fit = bench.fit_model(rows, terms)
-                    loo = bench.loo_r2(rows, terms)
+                for name, terms in costfit.COST_MODELS.items():
+                    fit = costfit.fit_model(rows, terms)
+                    loo = costfit.loo_r2(rows, terms)
                     lines.append(f"| {size_name} | {name} | {', '.join(terms)} | {fit['r2']:.3f} | {loo:.3f} | "
                                  f"{fit['med_rel_err']:.2f} |")
             lines.append("")

@@ -16,9 +16,10 @@ import numpy as np
 
 import pomkit as pk
 from pomkit.apps import pareto
-from pomkit.bench import ao_cost, cost_model, fit_cost, plane_scene, time_methods, write_csv
+from pomkit.bench import plane_scene, time_methods, write_csv
 
 import suite
+from costfit import ao_cost, cost_model, fit_cost
 
 
 def cone_build_cost(size: int = 512, repeats: int = 5) -> dict[str, Any]:

@@ -2,7 +2,7 @@
 """Large height maps with every method (issue 31): the first render's wall time (the map's
 upload, its pyramids and the method's own build included) and the process's peak host RSS
 (lavapipe keeps GPU memory in host RAM), each case in a fresh process so that nothing is shared,
-at 128² frames. Writes a Markdown table to stdout (docs/methods.md holds one).
+at 128² frames. Writes a Markdown table to stdout (docs/assets.md holds one).
 
     .venv/bin/python tools/large_maps.py [--sizes 4096 8192 16384] [--methods POM Exact ...]
 """

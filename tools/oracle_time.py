@@ -3,7 +3,7 @@
 frame, a 4096² bricks map at depth 0.06, the sphere and the torus (48 x 24) against the plane,
 for `pk.oracle.hits` and `pk.oracle.image(spp=spp)` (4 unless given; `render_exact`'s default
 is 16) unshadowed, with a sharp light and ambient occlusion, and with a 2° light and ambient
-occlusion. Best of `repeats` runs in one process, in turn; docs/methods.md ("The oracle on any
+occlusion. Best of `repeats` runs in one process, in turn; docs/oracle.md ("The oracle on any
 mesh") holds the table.
 
     .venv/bin/python tools/oracle_time.py [hits,img,sharp,disk] [repeats] [spp]

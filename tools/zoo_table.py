@@ -1,4 +1,4 @@
-"""The zoo's table (docs/methods.md, "On users' assets"): every curved method and the mesh on
+"""The zoo's table (docs/assets.md, "On users' assets"): every curved method and the mesh on
 each asset of tests/zoo.py, without shadows, against `render_mitsuba(spp=4, shadows=False)`, at the
 reference's spp.
 

@@ -129,7 +129,7 @@ def _measure_case(job: tuple) -> dict:
     from . import metrics
     from .bench import time_methods
     r = _renderer()
-    key = scene_hash(scene, kind="choose", method=repr(method), flip=want_flip, colour_ref="render_exact", rounds=rounds, adapter=f"{r.info['name']} {r.info['backend']} {r.info['driver']}")
+    key = scene_hash(scene, kind="choose", method=repr(method), flip=want_flip, colour_ref="oracle_image", rounds=rounds, adapter=f"{r.info['name']} {r.info['backend']} {r.info['driver']}")
 
     def compute() -> dict:
         ref, cref = _refs(scene, want_flip)

@@ -11,7 +11,7 @@ from ._scene import Scene
 
 __all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "COST_AOV_NAMES", "CONE_KINDS", "FILTERING_KINDS", "HeightData", "MAX_LIGHTS", "NORMALS_MODES", "PIPELINES",
            "MAX_STEPS_LIMIT", "MeshData", "PATTERN_KINDS", "PRISM_BYTES", "PRISM_VERTEX_BYTES", "REFINE_KINDS", "RenderedFrame", "Renderer", "SCHEMA", "SHADOW_KINDS", "WALK_BYTES_PER_TRIANGLE",
-           "__version__", "adapters", "bounding_sphere", "check_asset", "exact_uv", "light_power", "load_gltf", "jod", "jod_displays", "load_image", "mesh_cube", "mesh_cylinder", "mesh_from_arrays", "mesh_plane", "mesh_sphere", "mesh_torus", "reference_directions", "reference_normals", "render_exact", "set_cache_dir", "set_progress_hook", "shell_findings", "tessellate"]
+           "__version__", "adapters", "bounding_sphere", "check_asset", "oracle_hits", "oracle_image", "light_power", "load_gltf", "jod", "jod_displays", "load_image", "mesh_cube", "mesh_cylinder", "mesh_from_arrays", "mesh_plane", "mesh_sphere", "mesh_torus", "reference_directions", "reference_normals", "set_cache_dir", "set_progress_hook", "shell_findings", "tessellate"]
 __version__: str
 #: GPU bytes of one triangle's walk data (NCS and curved relief)
 WALK_BYTES_PER_TRIANGLE: int
@@ -144,14 +144,14 @@ class TessellationDict(TypedDict):
     normals: np.ndarray      # (n, 3) float32
     uvs: np.ndarray          # (n, 2) float32
     faces: np.ndarray        # (m, 3) uint32
-    base_normals: np.ndarray  # (n, 3) float32, the base frame each vertex was displaced from
+    base_normals: np.ndarray  # (n, 3) float32, the base mesh's basis each vertex was displaced from
     tangents: np.ndarray     # (n, 4) float32, w the bitangent's sign
     uv_scale: np.ndarray     # (n, 2) float32, mesh uv per unit length along the tangents
 
 
 @type_check_only
 class OracleDict(TypedDict):
-    """The CPU oracle's arrays (`exact_uv`)."""
+    """The CPU oracle's arrays (`oracle_hits`)."""
     uv: np.ndarray           # (H, W, 2) float64
     depth: np.ndarray        # (H, W) float64
     mask: np.ndarray         # (H, W) bool
@@ -161,8 +161,8 @@ class OracleDict(TypedDict):
 
 
 @type_check_only
-class ExactImageDict(OracleDict):
-    """`render_exact`'s colour and coverage, and the oracle's frame at the pixel centres."""
+class OracleImageDict(OracleDict):
+    """`oracle_image`'s colour and coverage, and the oracle's frame at the pixel centres."""
     color: np.ndarray        # (H, W, 3) float32
     coverage: np.ndarray     # (H, W) float32
 
@@ -198,10 +198,10 @@ class Renderer:
     def _destroy_device(self) -> None: ...
 
 def adapters() -> list[AdapterDict]: ...
-def exact_uv(scene: Scene, light_bias: float = 0.0) -> OracleDict: ...
+def oracle_hits(scene: Scene, light_bias: float = 0.0) -> OracleDict: ...
 def light_power(light: Any) -> tuple[float, float, float]: ...
 def bounding_sphere(scene: Scene) -> tuple[tuple[float, float, float], float]: ...
-def render_exact(scene: Scene, spp: int, shadows: bool = True) -> ExactImageDict: ...
+def oracle_image(scene: Scene, spp: int, shadows: bool = True) -> OracleImageDict: ...
 def reference_normals(scene: Scene, object: int, uvs: np.ndarray, base_normals: np.ndarray, tangents: np.ndarray,
                       uv_scale: np.ndarray) -> np.ndarray: ...
 def reference_directions(axes: np.ndarray, tan_r: np.ndarray, q: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]: ...

@@ -30,7 +30,7 @@ def require(module: str):
 def displaced_arrays(scene: Scene, resolution: float = 2.0, object: int = 0) -> dict:
     """positions, normals, uvs, faces of object `object`'s displaced surface in world space (its
     transform applied; normals by the inverse transpose); `resolution` vertices per texel. Also
-    the base frame each vertex was displaced from, in object space (base_normals, tangents,
+    the base mesh's basis each vertex was displaced from, in object space (base_normals, tangents,
     uv_scale: what `_core.reference_normals` takes)."""
     if not isinstance(scene, Scene):
         raise ArgumentTypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")

@@ -291,7 +291,7 @@ class ConeStep(_PerPixel):
     """Cone step mapping (Dummer 2006) over a cone map built on the GPU from the max-mip pyramid
     (base and w per cell in two R32Float textures: twice the map's float32 size), cached with the
     height map and rebuilt after `update_height`; a build over a second is kept on disk by content
-    (docs/methods.md, "Large maps").
+    (docs/assets.md, "Large maps").
 
     cones: "conservative" cones bound the bilinear field pomkit renders, not only its texel
     centres (Ban & Valasek 2024): no cone step crosses the surface. "relaxed" cones are wider

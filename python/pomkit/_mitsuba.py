@@ -3,7 +3,7 @@ several-object scenes): its variant, the displaced meshes as Mitsuba shapes, and
 
 - `cast_render`: Mitsuba as the ray caster. Every sample's hit is Mitsuba's intersection with the
   displaced mesh; the hit is shaded with the reference shading of docs/conventions.md (the
-  normal from `_core.reference_normals` at the hit's uv and base frame, Mitsuba's own albedo
+  normal from `_core.reference_normals` at the hit's uv and base mesh's basis, Mitsuba's own albedo
   lookup and its emitters' directions and irradiance), and the light and ambient directions are
   exactly render_exact's sets (`_core.reference_directions`), each traced with Mitsuba's
   `ray_test`. Deterministic.
@@ -65,7 +65,7 @@ def mitsuba_variant(variant: str | None = None) -> str:
 
 
 def _mi_mesh(mi, arrays: dict, bsdf, name: str = "displaced", object: int | None = None):
-    """A Mitsuba mesh of the displaced arrays; with `object`, also the base frame as vertex
+    """A Mitsuba mesh of the displaced arrays; with `object`, also the base mesh's basis as vertex
     attributes (`vertex_bn`, `vertex_tg`, `vertex_ts`: the tangent's sign and uv_scale) and the
     object's index (`vertex_object`) for `cast_render`."""
     props = mi.Properties()

@@ -40,7 +40,7 @@ NormalsMode = Literal["file", "recompute", "repair"]
 
 @dataclass(frozen=True, eq=False)
 class Mesh:
-    """A triangle mesh with per-vertex normals, uvs and tangent frames.
+    """A triangle mesh with per-vertex normals, uvs and tangent bases.
 
     Build one with `Mesh.plane`, `sphere`, `torus`, `cylinder`, `cube`, `from_arrays` or
     `from_trimesh`. Tangents are 4-vectors (xyz, w) as in glTF: the bitangent is
@@ -166,7 +166,7 @@ class Mesh:
         degenerate, fallback = out["degenerate_uv_triangles"], out["fallback_vertices"]
         if degenerate:
             warnings.warn(
-                f"{degenerate} triangle(s) have degenerate uvs; {fallback} vertex(es) got a fallback tangent frame",
+                f"{degenerate} triangle(s) have degenerate uvs; {fallback} vertex(es) got a fallback tangent basis",
                 RuntimeWarning,
                 stacklevel=2,
             )
@@ -323,7 +323,7 @@ class Object:
     """One object of a scene: a base mesh, its material and an object-to-world `transform`.
 
     transform: a 4x4 affine matrix (numpy array; it may rotate, translate and scale,
-    non-uniformly too), or None for the identity. The mesh, its normals and tangent frames and
+    non-uniformly too), or None for the identity. The mesh, its normals and tangent bases and
     the displacement live in object space: `material.depth` is in object units, along the
     object-space normal, and the displaced surface is the transform applied to it. Normals
     transform by the inverse transpose. `transform` reads back as a 4x4 array (the identity

@@ -28,7 +28,7 @@ def hits(scene: Scene, *, light_bias: float = 0.0) -> Frame:
     plane, a cube) takes the closed-form walk of each triangle's plane (extended under the hit,
     as the per-pixel methods take it); any other scene (curved meshes, atlases, several objects,
     transforms) the shell walk: the ray enters through the base mesh and walks prism to prism,
-    across seams, and out through open borders, exact to 1e-4 texel (docs/methods.md, "The
+    across seams, and out through open borders, exact to 1e-4 texel (docs/oracle.md, "The
     oracle on any mesh"). No mesh is built, so any map size works.
 
     Returns a Frame with float64 uv and depth, the mask, `object` (the index hit, -1 none),
@@ -41,7 +41,7 @@ def hits(scene: Scene, *, light_bias: float = 0.0) -> Frame:
     blocker grazes the ray within that tolerance."""
     if not isinstance(scene, Scene):
         raise ArgumentTypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
-    d = _core.exact_uv(scene, float(light_bias))
+    d = _core.oracle_hits(scene, float(light_bias))
     vis = d["visibility"].astype(np.float32)
     return Frame(uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["cells"], visibility=vis, object=d["object"],
                  method="oracle.hits")
@@ -72,16 +72,16 @@ def image(scene: Scene, spp: int = 16, shadows: bool = True, cache: bool = True)
     spp = _v.integer("spp", spp, 1, 256, strict=True)  # a square: the core's rule
     shadows = _v.boolean("shadows", shadows)
     # the hash reads every array of the scene: only when the cache is asked for
-    key = scene_hash(scene, kind="exact", spp=spp, shadows=shadows) if cache else ""
+    key = scene_hash(scene, kind="oracle_image", spp=spp, shadows=shadows) if cache else ""
 
     def compute():
         t0 = time.perf_counter()
-        d = _core.render_exact(scene, spp, bool(shadows))  # with the pixel centres' hits
+        d = _core.oracle_image(scene, spp, bool(shadows))  # with the pixel centres' hits
         return dict(color=d["color"], coverage=d["coverage"], uv=d["uv"].astype(np.float32),
                     depth=d["depth"].astype(np.float32), mask=d["mask"], visibility=d["visibility"].astype(np.float32),
                     object=d["object"], ms=np.array(1e3 * (time.perf_counter() - t0)))
 
-    a = cached("exact", key, compute, use_cache=cache)
+    a = cached("oracle_image", key, compute, use_cache=cache)
     arrays = {k: a[k] for k in ("color", "coverage", "uv", "depth", "mask", "visibility", "object")}
     return Frame(method=f"oracle.image spp={spp}{'' if shadows else ' unshadowed'} (took {float(a['ms']):.0f} ms)", wall_ms=float(a["ms"]), timing="wall",
                  noise_floor=0.0, **arrays)

@@ -75,7 +75,7 @@ def render_mitsuba(scene: Scene, spp: int | None = None, seed: int = 0, variant:
 
     - `integrator="cast"` (the default): Mitsuba as the ray caster, shaded with the reference
       shading of docs/conventions.md. Every sample's hit is Mitsuba's intersection with the
-      mesh; the normal is the definition's at the hit's uv and base frame; the albedo is
+      mesh; the normal is the definition's at the hit's uv and base mesh's basis; the albedo is
       Mitsuba's lookup of its bitmap; each light's direction and irradiance are its delta
       emitter's, spread over the light's disk by render_exact's 64 directions, and ambient
       occlusion traces render_exact's 64 cosine-weighted directions, each ray with Mitsuba's

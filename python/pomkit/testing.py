@@ -2,8 +2,8 @@
 `pytest_plugins = ["pomkit.testing"]` in your top-level conftest.py or `pytest -p pomkit.testing`
 (it is not registered on install, so that a pytest run that does not ask never imports pomkit).
 
-    def test_my_method(reference_frame):
-        ref = reference_frame(scene, kind="oracle_image", spp=16)   # noise-free, cached on disk
+    def test_my_method(oracle_frame):
+        ref = oracle_frame(scene, kind="image", spp=16)   # the oracle: noise-free, cached on disk
         frame = pk.Renderer().render(scene, pk.POM(), spp=16)
         pk.testing.assert_close(frame, ref, scene=scene, uv_p95=0.5, flip_interior=0.02)
 
@@ -26,7 +26,7 @@ import pytest
 from ._frame import Frame
 from ._scene import Scene
 
-__all__ = ["assert_close", "reference_frame"]
+__all__ = ["assert_close", "oracle_frame", "reference_frame"]
 
 
 def _diff_image(frame: Frame, ref: Frame, name: str) -> Path:
@@ -105,30 +105,43 @@ def assert_close(frame: Frame, ref: Frame, scene: Optional[Scene] = None, *, uv_
     return got
 
 
-_OLD_KINDS = {"render_exact": "oracle_image", "exact": "oracle_hits"}
+_ORACLE_KINDS = {"oracle_image": "image", "oracle_hits": "hits", "render_exact": "image", "exact": "hits"}
 
 
 def _reference(scene: Scene, kind: str = "mitsuba", **kw) -> Frame:
-    from . import oracle, reference
-    if kind in _OLD_KINDS:
-        import warnings
-        warnings.warn(f"reference_frame(kind={kind!r}) is now kind={_OLD_KINDS[kind]!r}; the old name goes in the next release",
-                      DeprecationWarning, stacklevel=2)
-        kind = _OLD_KINDS[kind]
+    from . import reference
+    if kind in _ORACLE_KINDS:
+        raise ArgumentError(f"kind: the oracle is not a reference; use the oracle_frame fixture: "
+                            f"oracle_frame(scene, kind={_ORACLE_KINDS[kind]!r})")
     if kind == "mitsuba":
         return reference.render_mitsuba(scene, **kw)
     if kind == "pyrender":
         return reference.render_pyrender(scene, **kw)
-    if kind == "oracle_image":
+    if kind == "cycles":
+        return reference.render_cycles(scene, **kw)
+    raise ArgumentError(f"kind: must be 'mitsuba', 'pyrender' or 'cycles', got {kind!r}")
+
+
+def _oracle(scene: Scene, kind: str = "image", **kw) -> Frame:
+    from . import oracle
+    if kind == "image":
         return oracle.image(scene, **kw)
-    if kind == "oracle_hits":
-        return oracle.hits(scene)
-    raise ArgumentError(f"kind: must be 'oracle_image', 'oracle_hits', 'mitsuba' or 'pyrender', got {kind!r}")
+    if kind == "hits":
+        return oracle.hits(scene, **kw)
+    raise ArgumentError(f"kind: must be 'image' or 'hits', got {kind!r}")
 
 
 @pytest.fixture
 def reference_frame():
-    """A function (scene, kind="mitsuba", **settings) -> Frame, cached on disk by scene hash:
-    "oracle_image" (`pk.oracle.image`, the noise-free colour reference), "oracle_hits"
-    (`pk.oracle.hits`: uv, depth, mask, visibility), "mitsuba" or "pyrender"."""
+    """A function (scene, kind="mitsuba", **settings) -> Frame, cached on disk by scene hash: an
+    independent renderer's frame, "mitsuba" (`pk.reference.render_mitsuba`), "pyrender" or
+    "cycles". The ground truth itself is the `oracle_frame` fixture."""
     return _reference
+
+
+@pytest.fixture
+def oracle_frame():
+    """A function (scene, kind="image", **settings) -> Frame: the float64 oracle, "image"
+    (`pk.oracle.image`, the noise-free colour, cached on disk by scene hash) or "hits"
+    (`pk.oracle.hits`: uv, depth, mask, object, visibility)."""
+    return _oracle

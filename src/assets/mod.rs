@@ -11,7 +11,7 @@ pub mod report;
 
 use crate::error::{Error, Result};
 use crate::mesh::normals::{self, NormalsMode};
-use crate::mesh::{Mesh, TangentFrames};
+use crate::mesh::{Mesh, TangentBases};
 use glam::DMat4;
 use std::path::Path;
 
@@ -226,9 +226,9 @@ fn read_mesh(
         }
     }
     let frames = if all_tangents {
-        TangentFrames::Given(tangents)
+        TangentBases::Given(tangents)
     } else {
-        TangentFrames::MikkTSpace
+        TangentBases::MikkTSpace
     };
     let (mesh, _) =
         Mesh::from_arrays_with(positions, normals, uvs, indices, frames).map_err(|e| match e {

@@ -24,14 +24,14 @@ pub struct AssetReport {
     /// charts whose uv map is mirrored (most of their triangles have handedness w = +1)
     pub mirrored_charts: usize,
     pub mirrored_triangles: usize,
-    /// triangles with zero uv area (no tangent frame of their own)
+    /// triangles with zero uv area (no tangent basis of their own)
     pub degenerate_uv_triangles: usize,
     /// triangles with zero area in space
     pub degenerate_triangles: usize,
     /// geometric edges whose sides carry other uvs
     pub seam_edges: usize,
     /// edges whose sides share their uvs but not their handedness (a mirror axis inside a chart
-    /// folded onto itself: the tangent frame flips there)
+    /// folded onto itself: the tangent basis flips there)
     pub mirror_edges: usize,
     /// mirror-axis edges whose two sides share a vertex (not only its position): one tangent
     /// serves both handednesses there, and the frame between the sides' corners collapses

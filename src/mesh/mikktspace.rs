@@ -87,10 +87,10 @@ mod tests {
     }
 
     /// u along +X, v along +Z: the tangent is +X and the bitangent w * cross(Y, X) = -w Z must
-    /// point along +Z: w = -1, as pomkit's own frames say. A mirrored chart (u reversed) flips
+    /// point along +Z: w = -1, as pomkit's own bases say. A mirrored chart (u reversed) flips
     /// both the tangent and w.
     #[test]
-    fn the_plane_s_frame_is_pomkit_s_and_a_mirror_flips_it() {
+    fn the_plane_s_basis_is_pomkit_s_and_a_mirror_flips_it() {
         for (uv, x, w) in [
             ([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]], 1.0, -1.0),
             ([[1.0, 0.0], [0.0, 0.0], [1.0, 1.0], [0.0, 1.0]], -1.0, 1.0),

@@ -1,4 +1,4 @@
-//! Base meshes and their tangent frames.
+//! Base meshes and their tangent bases.
 //!
 //! A tangent is a 4-vector (xyz, w) as in glTF: the bitangent is `w * cross(N, T)`, and it points
 //! along dP/dv. `uv_scale` holds the world length per unit of u and of v at each vertex
@@ -7,6 +7,7 @@
 
 pub mod mikktspace;
 pub mod normals;
+pub mod quadrics;
 pub mod topology;
 
 use crate::error::{Error, Result};
@@ -27,9 +28,9 @@ pub struct Mesh {
     pub charts: Vec<[u32; 3]>,
 }
 
-/// Where a mesh from arrays gets its tangent frames (the uv scales are always computed).
+/// Where a mesh from arrays gets its tangent bases (the uv scales are always computed).
 #[derive(Clone, Debug)]
-pub enum TangentFrames {
+pub enum TangentBases {
     /// the caller's tangents, in pomkit's handedness (bitangent `w * cross(N, T)` along +dP/dv)
     Given(Vec<[f32; 4]>),
     /// MikkTSpace, as glTF asks where a file has none (maps baked against it line up)
@@ -38,9 +39,9 @@ pub enum TangentFrames {
     Pomkit,
 }
 
-/// What `compute_frames` found: triangles whose uvs are degenerate get a fallback frame.
+/// What `compute_bases` found: triangles whose uvs are degenerate get a fallback basis.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct FrameReport {
+pub struct BasisReport {
     pub degenerate_uv_triangles: usize,
     pub fallback_vertices: usize,
 }
@@ -106,7 +107,7 @@ impl Vertex {
 }
 
 impl Mesh {
-    /// Vertex `i`'s position, normal and uv in float64 (the oracle and the frames' fitting).
+    /// Vertex `i`'s position, normal and uv in float64 (the oracle and the bases' fitting).
     pub fn position_f64(&self, i: u32) -> DVec3 {
         DVec3::from(self.positions[i as usize].map(f64::from))
     }
@@ -117,7 +118,7 @@ impl Mesh {
         DVec2::from(self.uvs[i as usize].map(f64::from))
     }
 
-    /// Build a mesh from arrays, validating them and computing the tangent frames (pomkit's)
+    /// Build a mesh from arrays, validating them and computing the tangent bases (pomkit's)
     /// and the uv scales when `tangents` is None.
     pub fn from_arrays(
         positions: Vec<[f32; 3]>,
@@ -125,19 +126,19 @@ impl Mesh {
         uvs: Vec<[f32; 2]>,
         indices: Vec<u32>,
         tangents: Option<Vec<[f32; 4]>>,
-    ) -> Result<(Self, FrameReport)> {
-        let frames = tangents.map_or(TangentFrames::Pomkit, TangentFrames::Given);
-        Self::from_arrays_with(positions, normals, uvs, indices, frames)
+    ) -> Result<(Self, BasisReport)> {
+        let bases = tangents.map_or(TangentBases::Pomkit, TangentBases::Given);
+        Self::from_arrays_with(positions, normals, uvs, indices, bases)
     }
 
-    /// Build a mesh from arrays, validating them, with the tangent frames `frames` says.
+    /// Build a mesh from arrays, validating them, with the tangent bases `bases` says.
     pub fn from_arrays_with(
         positions: Vec<[f32; 3]>,
         normals: Vec<[f32; 3]>,
         uvs: Vec<[f32; 2]>,
         indices: Vec<u32>,
-        frames: TangentFrames,
-    ) -> Result<(Self, FrameReport)> {
+        bases: TangentBases,
+    ) -> Result<(Self, BasisReport)> {
         let n = positions.len();
         if n == 0 {
             return Err(Error::arg("positions", "the mesh has no vertices"));
@@ -186,7 +187,7 @@ impl Mesh {
             &indices,
             "",
         )?;
-        if let TangentFrames::Given(t) = &frames {
+        if let TangentBases::Given(t) = &bases {
             if t.len() != n {
                 return Err(Error::arg(
                     "tangents",
@@ -206,11 +207,11 @@ impl Mesh {
         };
         // counter-clockwise seen from where the normals point: the pipeline culls back faces
         mesh.orient_outward();
-        let report = match frames {
-            TangentFrames::Given(t) => mesh.compute_frames(Some(t))?,
-            TangentFrames::Pomkit => mesh.compute_frames(None)?,
-            TangentFrames::MikkTSpace => {
-                let report = mesh.compute_frames(None)?;
+        let report = match bases {
+            TangentBases::Given(t) => mesh.compute_bases(Some(t))?,
+            TangentBases::Pomkit => mesh.compute_bases(None)?,
+            TangentBases::MikkTSpace => {
+                let report = mesh.compute_bases(None)?;
                 let mikk = mikktspace::mikktspace(
                     &mesh.positions,
                     &mesh.normals,
@@ -252,16 +253,16 @@ impl Mesh {
 
     /// Tangents (unless given) and uv scales from the per-triangle dP/du, dP/dv, accumulated
     /// per vertex weighted by triangle area. Triangles with degenerate uvs are skipped; vertices
-    /// they alone touch get a fallback frame. A mesh where every triangle is degenerate has no
+    /// they alone touch get a fallback basis. A mesh where every triangle is degenerate has no
     /// usable uvs and is an error.
-    pub fn compute_frames(&mut self, given: Option<Vec<[f32; 4]>>) -> Result<FrameReport> {
+    pub fn compute_bases(&mut self, given: Option<Vec<[f32; 4]>>) -> Result<BasisReport> {
         let n = self.positions.len();
         let mut t_acc = vec![DVec3::ZERO; n];
         let mut b_acc = vec![DVec3::ZERO; n];
         let mut su = vec![0.0f64; n];
         let mut sv = vec![0.0f64; n];
         let mut wsum = vec![0.0f64; n];
-        let mut report = FrameReport::default();
+        let mut report = BasisReport::default();
         let p = |i: u32| self.position_f64(i);
         let t = |i: u32| self.uv_f64(i);
         let mut all_scale = 0.0;
@@ -379,7 +380,7 @@ impl Mesh {
             }
         }
         m.orient_outward();
-        m.compute_frames(None).expect("generated meshes have uvs");
+        m.compute_bases(None).expect("generated meshes have uvs");
         m.charts = vec![[nu, nv, 0]];
         m
     }
@@ -497,7 +498,7 @@ impl Mesh {
             out.uvs.extend(f.uvs);
             out.indices.extend(f.indices.iter().map(|i| i + base));
         }
-        out.compute_frames(None)?;
+        out.compute_bases(None)?;
         Ok(out)
     }
 }

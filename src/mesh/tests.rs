@@ -1,7 +1,7 @@
 use super::*;
 
 #[test]
-fn plane_frame_points_along_u_and_v() {
+fn plane_basis_points_along_u_and_v() {
     let m = Mesh::plane(2.0, 1).unwrap();
     for i in 0..m.positions.len() {
         let t = m.tangents[i];

@@ -1,5 +1,5 @@
 //! Bump mapping (Blinn 1978): the shading normal from the height field, the uv unchanged.
-use super::{Filtering, Geometry, PerPixel, Spec, Unit};
+use crate::contract::{Filtering, Geometry, PerPixel, Spec, Unit};
 
 crate::params! {
     pub struct Bump {

@@ -1,7 +1,7 @@
 //! A method the user writes: a WGSL module defining `fn march(r: Ray) -> Hit`, run by the
 //! surface pass like the built-in marches (docs/custom_methods.md). Its named parameters become
 //! the uniform block `params` (all f32, in the given order).
-use super::{check_finite, PerPixel, ShaderUnit, Spec, Unit};
+use crate::contract::{check_finite, PerPixel, ShaderUnit, Spec, Unit};
 use crate::error::{Error, Result};
 use std::hash::{Hash, Hasher};
 
@@ -90,21 +90,20 @@ impl Unit for Custom {
 
 #[cfg(test)]
 mod tests {
+    use crate::contract::Unit;
+
     #[test]
     fn a_compile_error_names_the_argument_and_the_line() {
         let lib = crate::shaders::ShaderLib::new().unwrap();
-        let m = crate::methods::Method::Custom(
-            crate::methods::Custom {
-                name: "broken".into(),
-                wgsl: "#import pomkit::march::{Ray, Hit}\n\nfn march(r: Ray) -> Hit {\n    let x: f32 = undefined_thing;\n}\n".into(),
-                params: vec![],
-            },
-            crate::methods::PerPixel::off(),
-        );
+        let m = super::Custom {
+            name: "broken".into(),
+            wgsl: "#import pomkit::march::{Ray, Hit}\n\nfn march(r: Ray) -> Hit {\n    let x: f32 = undefined_thing;\n}\n".into(),
+            params: vec![],
+        };
         let e = lib
             .compose(
-                &m.spec(),
-                crate::methods::Filtering::Hardware,
+                &m.spec(&crate::contract::PerPixel::off()),
+                crate::contract::Filtering::Hardware,
                 Default::default(),
                 "wgsl",
             )

@@ -1,5 +1,5 @@
 //! Exact: the max-mip traversal (Tevs et al. 2008), exact.wgsl over maxmip.wgsl.
-use super::{check_range, PerPixel, Spec, Unit};
+use crate::contract::{check_range, PerPixel, Spec, Unit};
 use crate::error::Result;
 
 crate::params! {

@@ -1,5 +1,5 @@
 //! Flat: the texture at the rasterised uv, the base normal, no displacement.
-use super::{Geometry, PerPixel, Spec, Unit};
+use crate::contract::{Geometry, PerPixel, Spec, Unit};
 
 crate::params! {
     pub struct Flat {}

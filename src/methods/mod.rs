@@ -44,29 +44,9 @@ pub use walk::WALK_BYTES_PER_TRIANGLE;
 
 pub use crate::contract::{
     check_finite, check_range, flag, Fields, Filtering, FromFields, Geometry, Pass, PerPixel,
-    ShaderUnit, Shadows, Spec, MAX_STEPS_LIMIT,
+    ShaderUnit, Shadows, Spec, Unit, MAX_STEPS_LIMIT,
 };
 use crate::error::Result;
-
-/// One method's unit: its parameter struct says what the renderer runs (`spec`) and checks what
-/// the core needs for safety (`validate`).
-pub trait Unit {
-    /// Whether the method takes the per-pixel options (shadows, filtering, AO): the Python
-    /// dataclass then derives from `_PerPixel`. Otherwise the options are `PerPixel::off()`.
-    const PER_PIXEL: bool = true;
-    /// Parameter sets whose shader variants the tests compose, translate and check
-    /// (`builtin_variants`): each once per shadow mode and filtering for a per-pixel method.
-    fn examples() -> Vec<Self>
-    where
-        Self: Sized,
-    {
-        Vec::new()
-    }
-    fn spec(&self, o: &PerPixel) -> Spec;
-    fn validate(&self) -> Result<()> {
-        Ok(())
-    }
-}
 
 /// The registry: one line per method, `Variant(ParamStruct) = "python _kind"`. It generates the
 /// `Method` enum, its dispatch and its reading from `Fields` (the pyo3 layer's dataclasses).

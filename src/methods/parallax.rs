@@ -1,5 +1,5 @@
 //! Parallax mapping (Kaneko 2001) with optional offset limiting (Welsh 2004): parallax.wgsl.
-use super::{flag, PerPixel, Spec, Unit};
+use crate::contract::{flag, PerPixel, Spec, Unit};
 use crate::error::Result;
 
 crate::params! {
@@ -31,7 +31,7 @@ impl Unit for Parallax {
         )
     }
     fn validate(&self) -> Result<()> {
-        super::check_finite("scale", self.scale)?;
-        super::check_finite("bias", self.bias)
+        crate::contract::check_finite("scale", self.scale)?;
+        crate::contract::check_finite("bias", self.bias)
     }
 }

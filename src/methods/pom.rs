@@ -1,6 +1,6 @@
 //! Parallax occlusion mapping (Brawley & Tatarchuk 2004; Tatarchuk 2006): pom.wgsl, with the
 //! surface pass's LOD blend toward bump mapping.
-use super::{check_range, flag, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
+use crate::contract::{check_range, flag, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::error::Result;
 
 crate::params! {
@@ -40,6 +40,6 @@ impl Unit for Pom {
     fn validate(&self) -> Result<()> {
         check_range("min_steps", self.min_steps, 1, MAX_STEPS_LIMIT)?;
         check_range("max_steps", self.max_steps, 1, MAX_STEPS_LIMIT)?;
-        super::check_finite("lod_threshold", self.lod_threshold)
+        crate::contract::check_finite("lod_threshold", self.lod_threshold)
     }
 }

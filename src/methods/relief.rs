@@ -1,5 +1,5 @@
 //! Relief mapping (Policarpo, Oliveira & Comba 2005): relief.wgsl.
-use super::{check_range, flag, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
+use crate::contract::{check_range, flag, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::error::Result;
 
 crate::params! {

@@ -1,5 +1,5 @@
 //! Steep parallax mapping (McGuire & McGuire 2005): steep.wgsl.
-use super::{check_range, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
+use crate::contract::{check_range, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::error::Result;
 
 crate::params! {

@@ -7,9 +7,12 @@
 //! step (the max-mip traversal of the GPU's Exact, in float64). The answer is the cell walk's:
 //! a block is skipped only when no point of it can be at or above the ray.
 
-use super::MAX_CELLS;
+use super::rows::par_rows;
 use crate::scene::{floor, HeightMap};
 use glam::DVec2;
+
+/// Upper bound on cells walked per ray (a ray at 89.99 degrees over a 4k map stays below it).
+pub const MAX_CELLS: u32 = 4_000_000;
 
 /// The height field with its max pyramid: level k (k >= 1) holds, for each block of 2^k x 2^k
 /// cells of one period (blocks at the period's right and bottom edges may be narrower), the
@@ -36,7 +39,7 @@ impl<'a> Field<'a> {
         let (w1, h1) = (w.div_ceil(2), h.div_ceil(2));
         let wrap = |i: usize, n: usize| if i == n { 0 } else { i };
         // (with each block row, the lowest texel of its own texel rows 2by and 2by + 1)
-        let rows = super::par_rows(h1, |by| {
+        let rows = par_rows(h1, |by| {
             let mut out = vec![0f32; w1];
             for y in 2 * by..=(2 * by + 2).min(h) {
                 let row = &hm.data[wrap(y, h) * w..][..w];

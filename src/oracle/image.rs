@@ -16,9 +16,9 @@
 //! samples share the direction sets: sample q traces the directions d with d mod k² = q, so
 //! that each pixel averages every direction once however many samples it has.
 
-use super::{
-    disk_directions, oracle_hits, par_rows, perpendiculars, stratified_disk, Hit, OracleHits,
-    Tracer,
+use super::rows::{interrupted, par_rows};
+use super::trace::{
+    disk_directions, hits_of, perpendiculars, stratified_disk, Hit, OracleHits, Tracer,
 };
 use crate::error::{Error, Result};
 use crate::scene::{Albedo, Light, Scene};
@@ -29,12 +29,12 @@ pub const DIRECTIONS: usize = 64;
 
 /// The exact image: per pixel, colour (RGB) and coverage from the samples.
 #[derive(Clone, Debug)]
-pub struct ExactImage {
+pub struct OracleImage {
     pub width: u32,
     pub height: u32,
     pub color: Vec<f32>,
     pub coverage: Vec<f32>,
-    /// the oracle's frame at the pixel centres (`exact_hits` at light bias 0)
+    /// the oracle's frame at the pixel centres (`hits` at light bias 0)
     pub centres: OracleHits,
 }
 
@@ -78,7 +78,7 @@ fn share(set: &[DVec3], q: usize, n: usize) -> impl Iterator<Item = &DVec3> {
 /// over the disk of angular radius atan(tan_r) about the unit `axis` (a light), with `tan_r` = 0
 /// the axis alone (a point or a sharp light), and with `tan_r` < 0 its share of the 64
 /// cosine-weighted directions about the unit normal `axis` (ambient). Exactly the sets and the
-/// sharing of `render_exact`.
+/// sharing of `render`.
 pub fn sample_directions(axis: DVec3, tan_r: f64, q: usize, n: usize) -> Vec<DVec3> {
     if tan_r < 0.0 {
         let (t, b) = perpendiculars(axis, axis.x.abs() >= 0.9);
@@ -94,10 +94,28 @@ pub fn sample_directions(axis: DVec3, tan_r: f64, q: usize, n: usize) -> Vec<DVe
     }
 }
 
+/// `sample_directions` for many samples: sample i about `axes[i]` with `tan_r[i]`, its share
+/// as sample `q[i]` of `n`. Every direction, and the sample each belongs to.
+pub fn sample_directions_of(
+    axes: &[[f64; 3]],
+    tan_r: &[f64],
+    q: &[u32],
+    n: usize,
+) -> (Vec<DVec3>, Vec<u32>) {
+    let (mut dirs, mut owner) = (Vec::new(), Vec::new());
+    for i in 0..axes.len() {
+        for d in sample_directions(DVec3::from(axes[i]), tan_r[i], q[i] as usize, n) {
+            dirs.push(d);
+            owner.push(i as u32);
+        }
+    }
+    (dirs, owner)
+}
+
 /// The exact image of a scene at `spp` samples per pixel (a square, 1 to 256).
 /// `shadows` false leaves out the light and ambient rays (every light fully visible, ao = 1):
 /// the colour of the displacement alone, for methods measured without shadows.
-pub fn render_exact(scene: &Scene, spp: u32, shadows: bool) -> Result<ExactImage> {
+pub fn render(scene: &Scene, spp: u32, shadows: bool) -> Result<OracleImage> {
     let k = (spp as f64).sqrt().round() as u32;
     if spp == 0 || k * k != spp || k > 16 {
         return Err(Error::arg(
@@ -105,12 +123,12 @@ pub fn render_exact(scene: &Scene, spp: u32, shadows: bool) -> Result<ExactImage
             format!("must be a square number of samples per pixel from 1 to 256, got {spp}"),
         ));
     }
-    let out = image(scene, &super::exact(scene)?, k, shadows);
-    super::interrupted()?;
+    let out = image(scene, &super::tracer(scene)?, k, shadows);
+    interrupted()?;
     Ok(out)
 }
 
-fn image<T: Tracer>(scene: &Scene, oracle: &T, k: u32, shadows: bool) -> ExactImage {
+fn image<T: Tracer>(scene: &Scene, oracle: &T, k: u32, shadows: bool) -> OracleImage {
     let cam = &scene.camera;
     let (w, h) = (cam.width, cam.height);
     let mut fine = cam.clone();
@@ -166,12 +184,12 @@ fn image<T: Tracer>(scene: &Scene, oracle: &T, k: u32, shadows: bool) -> ExactIm
         color.extend([c.x as f32, c.y as f32, c.z as f32]);
         coverage.push(cov);
     }
-    ExactImage {
+    OracleImage {
         width: w,
         height: h,
         color,
         coverage,
-        centres: oracle_hits(scene, oracle, 0.0),
+        centres: hits_of(scene, oracle, 0.0),
     }
 }
 

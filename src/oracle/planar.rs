@@ -4,7 +4,7 @@
 //! closed form checks it inside a plane's border, where both must agree.
 
 use super::field::{light_ray_free, march_height_field, Field};
-use super::{Hit, Tracer};
+use super::trace::{Hit, Tracer};
 use crate::error::{Error, Result};
 use crate::scene::Scene;
 use glam::{DMat3, DVec2, DVec3};
@@ -24,8 +24,8 @@ pub(crate) struct Tri {
 }
 
 /// A planar scene's one object, ready for exact rays: its triangles' affine frames and its
-/// material. Shared by the oracle's frame (`exact_hits`) and the exact image
-/// (`oracle::image::render_exact`).
+/// material. Shared by the oracle's frame (`hits`) and the exact image
+/// (`oracle::image::render`).
 pub(crate) struct Oracle<'a> {
     pub(crate) tris: Vec<Tri>,
     pub(crate) mat: &'a crate::scene::Material,

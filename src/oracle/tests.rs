@@ -1,5 +1,6 @@
 use super::*;
 use crate::scene::HeightMap;
+use glam::DVec2;
 
 #[test]
 fn constant_height_analytic() {

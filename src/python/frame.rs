@@ -1,7 +1,7 @@
 //! Frames across the boundary: the core's Frame as numpy arrays by AOV name (moved, not
 //! copied), following the AOV table; the AOVs the frame does not hold are None.
 
-use super::nd_array;
+use super::arrays::nd_array;
 use crate::render::aovs::{AovData, AOVS};
 use crate::render::{Aovs, Frame};
 use pyo3::prelude::*;

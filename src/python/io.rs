@@ -1,6 +1,6 @@
 //! Image files across the boundary: the core decodes them (`imageio.rs`), this returns arrays.
 
-use super::nd_array;
+use super::arrays::nd_array;
 use crate::imageio::{load_albedo, load_height, Pixels};
 use pyo3::prelude::*;
 use std::path::PathBuf;

@@ -3,6 +3,7 @@
 //! (`frame.rs`), the oracle (`oracle_arrays.rs`), assets (`assets.rs`), image files (`io.rs`), long builds (`build_hooks.rs`)
 //! and errors (`errors.rs`); this file holds the module's init and one array helper.
 
+mod arrays;
 mod assets;
 mod build_hooks;
 mod errors;
@@ -17,21 +18,8 @@ mod renderer;
 mod scene_args;
 
 use handles::{PyAlbedoData, PyHeightData, PyMeshData};
-use numpy::ndarray::Array;
-use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-
-/// A numpy array of `shape` that takes ownership of `v` (no copy).
-pub(crate) fn nd_array<'py, T: numpy::Element, D: numpy::ndarray::Dimension>(
-    py: Python<'py>,
-    shape: impl numpy::ndarray::IntoDimension<Dim = D>,
-    v: Vec<T>,
-) -> PyResult<Bound<'py, PyAny>> {
-    let a = Array::from_shape_vec(shape, v)
-        .map_err(|e| crate::python::errors::argument_error(e.to_string()))?;
-    Ok(a.into_pyarray(py).into_any())
-}
 
 /// The scene's schema classes (src/scene/schema.rs) as Python builds them: class name ->
 /// (doc, [(field, kind, default literal or None, lo, hi, doc)]).
@@ -99,8 +87,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyHeightData>()?;
     m.add_class::<PyAlbedoData>()?;
     m.add_function(wrap_pyfunction!(renderer::adapters, m)?)?;
-    m.add_function(wrap_pyfunction!(oracle_arrays::exact_uv, m)?)?;
-    m.add_function(wrap_pyfunction!(oracle_arrays::render_exact, m)?)?;
+    m.add_function(wrap_pyfunction!(oracle_arrays::oracle_hits, m)?)?;
+    m.add_function(wrap_pyfunction!(oracle_arrays::oracle_image, m)?)?;
     m.add_function(wrap_pyfunction!(oracle_arrays::reference_normals, m)?)?;
     m.add_function(wrap_pyfunction!(oracle_arrays::reference_directions, m)?)?;
     m.add_function(wrap_pyfunction!(scene_args::mesh_from_arrays, m)?)?;

@@ -1,11 +1,10 @@
-//! The CPU oracle across the boundary: its frame (`exact_uv`) and the exact image
-//! (`render_exact`), as dicts of numpy arrays.
+//! The CPU oracle across the boundary: its frame (`oracle_hits`) and its image
+//! (`oracle_image`), as dicts of numpy arrays; the reference shading's normals and sample
+//! directions for `pk.reference`.
 
-use super::nd_array;
+use super::arrays::nd_array;
 use super::scene_args::scene_from_py;
 use crate::error::Error;
-use crate::oracle::exact_hits;
-use glam::{DVec2, DVec3};
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -14,13 +13,13 @@ use pyo3::types::PyDict;
 /// first directional light's visibility (H, W) f64.
 #[pyfunction]
 #[pyo3(signature = (scene, light_bias=0.0))]
-pub fn exact_uv<'py>(
+pub fn oracle_hits<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyAny>,
     light_bias: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene_from_py(scene)?;
-    let o = super::errors::interruptible(py, move || exact_hits(&scene, light_bias))?;
+    let o = super::errors::interruptible(py, move || crate::oracle::hits(&scene, light_bias))?;
     let d = PyDict::new(py);
     hits_into(&d, o)?;
     Ok(d)
@@ -39,12 +38,12 @@ fn hits_into(d: &Bound<'_, PyDict>, o: crate::oracle::OracleHits) -> PyResult<()
     Ok(())
 }
 
-/// The exact image (`oracle/image.rs`): dict with color (H, W, 3) f32 and coverage (H, W) f32
+/// The oracle's image (`oracle/image.rs`): dict with color (H, W, 3) f32 and coverage (H, W) f32
 /// from k x k exact samples per pixel shaded with the reference shading, and the oracle's frame
-/// at the pixel centres (as `exact_uv` at light bias 0: uv, depth, mask, cells, visibility).
+/// at the pixel centres (as `oracle_hits` at light bias 0: uv, depth, mask, cells, visibility).
 #[pyfunction]
 #[pyo3(signature = (scene, spp, shadows=true))]
-pub fn render_exact<'py>(
+pub fn oracle_image<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyAny>,
     spp: u32,
@@ -52,7 +51,7 @@ pub fn render_exact<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene_from_py(scene)?;
     let o = super::errors::interruptible(py, move || {
-        crate::oracle::image::render_exact(&scene, spp, shadows)
+        crate::oracle::image::render(&scene, spp, shadows)
     })?;
     let (h, w) = (o.height as usize, o.width as usize);
     let d = PyDict::new(py);
@@ -81,7 +80,7 @@ fn columns<const N: usize>(
 }
 
 /// The reference shading normal (docs/conventions.md) at hits found by a ray cast on object
-/// `object`'s displaced mesh: uvs (N, 2) mesh uv, and the base frame interpolated at each hit
+/// `object`'s displaced mesh: uvs (N, 2) mesh uv, and the base mesh's basis interpolated at each hit
 /// from `tessellate`'s base_normals (N, 3), tangents (N, 4) and uv_scale (N, 2). (N, 3) f64.
 #[pyfunction]
 #[pyo3(signature = (scene, object, uvs, base_normals, tangents, uv_scale))]
@@ -105,31 +104,14 @@ pub fn reference_normals<'py>(
         columns::<4>(&tangents, "tangents", n)?,
         columns::<2>(&uv_scale, "uv_scale", n)?,
     );
-    let mat = &obj.material;
-    let out = py.detach(|| {
-        let tiling = mat.tiling as f64;
-        let mut out = Vec::with_capacity(n * 3);
-        for i in 0..n {
-            let nb = DVec3::from(bn[i]).normalize_or_zero();
-            let t = DVec3::new(tg[i][0], tg[i][1], tg[i][2]);
-            let (nb, t, bt) = crate::methods::tessellated::tessellate::base_frame(nb, t, tg[i][3]);
-            let s = DVec2::from(uv[i]) * tiling;
-            let sn = crate::methods::tessellated::tessellate::displaced_normal(
-                mat,
-                s,
-                nb,
-                t,
-                bt,
-                DVec2::from(sc[i]),
-            );
-            out.extend(sn.to_array());
-        }
-        out
+    let normals = py.detach(|| {
+        crate::oracle::shading::shading_normals(&obj.material, &uv, &bn, &tg, &sc)
     });
+    let out: Vec<f64> = normals.iter().flat_map(|v| v.to_array()).collect();
     nd_array(py, (n, 3), out)
 }
 
-/// The directions each sample traces (`oracle::image::sample_directions`): for sample i, about
+/// The directions each sample traces (`oracle::image::sample_directions_of`): for sample i, about
 /// the unit axes[i] with tan_r[i] (> 0 a light's disk, 0 the axis alone, < 0 the cosine set about
 /// a normal), its share as sample q[i] of n. Returns (directions (M, 3) f64, owner (M,) u32).
 #[pyfunction]
@@ -154,20 +136,9 @@ pub fn reference_directions<'py>(
     }
     let (tr, qs): (Vec<f64>, Vec<u32>) = (tr.to_vec(), qs.to_vec());
     let (dirs, owner) = py.detach(|| {
-        let (mut dirs, mut owner) = (Vec::new(), Vec::new());
-        for i in 0..rows {
-            for d in crate::oracle::image::sample_directions(
-                DVec3::from(ax[i]),
-                tr[i],
-                qs[i] as usize,
-                n as usize,
-            ) {
-                dirs.extend(d.to_array());
-                owner.push(i as u32);
-            }
-        }
-        (dirs, owner)
+        crate::oracle::image::sample_directions_of(&ax, &tr, &qs, n as usize)
     });
+    let dirs: Vec<f64> = dirs.iter().flat_map(|v| v.to_array()).collect();
     let m = owner.len();
     Ok((nd_array(py, (m, 3), dirs)?, nd_array(py, m, owner)?))
 }

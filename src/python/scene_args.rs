@@ -4,9 +4,9 @@
 
 use super::fields::{attr, read};
 use super::handles::{rows, PyMeshData};
-use super::nd_array;
+use super::arrays::nd_array;
 use crate::error::Error;
-use crate::mesh::{Mesh, TangentFrames};
+use crate::mesh::{Mesh, TangentBases};
 use crate::scene::{
     Camera, DirectionalLight, Light, Material, Object, Scene, Shared, SphereLight, Transform,
 };
@@ -33,7 +33,7 @@ pub(crate) fn mesh_out<'py>(py: Python<'py>, m: &Mesh) -> PyResult<Bound<'py, Py
     Ok(d)
 }
 
-/// Validate mesh arrays and compute the tangent frames: the given `tangents`, or else `frames`
+/// Validate mesh arrays and compute the tangent bases: the given `tangents`, or else `frames`
 /// ("pomkit" or "mikktspace"). Returns the mesh's arrays by name (`mesh_out`) and the repairs
 /// made: degenerate_uv_triangles, fallback_vertices, replaced_normals (as `normals_mode` asked:
 /// "file", "recompute" or "repair", `mesh::normals`).
@@ -60,14 +60,14 @@ pub fn mesh_from_arrays<'py>(
         .map(|t| rows::<4>(t, "tangents"))
         .transpose()?;
     let frames = match (t, frames) {
-        (Some(t), _) => TangentFrames::Given(t),
-        (None, "pomkit") => TangentFrames::Pomkit,
-        (None, "mikktspace") => TangentFrames::MikkTSpace,
+        (Some(t), _) => TangentBases::Given(t),
+        (None, "pomkit") => TangentBases::Pomkit,
+        (None, "mikktspace") => TangentBases::MikkTSpace,
         (None, o) => {
             return Err(Error::arg(
                 "tangents",
                 format!(
-                "unknown tangent frames {o:?}: give \"mikktspace\", \"pomkit\" or an (n, 4) array"
+                "unknown tangent bases {o:?}: give \"mikktspace\", \"pomkit\" or an (n, 4) array"
             ),
             )
             .into())
@@ -217,7 +217,7 @@ pub fn bounding_sphere(scene: &Bound<'_, PyAny>) -> PyResult<([f64; 3], f64)> {
 }
 
 /// The displaced surface of object `object` of `scene` as arrays (positions, shading normals,
-/// uvs, faces, and the base frame each vertex was displaced from: base_normals, tangents,
+/// uvs, faces, and the base mesh's basis each vertex was displaced from: base_normals, tangents,
 /// uv_scale) in object space, with `texels_per_vertex` lattice spacing, each lattice quad cut by
 /// `pattern` ("fan" or "grid").
 #[pyfunction]

@@ -27,7 +27,7 @@ pub mod uniforms;
 
 pub use crate::heightmap::top_maxmip_level;
 pub use supersample::SPP_TILE_SAMPLES;
-pub use targets::{Aovs, Frame};
+pub use targets::{Aovs, Frame, DEPTH_FORMAT};
 
 use crate::contract::{BuildInputs, Builders, Filtering, GpuMesh, Resident, Spec};
 use crate::error::{Error, Result};
@@ -37,11 +37,9 @@ use crate::methods::Method;
 use crate::scene::{HeightMap, Keyed, Scene};
 use crate::shaders::SceneDefs;
 use pipelines::{Kind, Pipelines};
-use resources::Resources;
+use resources::{Draw, Resources};
 use std::sync::{Arc, Mutex};
 use targets::Targets;
-
-pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// "auto" draws in compute where the probe's compute time is below this fraction of its raster
 /// time (the raster pipeline, the reference, keeps a tie).
@@ -836,14 +834,6 @@ impl Renderer {
 pub struct FrameBinds {
     pub view: wgpu::BindGroup,
     pub shadow: Option<wgpu::BindGroup>,
-}
-
-/// One object's draw in a frame: its mesh, its object bind group (group 1) and its method bind
-/// group (group 2).
-pub struct Draw {
-    pub mesh: Arc<GpuMesh>,
-    pub object: wgpu::BindGroup,
-    pub method: wgpu::BindGroup,
 }
 
 /// A submitted frame: its targets, its submission and when it was submitted.

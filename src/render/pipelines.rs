@@ -4,7 +4,7 @@
 //! pipeline per composed shader variant, keyed on the composed shader defs themselves.
 
 use super::aovs::TARGETS;
-use super::DEPTH_FORMAT;
+use super::targets::{DEPTH_FORMAT, VISIBILITY_FORMAT};
 use crate::contract::{Filtering, Geometry, Pass, ResourceKind, Spec};
 use crate::error::{Error, Result};
 use crate::gpu::{layout, Context};
@@ -100,8 +100,6 @@ pub struct Variant {
     pub method: Arc<MethodLayout>,
 }
 
-/// The visibility target's format: the nearest triangle's index + 1, 0 where none.
-pub const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 
 pub struct Pipelines {
     pub lib: ShaderLib,

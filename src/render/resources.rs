@@ -209,3 +209,11 @@ mod tests {
         assert_eq!(f16_bits(1e-7), 0x0002);
     }
 }
+
+/// One object's draw in a frame: its mesh, its object bind group (group 1) and its method bind
+/// group (group 2).
+pub struct Draw {
+    pub mesh: std::sync::Arc<crate::contract::GpuMesh>,
+    pub object: wgpu::BindGroup,
+    pub method: wgpu::BindGroup,
+}

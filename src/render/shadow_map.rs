@@ -1,7 +1,8 @@
 //! The shadow map: the scene's displaced surfaces' depth seen from the first directional light
 //! (orthographic, fitted to the scene's bounding sphere), rendered before the surface pass.
 
-use super::DEPTH_FORMAT;
+use super::resources::Draw;
+use super::targets::DEPTH_FORMAT;
 use crate::contract::Spec;
 use crate::scene::{Light, Scene};
 use glam::DVec3;
@@ -91,7 +92,7 @@ pub fn encode(
     target: &wgpu::TextureView,
     pipeline: &wgpu::RenderPipeline,
     view_bind: &wgpu::BindGroup,
-    draws: &[super::Draw],
+    draws: &[Draw],
 ) {
     let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("shadow map"),

@@ -3,10 +3,15 @@
 //! cannot render to Rgba32Float): colour + steps|flags, uv + distance + lod, the object id, and
 //! the cost counters (aovs::TARGETS).
 
-use super::DEPTH_FORMAT;
 use crate::gpu::Context;
 
 use super::aovs::Texels;
+
+/// The depth target's format, in every pass that tests depth.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// The visibility target's format: the nearest triangle's index + 1, 0 where none.
+pub const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 pub use super::aovs::{Aovs, Frame, TARGETS};
 
 /// One render target and its readback buffer.
@@ -23,7 +28,7 @@ pub struct Targets {
     /// aligned with `TARGETS`
     pub targets: Vec<Target>,
     pub depth_v: wgpu::TextureView,
-    /// the compute pipeline's visibility target (pipelines::VISIBILITY_FORMAT), where the
+    /// the compute pipeline's visibility target (VISIBILITY_FORMAT), where the
     /// adapter has that pipeline
     pub visibility: Option<wgpu::TextureView>,
     pub queries: Option<wgpu::QuerySet>,
@@ -93,7 +98,7 @@ impl Targets {
                 ctx.texture_2d(
                     "visibility",
                     (w, h),
-                    super::pipelines::VISIBILITY_FORMAT,
+                    VISIBILITY_FORMAT,
                     wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
                 )
                 .create_view(&Default::default())

@@ -4,7 +4,7 @@
 use pomkit::gpu;
 use pomkit::mesh::Mesh;
 use pomkit::methods::{Flat, Method, PerPixel, Pom};
-use pomkit::oracle::exact_hits;
+use pomkit::oracle::hits;
 use pomkit::render::Renderer;
 use pomkit::scene::{shared, Camera, DirectionalLight, HeightMap, Light, Material, Scene};
 use pomkit::Error;
@@ -64,7 +64,7 @@ fn pom_matches_the_oracle_on_a_constant_height() {
         PerPixel::off(),
     );
     let f = r.render(&s, &m).unwrap();
-    let o = exact_hits(&s, 0.0).unwrap();
+    let o = hits(&s, 0.0).unwrap();
     let mut n = 0;
     let (mask, uv) = (f.mask(), f.f32s("uv"));
     for i in 0..(64 * 64) {

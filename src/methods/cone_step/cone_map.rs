@@ -2,13 +2,20 @@
 //! f32 per cell of the bilinear field, in two R32Float textures of the map's size (8 bytes a
 //! cell: 2x the map's float32 level 0). See the shader for the bound.
 
-use super::Cones;
 use crate::contract::{BuildInputs, Composer};
 use crate::error::Result;
 use crate::gpu::texels::{read_r32, write_r32};
 use crate::gpu::{Context, TableOut, TablePass, TableTarget};
 use crate::heightmap::{max_offset_table, top_maxmip_level};
 use crate::progress;
+
+crate::option_enum!(
+    /// Which cones: conservative against the bilinear field, or relaxed (wider, refined).
+    Cones, "cones", {
+        Conservative = "conservative",
+        Relaxed = "relaxed",
+    }
+);
 
 pub const CONE_MAP_SHADER: &str = include_str!("cone_map.wgsl");
 

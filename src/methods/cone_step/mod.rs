@@ -3,21 +3,13 @@
 //! on the GPU from the max-mip pyramid (cone_map.rs, cone_map.wgsl) and binds as its own resource.
 mod cone_map;
 
-use super::{check_range, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
+use crate::contract::{check_range, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::contract::{BuildInputs, MethodResources, Resident, ResourceKind};
 use crate::error::Result;
 use crate::scene::{hash_bytes, Object};
 use std::sync::Arc;
 
-pub use cone_map::{read_cone_map, CONE_MAP_SHADER};
-
-crate::option_enum!(
-    /// Which cones: conservative against the bilinear field, or relaxed (wider, refined).
-    Cones, "cones", {
-        Conservative = "conservative",
-        Relaxed = "relaxed",
-    }
-);
+pub use cone_map::{read_cone_map, Cones, CONE_MAP_SHADER};
 
 crate::option_enum!(
     /// How the march ends: the max-mip walk with the exact patch intersection from where the

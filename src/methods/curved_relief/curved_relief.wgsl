@@ -1,6 +1,6 @@
 // Curved relief mapping (Oliveira & Policarpo 2005): relief mapping whose reference surface is
 // not the tangent plane but the quadric that approximates the base mesh around the fragment,
-// z = a x² + b y² in its frame (a, b per vertex, fitted on the CPU, interpolated: Ray::extra).
+// z = a x² + b y² in its basis (a, b per vertex, fitted on the CPU, interpolated: Ray::extra).
 // Along the view ray the base surface falls away by q t² (q = a vx² + b vy²), so the ray's depth
 // below the curved base at world distance t is d(t) = q t² + c t (c = -V.N): the search runs in
 // [0, t_end], t_end where d reaches the shell's depth (the floor) or, where the surface curves
@@ -11,7 +11,7 @@
 // walks out through an open border has left the surface (discarded). A fragment whose
 // interpolated normal faces away from the viewer, or whose ray leaves through the top far from
 // grazing (FALLBACK_NDV), keeps the base mesh's point (flags & 4): never less than the base mesh.
-// The hit is shaded in the mesh's frame at the hit.
+// The hit is shaded in the mesh's basis at the hit.
 #define_import_path pomkit::methods::curved_relief
 
 #import pomkit::globals::G
@@ -19,7 +19,7 @@
 #import pomkit::aov::{FLAG_FALLBACK, FALLBACK_NDV}
 #import pomkit::height::height_at
 #import pomkit::cost::chained
-#import pomkit::walk::{walk_point, walk_move, walk_frame, walk_start}
+#import pomkit::walk::{walk_point, walk_move, walk_basis, walk_start}
 
 // the ray's height in the shell (1 at the curved base, 0 at the floor) at world distance t
 fn ray_h(q: f32, c: f32, depth: f32, t: f32) -> f32 {
@@ -126,6 +126,6 @@ fn march(r: Ray) -> Hit {
     hit.h = clamp(ray_h(q, c, depth, t_hi), 0.0, 1.0);
     hit.len = t_hi;
     hit.steps = steps;
-    hit.f = walk_frame(hi);
+    hit.f = walk_basis(hi);
     return hit;
 }

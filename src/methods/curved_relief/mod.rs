@@ -1,17 +1,13 @@
 //! Curved relief mapping (Oliveira & Policarpo 2005), one of the two baselines of Chen & Chang
 //! 2008 (the NCS paper): curved_relief.wgsl, on the base mesh with per-vertex quadric
-//! coefficients (quadrics.rs) as the method's own vertex attribute (VERTEX_EXTRA), its search
+//! coefficients (src/mesh/quadrics.rs) as the method's own vertex attribute (VERTEX_EXTRA), its search
 //! walking across the mesh's triangles (src/methods/walk): across seams into the neighbouring
 //! chart, and off the surface at open borders.
-mod quadrics;
-
 use super::walk::{walk_data, walk_unit, WalkMesh};
-use super::{check_range, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
+use crate::contract::{check_range, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::contract::Geometry;
 use crate::error::Result;
 use std::sync::Arc;
-
-pub use quadrics::fit as fit_quadrics;
 
 crate::params! {
     pub struct CurvedRelief {

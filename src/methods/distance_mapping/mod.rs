@@ -5,7 +5,7 @@
 //! height update (a new key) builds it anew.
 mod volume;
 
-use super::{check_range, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
+use crate::contract::{check_range, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::contract::{BuildInputs, MethodResources, Resident, ResourceKind};
 use crate::error::{Error, Result};
 use crate::scene::{hash_bytes, Object};

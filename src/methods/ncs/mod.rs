@@ -1,9 +1,9 @@
 //! Normal-based curved silhouettes (Chen & Chang 2008): ncs.wgsl, marching in texture space across
-//! the base mesh's triangles (the walk, src/methods/walk): the frame at each step is the mesh's
+//! the base mesh's triangles (the walk, src/methods/walk): the basis at each step is the mesh's
 //! own there, and seams, mirror axes and open borders are followed as the mesh defines them.
 
 use super::walk::{walk_data, walk_unit, WalkMesh};
-use super::{check_range, Geometry, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
+use crate::contract::{check_range, Geometry, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::error::{Error, Result};
 use std::sync::Arc;
 
@@ -33,7 +33,7 @@ impl Unit for Ncs {
             &[
                 ("step_scale", self.step_scale),
                 ("max_steps", self.max_steps as f32),
-                ("adaptive", super::flag(self.adaptive)),
+                ("adaptive", crate::contract::flag(self.adaptive)),
             ],
         );
         let mesh = WalkMesh { quadrics: false };

@@ -1,14 +1,14 @@
 // NCS: normal-based curved silhouettes (Chen & Chang 2008, Algorithm 2). The view ray is
 // marched from the rasterised point in texture space (u, v, h), and at every step the local
-// frame is the base mesh's at the ray's point, so the ray follows the curved base surface: P_{i+1} = P_i + c * delta * S * TBN * V with delta = depth / max_steps (world
+// basis is the base mesh's at the ray's point, so the ray follows the curved base surface: P_{i+1} = P_i + c * delta * S * TBN * V with delta = depth / max_steps (world
 // length) and c = step_scale. Leaving the shell through its top discards the pixel (that makes
 // the silhouette); falling below the height field refines between the last two steps; still
 // inside after max_steps is an early termination (flags & 2; the paper's fig. 7 shows them red).
 //
 // On any mesh: the march walks across the base mesh's triangles (walk.wgsl), so that a ray
 // crossing a seam continues in the neighbouring chart, one crossing a mirror axis reflects, and
-// the frame at each step is the one the mesh interpolates there (the paper's frame maps at full
-// resolution; a texture-space map cannot hold two frames where mirrored charts share texels).
+// the basis at each step is the one the mesh interpolates there (the paper's basis maps at full
+// resolution; a texture-space map cannot hold two bases where mirrored charts share texels).
 // A ray that walks out through an open border has left the displaced surface: the pixel is
 // discarded, as the reference mesh ends there. A ray that rises out through the top on its first
 // step (the interpolated normal faces away from the viewer on a front face) or where the view is
@@ -20,12 +20,12 @@
 #import pomkit::globals::G
 #import pomkit::cost::chained
 #import pomkit::aov::{FLAG_EARLY, FLAG_FALLBACK, FALLBACK_NDV}
-#import pomkit::frame::{TangentFrame, make_frame}
+#import pomkit::basis::{Basis, make_basis}
 #import pomkit::height::height_at
 #import pomkit::march::{Ray, Hit, pom_sample_count}
-#import pomkit::walk::{walk_point, walk_move, walk_frame, walk_start}
+#import pomkit::walk::{walk_point, walk_move, walk_basis, walk_start}
 
-fn ncs_hit(r: Ray, uv: vec2<f32>, h: f32, len: f32, steps: f32, flags: u32, f: TangentFrame) -> Hit {
+fn ncs_hit(r: Ray, uv: vec2<f32>, h: f32, len: f32, steps: f32, flags: u32, f: Basis) -> Hit {
     var hit: Hit;
     hit.s = uv * G.tiling;
     hit.h = h;
@@ -54,8 +54,8 @@ fn ncs_step_length(ndv_in: f32, n: f32, dl0: f32) -> f32 {
     return dl0;
 }
 
-// One step along the view in the frame f, in (u, v, h), and its world length.
-fn frame_step(f: TangentFrame, view: vec3<f32>, n: f32, dl0: f32, inv_depth: f32) -> vec4<f32> {
+// One step along the view in the basis f, in (u, v, h), and its world length.
+fn basis_step(f: Basis, view: vec3<f32>, n: f32, dl0: f32, inv_depth: f32) -> vec4<f32> {
     let dl = ncs_step_length(-dot(view, f.n), n, dl0);
     return vec4<f32>(vec3<f32>(dot(view, f.t) / f.scale.x, dot(view, f.b) / f.scale.y, dot(view, f.n) * inv_depth) * dl, dl);
 }
@@ -76,8 +76,8 @@ fn march(r: Ray) -> Hit {
         return ncs_hit(r, p.uv, h, 0.0, steps, 0u, r.f);
     }
     let inv_depth = 1.0 / max(G.depth, 1e-12);
-    // the first step goes along the rasterised frame
-    var st = frame_step(r.f, view, n, dl0, inv_depth);
+    // the first step goes along the rasterised basis
+    var st = basis_step(r.f, view, n, dl0, inv_depth);
     // the point the ray falls below the height field at (the crossing between it and the last
     // point above is taken after the loop)
     var h1 = h;
@@ -88,7 +88,7 @@ fn march(r: Ray) -> Hit {
     let uv0 = p.uv;
     let ni = i32(n);
     for (var i = 0; i < ni; i = i + 1) {
-        // each step bends along the frame the last step read
+        // each step bends along the basis the last step read
         chained();
         let w = walk_move(p.tri, p.uv, st.xy, 1.0);
         h1 = h + st.z;
@@ -109,7 +109,7 @@ fn march(r: Ray) -> Hit {
         h = h1;
         len = len + st.w;
         d = d1;
-        st = frame_step(walk_frame(p), view, n, dl0, inv_depth);
+        st = basis_step(walk_basis(p), view, n, dl0, inv_depth);
     }
     if (lost) {
         // the stated fallback: the base mesh's point at the fragment (never worse than the base)
@@ -128,5 +128,5 @@ fn march(r: Ray) -> Hit {
         h = mix(h, h1, t);
         len = len + st.w * t;
     }
-    return ncs_hit(r, p.uv, h, len, steps, flags, walk_frame(p));
+    return ncs_hit(r, p.uv, h, len, steps, flags, walk_basis(p));
 }

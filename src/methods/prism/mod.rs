@@ -9,7 +9,7 @@ pub const PRISM_BYTES: usize = prisms::TEXELS_PER_PRISM as usize * 16;
 /// GPU bytes of one vertex of the shell's boundary faces.
 pub const PRISM_VERTEX_BYTES: usize = std::mem::size_of::<prisms::PrismVertex>();
 
-use super::{check_range, Geometry, Pass, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
+use crate::contract::{check_range, Geometry, Pass, PerPixel, Spec, Unit, MAX_STEPS_LIMIT};
 use crate::contract::{GeometryData, GpuMesh, MethodGeometry, Resident, ResourceKind};
 use crate::error::{Error, Result};
 use crate::gpu::Context;

@@ -17,8 +17,8 @@
 // the height in the field's units (0 on the bottom; on the top, each corner's top height: 1 on
 // the paper's full shell, the highest height beside the corner's edge on the tight shell,
 // prisms.rs). The boundary triangles interpolate it linearly from their corners; uv, the tangent
-// frame and the height interpolate linearly in it, so the march between entry and exit is linear
-// in texture space, as in the paper. The frame at the hit is interpolated from the triangle's
+// basis and the height interpolate linearly in it, so the march between entry and exit is linear
+// in texture space, as in the paper. The basis at the hit is interpolated from the triangle's
 // corners.
 //
 // The method's own pass (a top-level shader, not a `march` module): its geometry is the prisms
@@ -31,7 +31,7 @@
 #import pomkit::globals::{G, V}
 #import pomkit::vertex::{VertexIn, VertexOut, pass_through}
 #import pomkit::aov::{FsOut, write_aovs, pack_aovs, FLAG_BOUND}
-#import pomkit::frame::{TangentFrame, make_frame}
+#import pomkit::basis::{Basis, make_basis}
 #import pomkit::height::{height_at, height_normal, height_lod, compute_lod}
 #import pomkit::march::{Segment, linear_search_from, refine_linear, pom_sample_count}
 #import pomkit::maxmip::{maxmip_traverse, positive_start}
@@ -53,7 +53,7 @@ const MAX_PRISMS: u32 = 64u;
 //   2's top height (unorm16, bits 16-31), 2.w corners 0 and 1's top heights (unorm16 x 2),
 //   3.w-5.w the prism across side k (f32, -1: the shell's boundary). A span reads these six.
 //   6: uv0, uv1; 7: uv2 (f32 bits): a candidate's segment reads these two.
-//   8-10: corner k's frame: normal and tangent (octahedral snorm16), uv scale (f32 bits; corner
+//   8-10: corner k's basis: normal and tangent (octahedral snorm16), uv scale (f32 bits; corner
 //   0's x carries the tangent's handedness in its sign bit): the hit's three texels (nine when
 //   they were rgba32float; a fetch costs lavapipe about the same whatever the format).
 // A texture, not a storage buffer: on lavapipe a storage read at an index that differs across
@@ -116,7 +116,7 @@ const EDGE_MARGIN: f32 = 1e-5;
 // inside. There the rasteriser (exact, fixed point) and the interpolated position (float) can
 // disagree: a pixel the rasteriser gives this face can lie just outside it, the ray from there
 // misses the fragment's prism, its span finds no entry, and the pixel was a pinhole (about one a
-// frame on smooth content, both shells). Elsewhere the point is the fragment's own.
+// basis on smooth content, both shells). Elsewhere the point is the fragment's own.
 fn walk_origin(in: VertexOut) -> vec3<f32> {
     let b = in.corner;
     let m = min(b.x, min(b.y, b.z));
@@ -310,7 +310,7 @@ fn prism_uv2(p: u32, b0: vec2<f32>, b1: vec2<f32>) -> array<vec2<f32>, 2> {
     return array<vec2<f32>, 2>(q6.xy * w0.x + q6.zw * w0.y + u2 * w0.z, q6.xy * w1.x + q6.zw * w1.y + u2 * w1.z);
 }
 
-fn prism_frame(p: u32, b: vec2<f32>) -> TangentFrame {
+fn prism_basis(p: u32, b: vec2<f32>) -> Basis {
     let w = bary(b);
     let f0 = prism_word(p, 8u);
     let f1 = prism_word(p, 9u);
@@ -319,18 +319,18 @@ fn prism_frame(p: u32, b: vec2<f32>) -> TangentFrame {
     let t = oct_decode(f0.y) * w.x + oct_decode(f1.y) * w.y + oct_decode(f2.y) * w.z;
     let sc = abs(bitcast<vec2<f32>>(f0.zw)) * w.x + abs(bitcast<vec2<f32>>(f1.zw)) * w.y
         + abs(bitcast<vec2<f32>>(f2.zw)) * w.z;
-    return make_frame(n, vec4<f32>(t, select(1.0, -1.0, (f0.z >> 31u) != 0u)), sc);
+    return make_basis(n, vec4<f32>(t, select(1.0, -1.0, (f0.z >> 31u) != 0u)), sc);
 }
 
 // The walk of a ray from `o` (a point of prism `first`'s boundary) along `view` (object space,
-// unit): whether it hits, the hit's distance from `o`, its texture point, height and frame, the
+// unit): whether it hits, the hit's distance from `o`, its texture point, height and basis, the
 // level sampled, the steps taken (samples, plus one per prism crossed) and the flags.
 struct PrismHit {
     ok: bool,
     t: f32,
     s: vec2<f32>,
     h: f32,
-    f: TangentFrame,
+    f: Basis,
     hl: f32,
     steps: f32,
     flags: u32,
@@ -485,7 +485,7 @@ fn prism_walk(face_prism: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> Prism
             }
         }
         if (hit >= 0.0) {
-            // the frame is interpolated after the loop, once (see below)
+            // the basis is interpolated after the loop, once (see below)
             st_hit = mix(st_in, st_out, hit).xy;
             out.ok = true;
             out.t = mix(t_in, t_out, hit);
@@ -499,9 +499,9 @@ fn prism_walk(face_prism: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> Prism
     }
     out.steps = steps;
     if (out.ok) {
-        // the hit's frame, outside the loop: inside it, a SIMD group would interpolate it at
+        // the hit's basis, outside the loop: inside it, a SIMD group would interpolate it at
         // every prism where one of its lanes hits
-        out.f = prism_frame(p, st_hit);
+        out.f = prism_basis(p, st_hit);
     } else if (bound) {
         out.flags = FLAG_BOUND;
     }

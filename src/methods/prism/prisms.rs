@@ -44,7 +44,7 @@ impl PrismVertex {
 }
 
 /// Per prism, for the fragment shader's walk: the six corners (top 0..3, bottom 0..3), the base
-/// triangle's uvs (zw: uv_scale), normals and tangents (the frame at a hit is interpolated from
+/// triangle's uvs (zw: uv_scale), normals and tangents (the basis at a hit is interpolated from
 /// them), `info`: the highest (x) and lowest (y) height under the triangle's uv box
 /// (`height_range_under`), and `adj`: the prism
 /// across side k (corners k, k+1) or `NONE` where the side is the shell's boundary; `adj[3]`
@@ -91,10 +91,10 @@ pub fn oct_encode(v: DVec3) -> u32 {
 /// and corner 2's top height (`lift[2]`, unorm16 in bits 16-31), top[2].w corners 0 and 1's
 /// (unorm16 x 2, `unpack2x16unorm`), bottom[k].w the prism across side k (f32, -1 for `NONE`;
 /// exact below 2^24 prisms). 6: uv0, uv1; 7: uv2 (a candidate's
-/// segment reads these two). 8-10, corner k's frame, the hit's three texels: its normal and
+/// segment reads these two). 8-10, corner k's basis, the hit's three texels: its normal and
 /// tangent (`oct_encode`) and its uv scale (f32 bits; corner 0's x carries the tangent's
 /// handedness in its sign, a scale being positive). On lavapipe a texel fetch costs about the
-/// same whatever its format (docs/cost_journal_2026.md), so the frame is packed into as few as it fits.
+/// same whatever its format (docs/cost_journal_2026.md), so the basis is packed into as few as it fits.
 pub const TEXELS_PER_PRISM: u32 = 11;
 
 /// The per-prism data as a texture, and its size: a power-of-two number of prisms a row (the

@@ -56,7 +56,7 @@ fn the_prism_texture_holds_every_prism_where_the_shader_looks() {
                 b[3] = adj(d.adj[k]);
                 b
             });
-            // the frame: the normal and the tangent within an octahedral code's rounding
+            // the basis: the normal and the tangent within an octahedral code's rounding
             let back = |c: u32, v: [f32; 4]| {
                 let o = oct_decode(c);
                 (0..3).all(|i| (o[i] - v[i]).abs() < 5e-5)

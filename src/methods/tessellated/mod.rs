@@ -2,10 +2,11 @@
 //! surface pass and shaded the same way; shadows from a shadow map of itself. Its geometry is
 //! its own: the tessellation of the displaced surface (tessellate.rs; meshes from arrays in
 //! welded.rs), built on the CPU.
+mod samples;
 pub mod tessellate;
 mod welded;
 
-use super::{Geometry, PerPixel, Shadows, Spec, Unit};
+use crate::contract::{Geometry, PerPixel, Shadows, Spec, Unit};
 use crate::contract::{GpuMesh, MethodGeometry};
 use crate::error::{Error, Result};
 use crate::gpu::Context;
@@ -14,7 +15,7 @@ use crate::scene::{hash_bytes, Object};
 use std::sync::Arc;
 pub use tessellate::Pattern;
 
-/// The displaced mesh on a lattice `texels_per_vertex` texels apart, with the base frame per
+/// The displaced mesh on a lattice `texels_per_vertex` texels apart, with the base mesh's basis per
 /// vertex (Tessellated shades with the height field's normal).
 #[derive(Debug)]
 pub struct DisplacedMesh {

@@ -18,8 +18,11 @@
 
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;
+use crate::oracle::shading::{basis, displaced_normal};
 use crate::scene::Material;
-use glam::{DVec2, DVec3};
+pub use super::samples::Tessellation;
+use super::samples::{lerp_vertex, v3, BaseSample};
+use glam::DVec2;
 
 crate::option_enum!(
     /// How the displaced mesh cuts each quad of its lattice: four triangles about a centre vertex
@@ -31,56 +34,8 @@ crate::option_enum!(
     }
 );
 
-/// The displaced surface plus, per vertex, the base frame it was displaced from (for the
-/// tessellated GPU reference, which shades with the base frame like the per-pixel methods).
-#[derive(Clone, Debug, Default)]
-pub struct Tessellation {
-    pub positions: Vec<[f32; 3]>,
-    /// shading normals of the displaced surface, from the height field's central differences
-    pub normals: Vec<[f32; 3]>,
-    pub uvs: Vec<[f32; 2]>,
-    pub indices: Vec<u32>,
-    pub base_normals: Vec<[f32; 3]>,
-    pub tangents: Vec<[f32; 4]>,
-    pub uv_scale: Vec<[f32; 2]>,
-}
-
 /// At most this many vertices (a 4096^2 map at k = 2 is 67M: refuse rather than exhaust memory).
 pub const MAX_VERTICES: usize = 40_000_000;
-
-#[derive(Clone, Copy)]
-pub(super) struct BaseSample {
-    p: DVec3,
-    n: DVec3,
-    t: DVec3,
-    w: f64,
-    scale: DVec2,
-}
-
-pub(super) fn v3(a: [f32; 3]) -> DVec3 {
-    DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)
-}
-
-pub(super) fn lerp_vertex(m: &Mesh, ws: [(usize, f64); 3]) -> BaseSample {
-    let mut p = DVec3::ZERO;
-    let mut n = DVec3::ZERO;
-    let mut t = DVec3::ZERO;
-    let mut s = DVec2::ZERO;
-    for (i, w) in ws {
-        p += v3(m.positions[i]) * w;
-        n += v3(m.normals[i]) * w;
-        let tg = m.tangents[i];
-        t += DVec3::new(tg[0] as f64, tg[1] as f64, tg[2] as f64) * w;
-        s += DVec2::new(m.uv_scale[i][0] as f64, m.uv_scale[i][1] as f64) * w;
-    }
-    BaseSample {
-        p,
-        n: n.normalize_or_zero(),
-        t,
-        w: m.tangents[ws[0].0][3] as f64,
-        scale: s,
-    }
-}
 
 /// Lattice coordinates along one axis of a chart: s = 0.5/texels + m * step (step = tpv/texels,
 /// so texel centres are lattice points whenever tpv divides 1 or is a whole number), plus the
@@ -102,45 +57,6 @@ fn lattice(tiling: f64, texels: u32, tpv: f64) -> Vec<f64> {
     }
     out.push(1.0);
     out
-}
-
-/// The reference shading normal (docs/conventions.md) at texture point `s` (mesh uv times the
-/// tiling): the base frame (unit normal `n`, tangent `t` and bitangent `bt` orthonormal, `scale`
-/// the mesh's uv per unit length along them) tilted by the height field's gradient, taken as
-/// central differences one texel apart of the bilinear field at level 0. The tessellated mesh's
-/// vertex normals, and the normal at a hit found by a ray cast on that mesh (`pk.reference`).
-pub fn displaced_normal(
-    mat: &Material,
-    s: DVec2,
-    n: DVec3,
-    t: DVec3,
-    bt: DVec3,
-    scale: DVec2,
-) -> DVec3 {
-    let hm = &mat.height;
-    let tiling = mat.tiling as f64;
-    let ex = 1.0 / hm.width as f64;
-    let ey = 1.0 / hm.height as f64;
-    let hx = hm.sample(s.x + ex, s.y) - hm.sample(s.x - ex, s.y);
-    let hy = hm.sample(s.x, s.y + ey) - hm.sample(s.x, s.y - ey);
-    let gx = mat.depth as f64 * hx / (2.0 * ex) * tiling / scale.x.max(1e-12);
-    let gy = mat.depth as f64 * hy / (2.0 * ey) * tiling / scale.y.max(1e-12);
-    (n - t * gx - bt * gy).normalize_or_zero()
-}
-
-/// The base frame from a unit normal `n` and a tangent `t` (the bitangent's sign in `w`),
-/// orthonormalised as the shader does: (n, t, bt).
-pub fn base_frame(n: DVec3, t: DVec3, w: f64) -> (DVec3, DVec3, DVec3) {
-    let mut t = t - n * n.dot(t);
-    if t.length_squared() < 1e-24 {
-        t = if n.x.abs() > 0.9 {
-            n.cross(DVec3::Z)
-        } else {
-            n.cross(DVec3::X)
-        };
-    }
-    let t = t.normalize();
-    (n, t, n.cross(t) * if w < 0.0 { -1.0 } else { 1.0 })
 }
 
 /// `texels_per_vertex`: lattice spacing in texels (0.5 = two lattice vertices per texel);
@@ -165,8 +81,8 @@ pub fn tessellate(
         let s = uv * tiling;
         let h = hm.sample(s.x, s.y);
         let p = b.p + b.n * (mat.depth as f64 * (h - 1.0));
-        // the base frame, orthonormalised as the shader does
-        let (n, t, bt) = base_frame(b.n, b.t, b.w);
+        // the base mesh's basis, orthonormalised as the shader does
+        let (n, t, bt) = basis(b.n, b.t, b.w);
         let sn = displaced_normal(mat, s, n, t, bt, b.scale);
         out.positions.push([p.x as f32, p.y as f32, p.z as f32]);
         out.normals.push([sn.x as f32, sn.y as f32, sn.z as f32]);

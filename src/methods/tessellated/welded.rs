@@ -1,7 +1,7 @@
 //! The displaced mesh of a mesh from arrays: each triangle subdivided barycentrically, with the
 //! points of every geometric edge (vertices welded by position) placed once for all its sides.
 
-use super::tessellate::{lerp_vertex, v3, BaseSample, Tessellation};
+use super::samples::{lerp_vertex, v3, BaseSample, Tessellation};
 use crate::error::Result;
 use crate::mesh::topology::Topology;
 use crate::mesh::Mesh;
@@ -23,7 +23,7 @@ enum Place {
 /// triangle's level has its lattice points snapped (monotonically) to the edge's points, and the
 /// triangles that collapse are dropped. The vertices of a geometric edge (welded by position) are
 /// then the same points for every triangle on it; where its sides carry other uvs or normals (a
-/// seam, a hard edge), each side keeps its own vertex for its uv and frame, and all of them take
+/// seam, a hard edge), each side keeps its own vertex for its uv and basis, and all of them take
 /// the mean of their displaced positions, so that the displaced surface is one surface.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn arrays_mesh(

@@ -8,8 +8,8 @@
 //!   unfolds (two points of the edge to their uvs on the other side, the neighbour's far corner,
 //!   unfolded into this triangle's plane, to its uv). An open border has no neighbour: a ray
 //!   that walks out through it has left the surface;
-//! - its corners' frames (normal, tangent with handedness, uv scales), interpolated as the
-//!   rasteriser interpolates them, so that the frame at any point is the one the mesh defines,
+//! - its corners' bases (normal, tangent with handedness, uv scales), interpolated as the
+//!   rasteriser interpolates them, so that the basis at any point is the one the mesh defines,
 //!   also where mirrored charts share texels.
 //!
 //! The triangle a fragment starts in reaches the shader as `Ray::extra.z`: the method draws the
@@ -260,7 +260,7 @@ impl MethodGeometry for WalkMesh {
             ));
         }
         let q = if self.quadrics {
-            super::curved_relief::fit_quadrics(mesh)
+            crate::mesh::quadrics::fit(mesh)
         } else {
             vec![[0.0, 0.0]; mesh.positions.len()]
         };

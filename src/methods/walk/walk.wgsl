@@ -3,12 +3,12 @@
 // segment out of the triangle through the side it crosses, into the triangle across it, whose
 // chart may be another one (a seam: the rest of the move is mapped into it) or a mirrored one (a
 // mirror axis: the move reflects); through an open border the walk ends: the ray has left the
-// surface. The frame at a walk point is its triangle's corner frames interpolated, as the
+// surface. The basis at a walk point is its triangle's corner bases interpolated, as the
 // rasteriser interpolates them for the fragment.
 #define_import_path pomkit::walk
 
 #import pomkit::cost::{fetched, chained}
-#import pomkit::frame::{TangentFrame, make_frame}
+#import pomkit::basis::{Basis, make_basis}
 
 // the walk data (group 2, binding 1): 14 texels per triangle, triangle i's at column
 // (i mod per_row) * 14 and row i div per_row, per_row a power of two (mod.rs's `texels`). A
@@ -38,7 +38,7 @@ struct WalkPoint {
     dir: vec2<f32>,
     // false when the walk left the surface through an open border
     on: bool,
-    // (b0, b1, b2) of uv in tri (walk_frame's weights; where on)
+    // (b0, b1, b2) of uv in tri (walk_basis's weights; where on)
     b: vec3<f32>,
 }
 
@@ -108,8 +108,8 @@ fn walk_move(tri_in: u32, uv_in: vec2<f32>, dir: vec2<f32>, len: f32) -> WalkPoi
     return w;
 }
 
-// The mesh's frame at a walk point: the corners' normals, tangents and uv scales interpolated.
-fn walk_frame(w: WalkPoint) -> TangentFrame {
+// The mesh's basis at a walk point: the corners' normals, tangents and uv scales interpolated.
+fn walk_basis(w: WalkPoint) -> Basis {
     let tri = w.tri;
     let b = clamp(w.b, vec3<f32>(0.0), vec3<f32>(1.0));
     fetched(6u, 96u);
@@ -118,7 +118,7 @@ fn walk_frame(w: WalkPoint) -> TangentFrame {
     let t = t0 * b.x + walk_rec(tri, 11u) * b.y + walk_rec(tri, 13u) * b.z;
     // the handedness is the triangle's (its corners agree in a chart)
     let sign = select(1.0, -1.0, t0.w < 0.0);
-    return make_frame(n.xyz, vec4<f32>(t.xyz, sign), vec2<f32>(n.w, abs(t.w)));
+    return make_basis(n.xyz, vec4<f32>(t.xyz, sign), vec2<f32>(n.w, abs(t.w)));
 }
 
 // The triangle a fragment starts in (the method's geometry carries it in Ray::extra.z).

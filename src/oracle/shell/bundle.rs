@@ -4,6 +4,7 @@
 //! that none of them meets the surface before it leaves the shell.
 
 use super::*;
+use super::bundle_shows::Bundle;
 
 /// The allowance on what the axis shows of every ray's path: on the deviations from chords
 /// (a path's higher terms, the rays' paths beside the axis's) and on how far the rays part
@@ -125,18 +126,6 @@ impl Object<'_> {
         }
         false
     }
-}
-
-/// What a bundle shows of its rays.
-pub(super) enum Bundle {
-    /// every one meets the surface
-    Blocked,
-    /// every one leaves the object's shell unblocked through a top; true where the object
-    /// must still be searched there (anything of it lies above the triangles the bundle left
-    /// by or began in, or their neighbours)
-    Left(bool),
-    /// no ray meets the surface before `lam`, where the axis is at `at` in prism `tri`
-    Cleared { tri: u32, lam: f64, at: Local },
 }
 
 impl Shell<'_> {

@@ -3,9 +3,19 @@
 //! onto it, clipped to the part in front of the eye (1e-9 of its distance from it). A camera
 //! ray tests its tile's few triangles instead of walking the bounding volumes.
 
-use super::Object;
+use super::prism::Prism;
 use crate::scene::Camera;
 use glam::DVec3;
+
+/// What the grid reads of one object's shell: its prisms, which of them have a wall, the
+/// shell's depth, and the maps between the object's space and the world.
+pub(super) struct Entries<'a> {
+    pub(super) prisms: &'a [Option<Prism>],
+    pub(super) walled: &'a [bool],
+    pub(super) depth: f64,
+    pub(super) to_obj: glam::DMat4,
+    pub(super) to_world: glam::DMat4,
+}
 
 /// Tiles over the camera's full image plane, as (object, triangle) lists.
 pub(super) struct Grid {
@@ -25,7 +35,7 @@ pub(super) struct Grid {
 }
 
 impl Grid {
-    pub(super) fn new(camera: &Camera, objects: &[Object]) -> Grid {
+    pub(super) fn new(camera: &Camera, objects: &[Entries<'_>]) -> Grid {
         let b = camera.basis();
         let ((fw, fh), _) = camera.full();
         let (tx, ty) = (b.tan_half_y * b.aspect, b.tan_half_y);

@@ -19,19 +19,21 @@
 //! the world and in Mitsuba's reference).
 
 mod bundle;
+mod bundle_shows;
 mod bvh;
 mod grid;
 pub(crate) mod prism;
 mod walk;
 
 use super::field::{walk_cells, Field};
-use super::{Hit, Tracer};
+use super::trace::{Hit, Tracer};
 use crate::error::{Error, Result};
 use crate::mesh::topology::Topology;
 use crate::mesh::Mesh;
 use crate::scene::{Material, Scene};
 use bvh::Bvh;
 use glam::{DMat3, DMat4, DVec2, DVec3};
+use bundle_shows::Bundle;
 use prism::{Crossing, Local, Prism};
 use std::sync::atomic::{AtomicU8, Ordering};
 use std::sync::{Arc, Mutex};
@@ -191,7 +193,17 @@ impl<'a> Shell<'a> {
         if objects.is_empty() {
             return Err(Error::arg("scene", "has no objects; add one"));
         }
-        let grid = grid::Grid::new(&scene.camera, &objects);
+        let entries: Vec<grid::Entries<'_>> = objects
+            .iter()
+            .map(|ob| grid::Entries {
+                prisms: &ob.prisms,
+                walled: &ob.walled,
+                depth: ob.depth,
+                to_obj: ob.to_obj,
+                to_world: ob.to_world,
+            })
+            .collect();
+        let grid = grid::Grid::new(&scene.camera, &entries);
         Ok(Shell { objects, grid })
     }
 
@@ -429,9 +441,9 @@ impl Tracer for Shell<'_> {
         };
         let search_own = match bundle {
             None => return dirs.iter().filter(|l| self.reaches(hit, **l, bias)).count(),
-            Some(bundle::Bundle::Blocked) => return 0,
-            Some(bundle::Bundle::Left(search)) => search,
-            Some(bundle::Bundle::Cleared { tri, lam, at }) => {
+            Some(Bundle::Blocked) => return 0,
+            Some(Bundle::Left(search)) => search,
+            Some(Bundle::Cleared { tri, lam, at }) => {
                 return dirs
                     .iter()
                     .filter(|l| self.reaches_from(hit, **l, bias, Some((tri, lam, at))))
@@ -469,8 +481,8 @@ impl Tracer for Shell<'_> {
                 m.uv_scale[v as usize][1] as f64,
             ) * w[k];
         }
-        use crate::methods::tessellated::tessellate::{base_frame, displaced_normal};
-        let (n, t, bt) = base_frame(
+        use crate::oracle::shading::{basis, displaced_normal};
+        let (n, t, bt) = basis(
             n.normalize_or_zero(),
             t,
             m.tangents[p.v[0] as usize][3] as f64,

@@ -1,5 +1,5 @@
 use super::*;
-use crate::oracle::{oracle_hits, planar::Oracle};
+use crate::oracle::{hits_of, planar::Oracle};
 use crate::scene::{shared, Camera, HeightMap, Light};
 
 fn noise(w: u32, h: u32, seed: u64) -> HeightMap {
@@ -57,8 +57,8 @@ fn on_a_plane_the_shell_answers_as_the_planar_oracle() {
         [0.0, 1.6 * t.cos(), 1.6 * t.sin()],
         40,
     );
-    let planar = oracle_hits(&s, &Oracle::new(&s, "test").unwrap(), 0.0);
-    let shell = oracle_hits(&s, &Shell::new(&s).unwrap(), 0.0);
+    let planar = hits_of(&s, &Oracle::new(&s, "test").unwrap(), 0.0);
+    let shell = hits_of(&s, &Shell::new(&s).unwrap(), 0.0);
     // the planar oracle extends the plane past its border; compare where its hit lies inside
     let inner = |i: usize| {
         (0.05..0.95).contains(&planar.uv[2 * i]) && (0.05..0.95).contains(&planar.uv[2 * i + 1])
@@ -288,7 +288,7 @@ fn a_search_from_a_triangle_gives_what_the_search_from_the_root_gives() {
     for (t, p) in ob.prisms.iter().enumerate() {
         let Some(p) = p else { continue };
         let o = (p.p[0] + p.p[1] + p.p[2]) / 3.0;
-        let (a, b) = crate::oracle::perpendiculars(p.ng, p.ng.x.abs() >= 0.9);
+        let (a, b) = crate::oracle::trace::perpendiculars(p.ng, p.ng.x.abs() >= 0.9);
         for k in 0..16 {
             let phi = k as f64 * 0.7;
             let d = p.ng * (0.1 + 0.06 * k as f64) + a * phi.cos() + b * phi.sin();
@@ -440,7 +440,7 @@ fn a_bundle_answers_as_its_rays() {
             DVec3::new(0.6, 0.2, 0.8),
         ] {
             let axis = axis.normalize();
-            let dirs = crate::oracle::disk_directions(axis, 1f64.to_radians().tan());
+            let dirs = crate::oracle::trace::disk_directions(axis, 1f64.to_radians().tan());
             for i in 0..s.camera.height {
                 for j in 0..s.camera.width {
                     let dir = s.camera.ray_dir(&basis, i, j);
@@ -452,7 +452,7 @@ fn a_bundle_answers_as_its_rays() {
                         let all = shell.reaches_all(&hit, axis, set, 0.0);
                         tried += 1;
                         let b = shell.bundle(&hit, axis, set, 1e-9);
-                        if matches!(b, Some(bundle::Bundle::Cleared { .. })) {
+                        if matches!(b, Some(bundle_shows::Bundle::Cleared { .. })) {
                             cleared += 1;
                             differ += usize::from(all != one);
                             off = off.max(all.abs_diff(one));
@@ -461,11 +461,11 @@ fn a_bundle_answers_as_its_rays() {
                         }
                         if one == set.len() {
                             lit += 1;
-                            bundles += usize::from(matches!(b, Some(bundle::Bundle::Left(_))));
+                            bundles += usize::from(matches!(b, Some(bundle_shows::Bundle::Left(_))));
                         }
                         if one == 0 {
                             dark += 1;
-                            shadows += usize::from(matches!(b, Some(bundle::Bundle::Blocked)));
+                            shadows += usize::from(matches!(b, Some(bundle_shows::Bundle::Blocked)));
                         }
                     }
                 }
@@ -516,7 +516,7 @@ fn a_ray_below_the_lowest_texel_has_met_the_surface() {
                     continue;
                 };
                 let p = ob.prisms[hit.at.tri as usize].as_ref().unwrap();
-                let (t, b) = crate::oracle::perpendiculars(p.ng, p.ng.x.abs() >= 0.9);
+                let (t, b) = crate::oracle::trace::perpendiculars(p.ng, p.ng.x.abs() >= 0.9);
                 for (k, z) in [-0.6, -0.2, -0.02, 0.0, 0.05, 0.4].into_iter().enumerate() {
                     let a = 0.7 * k as f64 + 0.1 * (i + j) as f64;
                     let d = (t * a.cos() + b * a.sin() + p.ng * z).normalize();

@@ -1,5 +1,5 @@
 //! Per-vertex quadrics of the base mesh (Oliveira & Policarpo 2005): near each vertex the surface
-//! is taken as z = a x² + b y² in the vertex's frame (x along the tangent, y along the bitangent,
+//! is taken as z = a x² + b y² in the vertex's basis (x along the tangent, y along the bitangent,
 //! z along the normal, world units), fitted by least squares to the vertex's neighbours (the
 //! other corners of the triangles around it, welded across uv seams by position).
 

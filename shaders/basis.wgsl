@@ -1,15 +1,15 @@
-// frame.wgsl: the base surface's orthonormal frame at a point, and world directions expressed
+// basis.wgsl: the base surface's orthonormal tangent basis at a point, and world directions expressed
 // in texture space.
 //
 // Conventions (docs/conventions.md): h = 1 is the base surface, h = 0 lies `depth` below it
 // along the base normal. A texture-space ray is (s, h) with s = uv * tiling in height-map uv
 // units; a direction is expressed "per unit of world length" so that distances come out in
 // world units.
-#define_import_path pomkit::frame
+#define_import_path pomkit::basis
 
 #import pomkit::globals::G
 
-struct TangentFrame {
+struct Basis {
     t: vec3<f32>,
     b: vec3<f32>,
     n: vec3<f32>,
@@ -17,8 +17,8 @@ struct TangentFrame {
     scale: vec2<f32>,
 }
 
-fn make_frame(n_in: vec3<f32>, t_in: vec4<f32>, scale: vec2<f32>) -> TangentFrame {
-    var f: TangentFrame;
+fn make_basis(n_in: vec3<f32>, t_in: vec4<f32>, scale: vec2<f32>) -> Basis {
+    var f: Basis;
     f.n = normalize(n_in);
     var t = t_in.xyz - f.n * dot(t_in.xyz, f.n);
     if (dot(t, t) < 1e-12) {
@@ -34,7 +34,7 @@ fn make_frame(n_in: vec3<f32>, t_in: vec4<f32>, scale: vec2<f32>) -> TangentFram
 }
 
 // A world direction expressed in texture space per unit of world length: (ds_u, ds_v, dh).
-fn to_texture_space(f: TangentFrame, d: vec3<f32>) -> vec3<f32> {
+fn to_texture_space(f: Basis, d: vec3<f32>) -> vec3<f32> {
     let tiling = G.tiling;
     let depth = max(G.depth, 1e-12);
     return vec3<f32>(

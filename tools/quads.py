@@ -1,6 +1,7 @@
 """The quad counter: the 2 x 2 pixel quads each triangle of a frame touches, by a software
 rasteriser over the method's geometry (the base mesh, the prisms' faces, the displaced mesh),
-the cost model's `quads` term (pk.bench.cost_model), and the SIMD groups that run in lock step."""
+the cost model's `quads` term (costfit.py's `cost_model`), and the SIMD groups that run in lock
+step."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import math
 
 import numpy as np
 
-from . import _methods, _scene
+from pomkit import _core, _methods, _scene
 
 #: the pixel block that runs in lock step (a SIMD group: 8 x 4 = 32 lanes, a warp)
 GROUP = (4, 8)
@@ -100,7 +101,6 @@ def triangle_counts(scene: _scene.Scene, method) -> tuple[int, int, float]:
     (Tessellated's displaced mesh built once). `quads` (`quad_count`) over the rasterised
     triangles that lie in front of the eye; for Prism over the base triangles, one shell face
     each (the shell's offset is left out)."""
-    from . import _core
     eye = np.asarray(scene.camera.eye, dtype=np.float64)
     submitted = facing = 0
     quads = 0.0
