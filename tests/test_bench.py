@@ -1,9 +1,10 @@
 """The sweep's table and the Pareto front (speed itself is measured in benchmarks, not here)."""
 
 import numpy as np
+import pytest
 
 import pomkit as pk
-from pomkit.bench import pareto_front, sweep, variants
+from pomkit.bench import SweepSettings, pareto_front, sweep, variants
 
 
 def test_pareto_front():
@@ -13,7 +14,7 @@ def test_pareto_front():
 
 def test_sweep_rows(tmp_path):
     methods = variants(pk.POM, max_steps=[8, 16], shadows=["none"]) + [pk.Exact()]
-    rows = sweep(methods, maps=["pyramids"], angles=[30.0, 70.0], settings=dict(size=32), repeats=2,
+    rows = sweep(methods, maps=["pyramids"], angles=[30.0, 70.0], settings=SweepSettings(size=32), repeats=2,
                  csv_path=str(tmp_path / "t.csv"), progress=False)
     assert len(rows) == 6
     need = {"method", "label", "safety", "scene", "angle", "gpu_ms", "gpu_ms_p25", "gpu_ms_p75", "march_ms", "call_ms",
@@ -34,6 +35,38 @@ def test_sweep_rows(tmp_path):
         f8, f16 = (next(x["fetches_mean"] for x in rows if x["angle"] == a and f"max_steps={n})" in x["label"]) for n in (8, 16))
         assert 0 < f8 < f16
         assert all(x["bytes_mean"] >= 4 * x["fetches_mean"] for x in rows)
+
+
+def test_sweep_settings_are_checked_by_field():
+    assert SweepSettings() == SweepSettings(size=256, depth=0.08, tiling=1.0, spp=64, frame_spp=1, flip=True)
+    s = SweepSettings(size=np.int64(32), depth=np.float32(0.5), flip=np.bool_(False))
+    assert type(s.size) is int and type(s.depth) is float and s.flip is False
+    for kw, err, field in [(dict(size=0), pk.ArgumentError, "size"), (dict(size="32"), pk.ArgumentTypeError, "size"),
+                           (dict(depth=-0.1), pk.ArgumentError, "depth"), (dict(tiling=0.0), pk.ArgumentError, "tiling"),
+                           (dict(spp=8), pk.ArgumentError, "spp"), (dict(frame_spp=2), pk.ArgumentError, "frame_spp"),
+                           (dict(frame_spp=4.0), pk.ArgumentTypeError, "frame_spp"), (dict(flip=1), pk.ArgumentTypeError, "flip")]:
+        with pytest.raises(err, match=f"^{field}:"):
+            SweepSettings(**kw)
+    with pytest.raises(pk.ArgumentTypeError, match="settings: expected a pomkit.bench.SweepSettings"):
+        sweep([pk.Exact()], settings=[("size", 32)], progress=False)
+    with pytest.warns(DeprecationWarning, match=r"sweep\(settings=dict\) is now settings=pk.bench.SweepSettings"), \
+            pytest.raises(pk.ArgumentError, match="'sizes'.*size, depth, tiling, spp, frame_spp, flip"):
+        sweep([pk.Exact()], settings=dict(sizes=32), progress=False)
+    with pytest.raises(pk.ArgumentTypeError, match="methods: .*\\(name, method\\) pairs"):
+        sweep(["POM"], progress=False)
+    with pytest.raises(pk.ArgumentError, match="name must be a non-empty string"):
+        sweep([("", pk.POM())], progress=False)
+
+
+def test_sweep_names_rows_by_pairs_and_takes_a_settings_dict():
+    """A (name, method) pair's name is its rows' method and label; a dict of settings still
+    sweeps, with a DeprecationWarning."""
+    bevy = pk.presets.bevy_pom()
+    with pytest.warns(DeprecationWarning):
+        rows = sweep([("bevy_pom", bevy), bevy], maps=["pyramids"], angles=[60.0], settings=dict(size=16, flip=False),
+                     repeats=1, progress=False)
+    assert [(x["method"], x["label"]) for x in rows] == [("bevy_pom", "bevy_pom"), ("POM", pk.bench.label(bevy))]
+    assert rows[0]["size"] == 16 and rows[0]["uv_p95"] == rows[1]["uv_p95"]
 
 
 def test_presets_are_valid_methods():
@@ -58,7 +91,7 @@ def test_sweep_on_a_dask_cluster_equals_the_local_sweep():
     methods = [pk.POM(shadows="none", max_steps=16), pk.Relief(), pk.Exact(), pk.Custom(
         wgsl=(__import__("pathlib").Path(pk.__file__).parent / "wgsl" / "steep_custom.wgsl").read_text(),
         name="steep_custom", params={"steps": 16.0})]
-    kw = dict(maps=["bricks", "spikes"], angles=[40.0, 75.0], settings=dict(size=32, flip=False), repeats=1,
+    kw = dict(maps=["bricks", "spikes"], angles=[40.0, 75.0], settings=SweepSettings(size=32, flip=False), repeats=1,
               progress=False)
     local = _deterministic(sweep(methods, **kw))
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cl, \
@@ -97,7 +130,7 @@ def test_sweep_shadow_columns():
     """The shadow error against the oracle's visibility is a column: NaN without shadows, the
     exact light walk's IoU near 1 with them."""
     rows = sweep([pk.Exact(), pk.Exact(shadows="exact"), pk.POM(shadows="hard")], maps=["cobblestones"],
-                 angles=[60.0], settings=dict(size=64), repeats=1, progress=False)
+                 angles=[60.0], settings=SweepSettings(size=64), repeats=1, progress=False)
     by = {x["label"]: x for x in rows}
     assert np.isnan(by["Exact()"]["shadow_iou"])
     assert by["Exact(shadows='exact')"]["shadow_iou"] > 0.95

@@ -150,7 +150,7 @@ def test_sweep_and_assert_close_take_several_objects(renderer):
     Tessellated (which renders every object too): uv errors per object, object agreement."""
     sc = pk.scenes.sunk_sphere(96, floor_map=32, sphere_map=32, cast_shadows=False)
     rows = pk.bench.sweep([pk.Exact(), pk.Prism(exact=True)], maps=[("sunk sphere", sc)], reference="tessellated",
-                          settings=dict(flip=False), repeats=1, progress=False)
+                          settings=pk.bench.SweepSettings(flip=False), repeats=1, progress=False)
     assert [r["scene"] for r in rows] == ["sunk sphere"] * 2
     assert all(r["mask_iou"] > 0.95 and r["uv_p50"] < 0.5 for r in rows), rows
     ref = renderer.render(sc, pk.Tessellated(1.0))

@@ -290,9 +290,9 @@ def test_assert_close_bounds_the_regions():
 
 
 def test_the_sweep_reports_the_aliasing_floor_beside_each_score():
-    from pomkit.bench import sweep
+    from pomkit.bench import SweepSettings, sweep
     rows = sweep([pk.Exact(), pk.Flat()], maps=["bricks"], angles=[45.0], reference="mitsuba", repeats=1,
-                 settings=dict(size=48, spp=16, frame_spp=4), progress=False)
+                 settings=SweepSettings(size=48, spp=16, frame_spp=4), progress=False)
     floors = {x["flip_floor"] for x in rows}
     assert len(floors) == 1 and all(x["frame_spp"] == 4 for x in rows)
     floor = floors.pop()

@@ -7,6 +7,7 @@ deleted and recomputed, never trusted.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import io
 import json
@@ -62,35 +63,60 @@ def _array(h, name: str, a: np.ndarray) -> None:
     h.update(name.encode() + a.dtype.str.encode() + str(a.shape).encode() + a.tobytes())
 
 
-def _fields(x, skip: tuple[str, ...] = ()) -> dict:
-    """A schema class's fields (camera, light) by name, as the core declares them."""
-    return {f[0]: getattr(x, f[0]) for f in _schema.fields(x._schema) if f[0] not in skip}
+def _declared(x) -> tuple[dict, list]:
+    """A schema class's (camera, material, light) declared fields but pomkit's own renderer's
+    settings (`_schema.settings`): the values by name, and the arrays as (name, array) in their
+    declared order (an absent one left out)."""
+    skip = _schema.settings(x._schema)
+    values, arrays = {}, []
+    for name, kind, *_ in _schema.fields(x._schema):
+        v = getattr(x, name)
+        if name in skip or (kind in _schema.ARRAY_KINDS and v is None):
+            continue
+        if kind in _schema.ARRAY_KINDS:
+            arrays.append((name, v))
+        else:
+            values[name] = v
+    return values, arrays
 
 
 def scene_hash(scene, **settings) -> str:
     """sha256 over every array and parameter that changes a render, the same on every machine:
-    parameters canonical (`canonical`), built-in meshes by their recipe (their vertices come from
-    the platform's sinf), arrays by their little-endian bytes. Height maps and albedos are
+    every declared field of the scene's classes (`_declared`) and every field of its objects,
+    parameters canonical (`canonical`), built-in meshes by their recipe (their vertices come
+    from the platform's sinf), arrays by their little-endian bytes. Height maps and albedos are
     hashed as the float32 arrays the scene holds: pomkit makes those from exactly rounded
     operations (textures.py, _color.py), so they too are the same everywhere."""
+    from ._scene import Mesh
     h = hashlib.sha256()
-    # pomkit's own shadow settings do not change a reference render
-    lights = [dict(_fields(l, skip=("cast_shadows", "shadow_map_size")), kind=l._schema) for l in scene.lights]
-    h.update(_json(dict(camera=_fields(scene.camera), lights=lights, ambient=scene.ambient)))
+    lights = [dict(_declared(light)[0], kind=light._schema) for light in scene.lights]
+    h.update(_json(dict(camera=_declared(scene.camera)[0], lights=lights, ambient=scene.ambient)))
     for i, o in enumerate(scene.objects):
-        m = o.material
-        h.update(f"object{i}".encode() + _json(dict(depth=m.depth, tiling=m.tiling, transform=o.transform)))
-        if o.mesh.recipe is not None:
-            h.update(b"mesh recipe" + _json(o.mesh.recipe))
-        else:
-            # the displaced mesh of a mesh from arrays welds its shared edges (seams, hard edges)
-            h.update(b"mesh arrays, welded edges")
-            mesh = o.mesh._arrays()
-            for k in sorted(mesh):
-                _array(h, k, mesh[k])
-        for k, a in (("height", m.height), ("albedo", m.albedo)):
-            if a is not None:
-                _array(h, k, a)
+        values: dict = {}
+        arrays: list = []
+        meshes = []
+        for f in dataclasses.fields(o):
+            v = getattr(o, f.name)
+            if isinstance(v, Mesh):
+                meshes.append(v)
+            elif hasattr(v, "_schema"):
+                vals, arrs = _declared(v)
+                values.update(vals)
+                arrays += arrs
+            else:
+                values[f.name] = v
+        h.update(f"object{i}".encode() + _json(values))
+        for mesh in meshes:
+            if mesh.recipe is not None:
+                h.update(b"mesh recipe" + _json(mesh.recipe))
+            else:
+                # the displaced mesh of a mesh from arrays welds its shared edges (seams, hard edges)
+                h.update(b"mesh arrays, welded edges")
+                a = mesh._arrays()
+                for k in sorted(a):
+                    _array(h, k, a[k])
+        for k, a in arrays:
+            _array(h, k, a)
     h.update(_json(settings))
     h.update(f"format{FORMAT}".encode())
     return h.hexdigest()[:32]

@@ -223,7 +223,7 @@ def explore(scene: Scene, methods: Optional[Sequence[Any]] = None, reference: st
             size = max(16, self.size // 2) if self.dragging else self.size
             sc = self._scene.replace(camera=self._camera(size))
             m = self._method()
-            f = self._renderer.render(sc, m, aovs=("color", "uv", "mask", "steps", "lod", "fetches"))
+            f = self._renderer.render(sc, m, aovs=("color", "uv", "mask", "steps", "lod", "fetches") + (("object",) if len(sc.objects) > 1 else ()))
             stats: dict = dict(method=repr(m), gpu_ms=round(f.gpu_ms, 3) if f.gpu_ms is not None else None,
                                fetches=round(float(f.fetches[f.mask].mean()), 2) if f.mask.any() else 0.0)
             ref = oracle = None

@@ -557,10 +557,7 @@ class Custom(_PerPixel):
 
 def label(m) -> str:
     """The method with only the fields that differ from its defaults, e.g. POM(max_steps=16);
-    a Custom method by its name and parameters; a preset by its name."""
-    preset = getattr(m, "_preset", None)
-    if preset:
-        return preset
+    a Custom method by its name and parameters."""
     if isinstance(m, Custom):
         return f"{m.name}({', '.join(f'{k}={v:g}' for k, v in m.params.items())})"
     default = type(m)()

@@ -3,6 +3,8 @@ GPU works."""
 
 from __future__ import annotations
 
+import dataclasses
+
 from ._errors import ArgumentError, ArgumentTypeError
 from typing import Any, Iterable, Literal, Optional, Sequence, Union
 
@@ -110,15 +112,15 @@ class Renderer:
                      method=frame.method)
 
     def update_height(self, material: Material, height) -> Material:
-        """Dynamic height fields: a new Material with `height` in place of `material.height` (same
-        depth, albedo, tiling). When the old map is resident on the GPU and the sizes match, the new
+        """Dynamic height fields: a new Material with `height` in place of `material.height` (every
+        other field the same). When the old map is resident on the GPU and the sizes match, the new
         texels are written into the same texture and the mean and max pyramids are rebuilt by
         compute passes: no pipeline is rebuilt and nothing is allocated. Otherwise the new map
         uploads on the next render. Normals need no update: they are computed per pixel from the
         height field."""
         if not isinstance(material, Material):
             raise ArgumentTypeError(f"material: expected a pomkit.Material, got {type(material).__name__}")
-        new = Material(height, depth=material.depth, albedo=material.albedo, tiling=material.tiling)
+        new = dataclasses.replace(material, height=height)
         if new.height.shape == material.height.shape:
             self._r.update_height(material._height_data(), new._height_data())
         return new

@@ -10,20 +10,23 @@ from __future__ import annotations
 
 from ._errors import ArgumentError, ArgumentTypeError
 import csv
+import dataclasses
 import math
 import time
 from concurrent.futures import Executor
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterable, Optional
+from typing import Iterable, Optional, Union
 
 import numpy as np
 
 from . import _frame, _methods, _render, _scene, textures
+from . import _validate as _v
 from . import metrics, oracle
 from ._motion import PATHS, camera_path, motion  # noqa: F401 (pk.bench's API)
 from ._methods import label  # noqa: F401 (pk.bench's API)
 
-__all__ = ["sweep", "variants", "plane_scene", "time_method", "time_methods", "swimming", "pareto_front", "label",
+__all__ = ["sweep", "SweepSettings", "variants", "plane_scene", "time_method", "time_methods", "swimming", "pareto_front", "label",
            "method_name", "write_csv", "TIMING_COLUMNS"]
 
 
@@ -107,8 +110,83 @@ def variants(cls, **grid) -> list:
 
 
 def method_name(m) -> str:
-    """The family a method belongs to in tables and charts (its preset's name if it is one)."""
-    return getattr(m, "_preset", None) or (m.label if isinstance(m, _methods.Custom) else m.name)
+    """The family a method belongs to in tables and charts: its class's name, a Custom method's
+    name."""
+    return m.label if isinstance(m, _methods.Custom) else m.name
+
+
+def _square_spp(name: str, v) -> int:
+    n = _v.integer(name, v, 1, 256, strict=True)
+    if math.isqrt(n) ** 2 != n:
+        raise ArgumentError(f"{name}: must be a square number of samples per pixel (1, 4, 9, 16, ...), got {n}")
+    return n
+
+
+@dataclass(frozen=True)
+class SweepSettings:
+    """What every (scene, angle) of a `sweep` is rendered and measured at. Fields are checked at
+    construction; a bad one raises `pk.ArgumentError` (or `pk.ArgumentTypeError`) naming it."""
+
+    size: int = 256
+    """The frames' width and height in pixels (the tilted plane's camera; a (name, Scene) pair
+    keeps its own camera)."""
+    depth: float = 0.08
+    """The plane's displacement depth (`Material.depth`), in object units."""
+    tiling: float = 1.0
+    """Repetitions of the map over the plane (`Material.tiling`)."""
+    spp: int = 64
+    """Mitsuba's samples per pixel for reference="mitsuba" (a square, 1 to 256)."""
+    frame_spp: int = 1
+    """The frames' samples per pixel (`Renderer.render(spp=)`, a square, 1 to 256); the colour
+    reference of "oracle" and "tessellated" takes the same."""
+    flip: bool = True
+    """Score the frames' colour with FLIP against the colour reference (the flip columns; False
+    leaves them NaN and renders no colour reference)."""
+
+    def __post_init__(self) -> None:
+        checked = dict(size=_v.integer("size", self.size, 1, 1 << 30),
+                       depth=_v.number("depth", self.depth, 0.0, 1e30),
+                       tiling=_v.number("tiling", self.tiling, 0.0, 1e6, lo_open=True),
+                       spp=_square_spp("spp", self.spp),
+                       frame_spp=_square_spp("frame_spp", self.frame_spp),
+                       flip=_v.boolean("flip", self.flip))
+        for k, v in checked.items():
+            object.__setattr__(self, k, v)
+
+
+def _settings(settings) -> SweepSettings:
+    """`sweep`'s settings as a SweepSettings; a dict of its fields is accepted with a
+    DeprecationWarning."""
+    if settings is None:
+        return SweepSettings()
+    if isinstance(settings, SweepSettings):
+        return settings
+    if isinstance(settings, dict):
+        import warnings
+        warnings.warn("sweep(settings=dict) is now settings=pk.bench.SweepSettings(...); the dict goes in the next release",
+                      DeprecationWarning, stacklevel=3)
+        valid = [f.name for f in dataclasses.fields(SweepSettings)]
+        for k in settings:
+            if k not in valid:
+                raise ArgumentError(f"settings: unknown key {k!r}; the settings are {', '.join(valid)}")
+        return SweepSettings(**settings)
+    raise ArgumentTypeError(f"settings: expected a pomkit.bench.SweepSettings, got {type(settings).__name__}")
+
+
+def _named(methods: Iterable) -> list[tuple[Optional[str], _methods.Method]]:
+    """`sweep`'s methods as (name or None, method) pairs."""
+    out: list[tuple[Optional[str], _methods.Method]] = []
+    for m in methods:
+        if isinstance(m, _methods.Method):
+            out.append((None, m))
+        elif isinstance(m, tuple) and len(m) == 2 and isinstance(m[1], _methods.Method):
+            if not isinstance(m[0], str) or not m[0]:
+                raise ArgumentError(f"methods: a (name, method) pair's name must be a non-empty string, got {m[0]!r}")
+            out.append((m[0], m[1]))
+        else:
+            raise ArgumentTypeError("methods: expected pomkit methods such as pomkit.POM() or (name, method) pairs, "
+                                    f"got {type(m).__name__}")
+    return out
 
 
 def _scene_for(name_or_height, angle, size, depth, tiling):
@@ -129,11 +207,12 @@ def _scene_for(name_or_height, angle, size, depth, tiling):
 def _sweep_scene(job: tuple) -> list[dict]:
     """The rows of one (scene, angle): runs where it is sent (an executor's worker opens its own
     device on its first render)."""
-    scene_spec, angle, methods, cfg, reference, repeats = job
-    sname, scene = _scene_for(scene_spec, angle, cfg["size"], cfg["depth"], cfg["tiling"])
+    scene_spec, angle, named, cfg, reference, repeats = job
+    methods = [m for _, m in named]
+    sname, scene = _scene_for(scene_spec, angle, cfg.size, cfg.depth, cfg.tiling)
     r = _render.Renderer()
-    flip = cfg["flip"]
-    fspp = cfg["frame_spp"]
+    flip = cfg.flip
+    fspp = cfg.frame_spp
     floor: dict = {}
     if reference == "oracle":
         ref = oracle.hits(scene)
@@ -149,7 +228,7 @@ def _sweep_scene(job: tuple) -> list[dict]:
         ref = cref = r.render(scene, _methods.Tessellated(texels_per_vertex=0.5), spp=fspp)
     else:
         from . import reference as R
-        ref = cref = R.render_mitsuba(scene, spp=cfg["spp"])
+        ref = cref = R.render_mitsuba(scene, spp=cfg.spp)
         if flip:
             # the floor: the exact geometry (the mesh) against Mitsuba at the frames' spp
             try:
@@ -165,7 +244,7 @@ def _sweep_scene(job: tuple) -> list[dict]:
     times = time_methods(r, scene, methods, aovs=("color",), min_repeats=repeats)
     mpix = scene.camera.width * scene.camera.height / 1e6
     rows = []
-    for m, t in zip(methods, times):
+    for (name, m), t in zip(named, times):
         f = r.render(scene, m, aovs=aovs, spp=fspp)
         e = metrics.uv_error(f, ref, scene)
         fl = fl_in = fl_sil = float("nan")
@@ -180,8 +259,8 @@ def _sweep_scene(job: tuple) -> list[dict]:
         fetches = f.fetches[f.mask] if f.mask.any() else np.zeros(1)
         nbytes = f.bytes[f.mask] if f.mask.any() else np.zeros(1)
         shadow = _shadow_columns(r, scene, m, ref if reference == "oracle" else None)
-        rows.append(dict(method=method_name(m), label=label(m), safety=m.safety, scene=sname, angle=angle,
-                         size=cfg["size"], gpu_ms=t["ms"], gpu_ms_p25=t["ms_p25"], gpu_ms_p75=t["ms_p75"],
+        rows.append(dict(method=name or method_name(m), label=name or label(m), safety=m.safety, scene=sname,
+                         angle=angle, size=cfg.size, gpu_ms=t["ms"], gpu_ms_p25=t["ms_p25"], gpu_ms_p75=t["ms_p75"],
                          march_ms=t["march_ms"], call_ms=t["call_ms"], repeats=t["repeats"], timing=t["timing"],
                          ms_per_mpix=t["ms"] / mpix, mean_steps=steps, fetches_mean=float(fetches.mean()),
                          fetches_p99=float(np.percentile(fetches, 99)), bytes_mean=float(nbytes.mean()), uv_p50=e["p50"], uv_p95=e["p95"],
@@ -206,18 +285,19 @@ def _shadow_columns(r: _render.Renderer, scene: _scene.Scene, method, oracle) ->
 TIMING_COLUMNS = ("gpu_ms", "gpu_ms_p25", "gpu_ms_p75", "march_ms", "call_ms", "repeats", "ms_per_mpix", "timing")
 
 
-def sweep(methods: Iterable, maps: Iterable = ("bricks",), angles: Iterable[float] = (60.0,),
-          settings: Optional[dict] = None, reference: str = "oracle", repeats: int = 5,
-          csv_path: Optional[str] = None, progress: bool = True, executor: Optional[Executor] = None,
+def sweep(methods: Iterable[Union[_methods.Method, tuple[str, _methods.Method]]], maps: Iterable = ("bricks",),
+          angles: Iterable[float] = (60.0,), settings: Optional[SweepSettings] = None, reference: str = "oracle",
+          repeats: int = 5, csv_path: Optional[str] = None, progress: bool = True, executor: Optional[Executor] = None,
           scenes: Optional[Iterable] = None) -> list[dict]:
     """Render, time and measure every (method, map, angle) on the tilted plane.
 
-    methods: Method instances (see `variants` and `pomkit.presets`); maps: texture names from
-    `pk.textures.ALL`, "sineF" for a sine of frequency F, or (name, height array) pairs, each on
-    a plane (a (name, Scene) pair is taken as it is); `scenes=` is the old name of `maps=`;
-    settings: size (256), depth (0.08), tiling (1.0), spp (64, Mitsuba's), frame_spp (1: the
-    frames' samples per pixel, `Renderer.render(spp=)`; the colour reference of "oracle" and
-    "tessellated" takes the same), flip (True: FLIP against the colour reference);
+    methods: Method instances (see `variants`), or (name, method) pairs, whose name stands in
+    the rows' method and label columns (the presets by their names: `[(name, fn()) for name,
+    fn in pk.presets.ALL_PRESETS.items()]`); maps: texture names from `pk.textures.ALL`,
+    "sineF" for a sine of frequency F, or (name, height array) pairs, each on a plane (a (name,
+    Scene) pair is taken as it is); `scenes=` is the old name of `maps=`;
+    settings: a `SweepSettings` (frame size, depth, tiling, Mitsuba's spp, the frames' spp,
+    FLIP; None: its defaults);
     reference: "oracle" (`pk.oracle.hits` for the geometry, FLIP against `pk.oracle.image`,
     noise-free, unshadowed for the methods without shadows; "exact" is its old name),
     "tessellated" or "mitsuba" (cached on disk);
@@ -246,13 +326,9 @@ def sweep(methods: Iterable, maps: Iterable = ("bricks",), angles: Iterable[floa
         reference = "oracle"
     if reference not in ("oracle", "tessellated", "mitsuba"):
         raise ArgumentError(f"reference: must be 'oracle', 'tessellated' or 'mitsuba', got {reference!r}")
-    cfg: dict = dict(size=256, depth=0.08, tiling=1.0, spp=64, frame_spp=1, flip=True)
-    cfg.update(settings or {})
-    methods = list(methods)
-    for m in methods:
-        if not isinstance(m, _methods.Method):
-            raise ArgumentTypeError(f"methods: expected pomkit methods such as pomkit.POM(), got {type(m).__name__}")
-    jobs = [(s, a, methods, cfg, reference, repeats) for s in maps for a in angles]
+    cfg = _settings(settings)
+    named = _named(methods)
+    jobs = [(s, a, named, cfg, reference, repeats) for s in maps for a in angles]
     bar = None
     if progress:
         try:

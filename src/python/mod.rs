@@ -38,6 +38,17 @@ fn schema(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     Ok(d)
 }
 
+/// Per schema class, its fields marked `@ setting` (pomkit's own renderer's settings, which no
+/// reference render reads).
+fn schema_settings(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let d = PyDict::new(py);
+    for (class, _, fields) in crate::scene::schema::classes() {
+        let names: Vec<_> = fields.iter().filter(|f| f.setting).map(|f| f.name).collect();
+        d.set_item(class, names)?;
+    }
+    Ok(d)
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
@@ -50,6 +61,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // the contracts Python derives its checks and Literals from (one source: the core)
     m.add("MAX_LIGHTS", crate::scene::MAX_LIGHTS)?;
     m.add("SCHEMA", schema(m.py())?)?;
+    m.add("SCHEMA_SETTINGS", schema_settings(m.py())?)?;
     m.add("AOV_NAMES", crate::render::Aovs::NAMES.to_vec())?;
     // the AOVs counted only when named: those outside `aovs="all"`
     let standard = crate::render::Aovs::STANDARD;

@@ -283,9 +283,9 @@ crate::schema! {
         /// the source's apparent size in degrees (0: a point-like source)
         pub angular_diameter: f64 = Real(0.0, 179.999), "0.0";
         /// objects shadow each other from this light through a shadow map
-        pub cast_shadows: bool = Bool, "False";
+        pub cast_shadows: bool = Bool, "False" @ setting;
         /// the shadow map's size in texels (square; clamped to the device's limit)
-        pub shadow_map_size: u32 = Integer(16, 16384), "1024";
+        pub shadow_map_size: u32 = Integer(16, 16384), "1024" @ setting;
         /// a linear RGB tint that multiplies `irradiance` (glTF KHR_lights_punctual's `color`)
         pub color: [f32; 3] = Rgb, "1.0";
     }

@@ -51,6 +51,9 @@ pub struct Field {
     pub kind: Kind,
     /// the default as a Python literal; None where the field is required
     pub default: Option<&'static str>,
+    /// A setting of pomkit's own renderer (marked `@ setting`): it changes no reference render
+    /// (the oracle's, Mitsuba's, Cycles'), so reference caches do not hash it.
+    pub setting: bool,
     pub doc: &'static str,
 }
 
@@ -169,7 +172,7 @@ macro_rules! schema {
         pub struct $name:ident {
             $(
                 $(#[doc = $fdoc:literal])*
-                pub $f:ident : $t:ty = $kind:ident $(($lo:expr, $hi:expr))? $(, $default:literal)?;
+                pub $f:ident : $t:ty = $kind:ident $(($lo:expr, $hi:expr))? $(, $default:literal)? $(@ $setting:ident)?;
             )*
         }
         $(internal {
@@ -215,10 +218,22 @@ macro_rules! schema {
                     name: stringify!($f),
                     kind: $crate::schema_kind!($kind $(($lo, $hi))?),
                     default: $crate::schema_default!($($default)?),
+                    setting: $crate::schema_setting!($($setting)?),
                     doc: concat!($($fdoc, "\n",)*),
                 },
             )*];
         }
+    };
+}
+
+/// Whether a field is marked `@ setting`.
+#[macro_export]
+macro_rules! schema_setting {
+    () => {
+        false
+    };
+    (setting) => {
+        true
     };
 }
 

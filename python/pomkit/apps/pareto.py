@@ -16,7 +16,7 @@ import numpy as np
 
 import pomkit as pk
 from pomkit import presets
-from pomkit.bench import pareto_front, plane_scene, sweep, swimming, time_methods, write_csv
+from pomkit.bench import SweepSettings, pareto_front, plane_scene, sweep, swimming, time_methods, write_csv
 
 #: what the bench needs beyond the library (the `bench` extra)
 NEEDS = ("matplotlib", "pandas", "tqdm", "skimage", "scipy")
@@ -29,11 +29,6 @@ def missing_extra() -> list[str]:
 
 def _rows(t) -> list[dict]:
     return t.to_dict("records") if hasattr(t, "to_dict") else list(t)
-
-
-def _tagged(m: pk.Method, name: str) -> pk.Method:
-    object.__setattr__(m, "_preset", name)
-    return m
 
 
 def families(quick: bool) -> dict[str, list[pk.Method]]:
@@ -119,13 +114,14 @@ def run_bench(out: str = "pomkit-out/bench", quick: bool = False, spp: int = 1) 
     print(f"pomkit bench on {r.info['name']} ({r.info['backend']}), timestamps={r.info['timestamps']}")
     size = 256 if quick else 512
     fams = families(quick)
-    preset_methods = [_tagged(fn(), name) for name, fn in presets.ALL_PRESETS.items()]
-    defaults = [_tagged(pk.POM(shadows="none"), "POM (default)"), _tagged(pk.Exact(), "Exact (default)"),
-                _tagged(pk.ConeStep(), "ConeStep (default)")]
-    all_methods = [m for ms in fams.values() for m in ms] + preset_methods + defaults
+    preset_methods = [(name, fn()) for name, fn in presets.ALL_PRESETS.items()]
+    defaults = [("POM (default)", pk.POM(shadows="none")), ("Exact (default)", pk.Exact()),
+                ("ConeStep (default)", pk.ConeStep())]
+    all_methods: list[pk.Method | tuple[str, pk.Method]] = [m for ms in fams.values() for m in ms]
+    all_methods += preset_methods + defaults
 
     # 1. Pareto: bricks at 60 degrees
-    table = _rows(sweep(all_methods, maps=("bricks",), angles=(60.0,), settings=dict(size=size, flip=not quick, frame_spp=spp),
+    table = _rows(sweep(all_methods, maps=("bricks",), angles=(60.0,), settings=SweepSettings(size=size, flip=not quick, frame_spp=spp),
                         repeats=3 if quick else 5, progress=True))
     for row in table:
         row["chart"] = "pareto"
@@ -141,14 +137,14 @@ def run_bench(out: str = "pomkit-out/bench", quick: bool = False, spp: int = 1) 
     angle_methods: list[pk.Method] = [pk.Parallax(), pk.SteepParallax(), pk.POM(shadows="none"), pk.Relief(), pk.Exact()]
     names = [m.name for m in angle_methods]
     angles = [0.0, 30.0, 60.0, 75.0, 85.0, 89.5] if quick else [0.0, 15.0, 30.0, 45.0, 60.0, 70.0, 80.0, 85.0, 88.0, 89.5]
-    at = _rows(sweep(angle_methods, maps=("bricks",), angles=angles, settings=dict(size=128, flip=False), repeats=1,
+    at = _rows(sweep(angle_methods, maps=("bricks",), angles=angles, settings=SweepSettings(size=128, flip=False), repeats=1,
                      progress=False))
     for row in at:
         row["chart"] = "angle"
     _line_chart(plt, at, names, lambda x: x["angle"], "view angle from the normal (degrees)",
                 "Stability against view angle (bricks, default settings)", outdir / "angle.png")
     freqs = [1, 4, 16, 32] if quick else [1, 2, 4, 8, 16, 32]
-    ft = _rows(sweep(angle_methods, maps=[f"sine{f}" for f in freqs], angles=(60.0,), settings=dict(size=128, flip=False),
+    ft = _rows(sweep(angle_methods, maps=[f"sine{f}" for f in freqs], angles=(60.0,), settings=SweepSettings(size=128, flip=False),
                      repeats=1, progress=False))
     for row in ft:
         row["chart"] = "frequency"
