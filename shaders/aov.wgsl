@@ -2,7 +2,7 @@
 // every backend (GL cannot render to Rgba32Float).
 #define_import_path pomkit::aov
 
-#import pomkit::globals::G
+#import pomkit::object::G
 #import pomkit::cost::cost_counts
 
 struct FsOut {

@@ -7,7 +7,7 @@
 // world units.
 #define_import_path pomkit::basis
 
-#import pomkit::globals::G
+#import pomkit::object::G
 
 struct Basis {
     t: vec3<f32>,

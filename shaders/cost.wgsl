@@ -25,7 +25,7 @@
 //            buffer of one u32 per pixel (group 0, binding 3), cleared before the pass.
 #define_import_path pomkit::cost
 
-#import pomkit::globals::V
+#import pomkit::view::V
 
 #ifdef COUNT_FRAGMENTS
 @group(0) @binding(3) var<storage, read_write> fragment_counts: array<atomic<u32>>;

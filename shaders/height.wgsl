@@ -1,12 +1,12 @@
 // height.wgsl: sampling the height field (and the albedo), its normal, the mip level of a
 // footprint, and the max-mip pyramid. The height field is bilinear between texel centres and
 // repeats. The two filtering paths agree up to the adapter's filter-weight precision;
-// FILTERING = 1 (four loads and a float32 lerp) removes that source of error.
+// FILTERING_EXACT (four loads and a float32 lerp) removes that source of error.
 //
-// Shader defs: FILTERING (0 hardware, 1 exact).
+// Shader defs: FILTERING_HARDWARE or FILTERING_EXACT (`Filtering::shader_def`).
 #define_import_path pomkit::height
 
-#import pomkit::globals::{G, height_tex, height_samp, albedo_tex, albedo_samp, max0_tex, max_atlas}
+#import pomkit::object::{G, height_tex, height_samp, albedo_tex, albedo_samp, max0_tex, max_atlas}
 #import pomkit::basis::Basis
 #import pomkit::cost::fetched
 
@@ -67,7 +67,7 @@ fn num_mips() -> f32 {
 // The height at texture coordinate s (tiled units), at mip level `lod` (trilinear), uncounted
 // (the shading normal's samples).
 fn sample_height(s: vec2<f32>, lod: f32) -> f32 {
-#if FILTERING == 1
+#ifdef FILTERING_EXACT
     let l0 = i32(floor(lod));
     let fl = lod - f32(l0);
     let a = height_exact_level(s, l0);
@@ -87,7 +87,7 @@ fn sample_height(s: vec2<f32>, lod: f32) -> f32 {
 // filter is one fetch reading 4 texels per level.
 fn height_at(s: vec2<f32>, lod: f32) -> f32 {
     let levels = select(2u, 1u, lod == floor(lod));
-#if FILTERING == 1
+#ifdef FILTERING_EXACT
     fetched(4u * levels, 16u * levels);
 #else
     fetched(1u, 16u * levels);
@@ -132,7 +132,7 @@ fn footprint_lod(ds_dx: vec2<f32>, ds_dy: vec2<f32>) -> f32 {
     return clamp(lod, 0.0, num_mips() - 1.0);
 }
 
-// ---- the max-mip pyramid (level 0 and an atlas of the levels above: see globals.wgsl) ----
+// ---- the max-mip pyramid (level 0 and an atlas of the levels above: see object.wgsl) ----
 
 fn max_level_dims(level: i32) -> vec2<i32> {
     return max(vec2<i32>(G.map_size) >> vec2<u32>(u32(level)), vec2<i32>(1));

@@ -5,7 +5,8 @@
 // resolution. The horizon is the largest elevation angle seen from the point.
 #define_import_path pomkit::horizon
 
-#import pomkit::globals::{G, PI}
+#import pomkit::view::PI
+#import pomkit::object::G
 #import pomkit::basis::{Basis, to_texture_space}
 #import pomkit::height::max_at
 #import pomkit::lights::LightSample

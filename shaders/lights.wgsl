@@ -2,7 +2,7 @@
 // in frames that have one (shader def SPHERE_LIGHTS): elsewhere the branch is compiled out.
 #define_import_path pomkit::lights
 
-#import pomkit::globals::V
+#import pomkit::view::V
 
 struct LightSample {
     dir: vec3<f32>,

@@ -7,7 +7,7 @@
 // The pyramid is not a mipmapped texture: each lane reads a different level, and on lavapipe
 // (Mesa 22.3) textureLoad/textureDimensions with a level that varies across the lanes of a SIMD
 // vector returned other lanes' levels (rays then skipped whole regions). Level 0 is a texture
-// and the levels above sit side by side in an atlas (globals.wgsl), each read at mip level 0.
+// and the levels above sit side by side in an atlas (object.wgsl), each read at mip level 0.
 //
 // Cell space: X = s.x * W - 0.5, Y = s.y * H - 0.5; cell (i, j) spans texel centres i..i+1,
 // j..j+1 (wrapping). The pyramid is used up to the highest level whose size divides the map
@@ -15,7 +15,7 @@
 
 #define_import_path pomkit::maxmip
 
-#import pomkit::globals::{G, height_tex, height_samp, max_children}
+#import pomkit::object::{G, height_tex, height_samp, max_children}
 #import pomkit::height::max_at
 #import pomkit::cost::{fetched, chained}
 

@@ -1,4 +1,5 @@
-// object.wgsl: the object's transform. Every mesh lives in object space and the methods march
+// object.wgsl: the object drawn (bind group 1: its uniforms, its height map and pyramids, its
+// albedo) and its transform. Every mesh lives in object space and the methods march
 // there (the displacement `depth` is in object units, along the object-space normal); positions
 // go to world space for the depth buffer, the lights and the shadow map, normals for the light
 // model. An untransformed object skips the arithmetic (a uniform branch), so that its results are
@@ -6,7 +7,59 @@
 // TRANSFORMED) the arithmetic is compiled out, as a branch costs both its sides on lavapipe.
 #define_import_path pomkit::object
 
-#import pomkit::globals::{G, V}
+#import pomkit::view::V
+
+struct ObjectUniforms {
+    // height map size in texels
+    map_size: vec2<f32>,
+    tiling: f32,
+    depth: f32,
+    mip_count: f32,
+    // options shared by the per-pixel methods
+    shadow_steps: f32,
+    lod_threshold: f32,
+    // 1: sample the footprint's mip level (tex2Dgrad), 0: level 0
+    mip_filtering: f32,
+    ao_directions: f32,
+    horizon_samples: f32,
+    // the highest max-mip level whose nodes tile the map
+    top_max_level: f32,
+    // bound on the iterations of every max-mip traversal
+    max_iterations: f32,
+    // x offset of each max-pyramid level k >= 1 in max_atlas (src/heightmap/mod.rs's max_atlas)
+    max_offsets: array<vec4<u32>, 4>,
+    // the object drawn (one block per object; see object.wgsl): object-to-world matrix, the
+    // inverse transpose (normals), the inverse (world-to-object), the eye in object space, the
+    // object's index (the `object` AOV), 1 when the transform is not the identity
+    model: mat4x4<f32>,
+    normal_mat: mat4x4<f32>,
+    model_inv: mat4x4<f32>,
+    eye_object: vec3<f32>,
+    object_id: f32,
+    transformed: f32,
+    pad_c: f32,
+    pad_d: f32,
+    pad_e: f32,
+}
+
+@group(1) @binding(0) var<uniform> G: ObjectUniforms;
+@group(1) @binding(1) var height_tex: texture_2d<f32>;
+@group(1) @binding(2) var height_samp: sampler;
+@group(1) @binding(3) var albedo_tex: texture_2d<f32>;
+@group(1) @binding(4) var albedo_samp: sampler;
+// max-mip pyramid: level 0 holds the max of the bilinear field over each cell between texel
+// centres (cell (i, j) spans texel centres i..i+1, j..j+1), level k the max over 2^k x 2^k
+// cells. Level 0 is a texture of the map's size, levels 1.. lie side by side in an atlas (level
+// k at x = max_offsets[k], y = 0): textures stay within any limit a map within
+// max_texture_dimension_2d does, where one buffer of every level exceeded the storage binding
+// limit from 8192² on.
+@group(1) @binding(5) var max0_tex: texture_2d<f32>;
+@group(1) @binding(6) var max_atlas: texture_2d<f32>;
+// The same levels 1 ..= top again, each node's texel holding its four children's maxes (x: child
+// (0, 1), y: (1, 1), z: (1, 0), w: (0, 0), as a gather), level 1 at (0, 0) and levels 2.. in a
+// column to its right (src/heightmap/mod.rs's children_atlas): the max-mip walk reads a node's children
+// with one load, and descends only into a child the ray dips below (maxmip.wgsl).
+@group(1) @binding(7) var max_children: texture_2d<f32>;
 
 fn is_transformed() -> bool {
 #ifdef TRANSFORMED

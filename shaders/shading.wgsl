@@ -4,11 +4,13 @@
 // with exact shadows, both by exact traversals over the reference's direction sets
 // (docs/conventions.md, "The reference shading").
 //
-// Shader defs: SHADOWS (0 none, 1 hard, 2 soft, 3 horizon, 4 exact); TESSELLATED (the displaced
-// mesh: visibility from the shadow map, no AO).
+// Shader defs: one of SHADOWS_NONE, _HARD, _SOFT, _HORIZON, _EXACT; MESH_SURFACE (the rasterised
+// mesh is the displaced surface: its hard self-shadows are the shadow map of itself, and it has
+// no horizon AO).
 #define_import_path pomkit::shading
 
-#import pomkit::globals::{G, V, PI, MAX_LIGHTS}
+#import pomkit::view::{V, PI, MAX_LIGHTS}
+#import pomkit::object::G
 #import pomkit::basis::Basis
 #import pomkit::height::albedo_at
 #import pomkit::lights::{LightSample, light_sample}
@@ -25,9 +27,9 @@ fn light_visibility(f: Basis, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, 
     var r: ShadowResult;
     r.visibility = 1.0;
     r.steps = 0.0;
-#ifdef TESSELLATED
+#ifdef MESH_SURFACE
     if (self_shadows) {
-#if SHADOWS == 4
+#ifdef SHADOWS_EXACT
         // the mesh's exact self-shadows: the traversal from its point of the field
         var lo = ls;
         lo.dir = dir_to_object(ls.dir);
@@ -37,16 +39,16 @@ fn light_visibility(f: Basis, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, 
 #endif
     }
 #else
-#if SHADOWS != 0
+#ifndef SHADOWS_NONE
     if (self_shadows) {
         // the light ray starts at the hit the view ray's search read
         chained();
         var lo = ls;
         lo.dir = dir_to_object(ls.dir);
-#if SHADOWS == 3
+#ifdef SHADOWS_HORIZON
         r = horizon_shadow(f, s, h, lo);
 #else
-#if SHADOWS == 4
+#ifdef SHADOWS_EXACT
         r = exact_shadow(f, s, h, lo, px);
 #else
         r = shadow_march(f, s, h, lo, lod);
@@ -87,11 +89,11 @@ fn shade(f: Basis, s: vec2<f32>, h: f32, p: vec3<f32>, n: vec3<f32>, lod: f32, w
     }
     var ao = 1.0;
     if (with_shadows && G.ao_directions > 0.0 && any(V.ambient > vec3<f32>(0.0))) {
-#if SHADOWS == 4
+#ifdef SHADOWS_EXACT
         // exact shadows come with the reference's exact AO (64 cosine-weighted directions)
         let a = exact_ao(f, s, h, n, px);
 #else
-#ifdef TESSELLATED
+#ifdef MESH_SURFACE
         let a = vec2<f32>(1.0, 0.0);
 #else
         let a = horizon_ao(f, s, h, px);

@@ -9,10 +9,11 @@
 //   exact: the max-mip traversal along the light ray (maxmip.wgsl); visible if it leaves the shell.
 //   ("horizon" lives in horizon.wgsl.) All run only where N.L > 0 (the caller checks).
 //
-// Shader defs: SHADOWS (1 hard, 2 soft, 3 horizon, 4 exact).
+// Shader defs: one of SHADOWS_HARD, _SOFT, _HORIZON, _EXACT (`Shadows::shader_def`).
 #define_import_path pomkit::shadows
 
-#import pomkit::globals::{G, V, shadow_tex, shadow_samp, PI}
+#import pomkit::view::{V, shadow_tex, shadow_samp, PI}
+#import pomkit::object::G
 #import pomkit::basis::{Basis, to_texture_space}
 #import pomkit::height::{height_at, height_exact_level}
 #import pomkit::cost::fetched
@@ -67,7 +68,7 @@ fn shadow_march(f: Basis, s: vec2<f32>, h_march: f32, ls: LightSample, lod: f32)
         let hs = height_at(s + dsdh * (h_ray - h), lod);
         r.steps = r.steps + 1.0;
         let above = hs - h_ray - bias;
-#if SHADOWS == 1
+#ifdef SHADOWS_HARD
         let hard = true;
 #else
         let hard = ls.tan_radius <= 1e-6;

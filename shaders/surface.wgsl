@@ -1,22 +1,23 @@
 // surface.wgsl: the mesh pass. It rasterises the base mesh (or, for Tessellated, the displaced
 // mesh), builds the view ray in the fragment's tangent basis, calls the method's
 // `method::march` (src/methods/*.wgsl or a user's pk.Custom; the composer imports it as
-// `method`), and shades the hit. One pipeline per method and shader-def combination.
+// `method`), and shades the hit; or a method without a march shades the rasterised surface. One pipeline per method and shader-def combination.
 //
 // Shader defs (set by the method's Rust spec, src/methods/):
 //   MARCH        a per-pixel method: `method` is imported and marched
 //   LOD_BLEND    Tatarchuk 2006's in-shader LOD: full march at levels <= lod_threshold - 1,
 //                bump mapping above lod_threshold, blended by the fractional level (POM)
-//   FLAT, BUMP   no march: the base normal, or the height field's normal, at the rasterised uv
-//   TESSELLATED  the displaced mesh itself, shaded with the height field's level-0 normal
+//   SHADE        no march: `method::shade_surface` shades the rasterised surface (the base mesh,
+//                or a mesh that is the displaced surface itself)
 //   DISPLACED_DEPTH  the marched hit's depth is written as the fragment's (src/shaders.rs)
 //   VERTEX_EXTRA  the method's own vertex attribute (NCS, CurvedRelief), passed to its march
-//   SHADOWS, FILTERING  see shading.wgsl and height.wgsl
+//   SHADOWS_*, FILTERING_*  the options by name; see shading.wgsl and height.wgsl
 //
 // Entry points: vs_main/fs_main (the raster pipeline), vs_visibility/fs_visibility then cs_main
 // (the compute pipeline: visibility.wgsl), vs_shadow/fs_shadow (the shadow map).
 
-#import pomkit::globals::{G, V}
+#import pomkit::view::V
+#import pomkit::object::G
 #import pomkit::vertex::{VertexIn, VertexOut, pass_through}
 #import pomkit::aov::{FsOut, Packed, pack_aovs, write_aovs}
 #import pomkit::basis::{Basis, make_basis, to_texture_space}
@@ -32,8 +33,8 @@ fn vs_main(v: VertexIn) -> VertexOut {
     return pass_through(v, to_clip(v.position, V.view_proj));
 }
 
-// The shadow-map pass: the scene seen from the shadowing light (orthographic). Meshes that are
-// their own surface (Flat, Bump, Tessellated) write their rasterised depth; the per-pixel methods
+// The shadow-map pass: the scene seen from the shadowing light (orthographic). Methods without a
+// march (SHADE) write their mesh's rasterised depth; the per-pixel methods
 // march each fragment along the light's direction (fs_shadow) and write the hit's depth, so that
 // every object casts with its displaced surface.
 @vertex
@@ -117,17 +118,9 @@ fn surface(in: VertexOut, lod: f32) -> Surfaced {
     var s_hit = s0;
     var dist = base_dist * k;
 
-#ifdef FLAT
-    color = shade(f, s0, 1.0, p_base, normal_to_world(f.n), lod, false, px).color;
-#endif
-#ifdef BUMP
-    // Blinn 1978: the normal from the height field, uv unchanged
-    color = shade(f, s0, 1.0, p_base, normal_to_world(height_normal(f, s0, lod)), lod, false, px).color;
-#endif
-#ifdef TESSELLATED
-    // base mesh's basis, height-field normal at the rasterised uv, level 0: this is the true surface
-    // (h = 0: the exact shadows start from the field's own height at s0)
-    let sh = shade(f, s0, 0.0, p_base, normal_to_world(height_normal(f, s0, 0.0)), lod, true, px);
+#ifdef SHADE
+    // the method shades the rasterised surface itself
+    let sh = method::shade_surface(f, s0, p_base, lod, px);
     color = sh.color;
     steps = sh.steps;
 #endif

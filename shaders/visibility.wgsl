@@ -16,7 +16,7 @@
 // stands for a non-indexed mesh (triangle t's corners are vertices 3t, 3t + 1, 3t + 2).
 #define_import_path pomkit::visibility
 
-#import pomkit::globals::V
+#import pomkit::view::V
 #import pomkit::vertex::{VertexIn, VertexOut, pass_through}
 #import pomkit::object::to_clip
 

@@ -70,6 +70,15 @@ macro_rules! option_enum {
                     $($name::$variant => $value,)*
                 }
             }
+            /// The value as a WGSL shader def: the argument and the value, upper case
+            /// ("SHADOWS_HORIZON", "REFINE_EXACT"), defined (true) in the variant that takes it.
+            pub fn shader_def(self) -> &'static str {
+                static DEFS: std::sync::OnceLock<Vec<String>> = std::sync::OnceLock::new();
+                DEFS.get_or_init(|| {
+                    Self::NAMES.iter().map(|v| format!("{}_{}", $arg, v).to_uppercase()).collect()
+                })[self as usize]
+                    .as_str()
+            }
         }
     };
 }
@@ -84,19 +93,6 @@ option_enum!(
         Exact = "exact",
     }
 );
-
-impl Shadows {
-    /// The value of the SHADOWS shader def.
-    pub fn def(self) -> u32 {
-        match self {
-            Shadows::None => 0,
-            Shadows::Hard => 1,
-            Shadows::Soft => 2,
-            Shadows::Horizon => 3,
-            Shadows::Exact => 4,
-        }
-    }
-}
 
 option_enum!(
     /// Height sampling: the sampler's bilinear filter, or four loads and a float32 lerp.
@@ -214,9 +210,11 @@ pub trait Composer: Send + Sync {
 /// Which pass draws the method.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Pass {
-    /// surface.wgsl; `march` (when given) is imported as `method` and must define
-    /// `fn march(r: Ray) -> Hit`
-    Surface { march: Option<ShaderUnit> },
+    /// surface.wgsl, which imports `method` as `method`: a method that `marches` defines
+    /// `fn march(r: Ray) -> Hit` (shader def MARCH); one that does not shades the rasterised
+    /// surface itself, `fn shade_surface(f: Basis, s: vec2<f32>, p: vec3<f32>, lod: f32,
+    /// px: vec2<f32>) -> Shaded` (shader def SHADE), and the shadow map takes its rasterised depth
+    Surface { method: ShaderUnit, marches: bool },
     /// a top-level shader of the method's own
     Own {
         shader: ShaderUnit,
@@ -424,7 +422,7 @@ impl Builders {
 #[derive(Clone, Debug)]
 pub struct Spec {
     pub pass: Pass,
-    /// boolean shader defs (MARCH, LOD_BLEND, FLAT, BUMP, ... and the method's own).
+    /// boolean shader defs (MARCH or SHADE, LOD_BLEND, MESH_SURFACE, ... and the method's own).
     /// VERTEX_EXTRA: the method's geometry adds a vec4 attribute at location 5, which the
     /// surface pass interpolates and hands to its march as `Ray::extra`.
     pub defs: Vec<&'static str>,
@@ -450,7 +448,10 @@ impl Spec {
     /// A per-pixel method of the surface pass, marching with `march`.
     pub fn surface(march: ShaderUnit, pixel: &PerPixel, params: &[(&str, f32)]) -> Self {
         Spec {
-            pass: Pass::Surface { march: Some(march) },
+            pass: Pass::Surface {
+                method: march,
+                marches: true,
+            },
             defs: vec!["MARCH"],
             geometry: Geometry::Base,
             resources: None,
@@ -462,11 +463,14 @@ impl Spec {
             shader_arg: "method",
         }
     }
-    /// A surface-pass method without a march.
-    pub fn shade_only(def: &'static str, pixel: PerPixel, geometry: Geometry) -> Self {
+    /// A surface-pass method without a march: `method` shades the rasterised surface.
+    pub fn shade_only(method: ShaderUnit, pixel: PerPixel, geometry: Geometry) -> Self {
         Spec {
-            pass: Pass::Surface { march: None },
-            defs: vec![def],
+            pass: Pass::Surface {
+                method,
+                marches: false,
+            },
+            defs: vec!["SHADE"],
             geometry,
             resources: None,
             shadow_map_self: false,

@@ -1,9 +1,9 @@
 //! WGSL composition with naga_oil: every file in `shaders/` is a module with a named import
-//! path (`pomkit::globals`, `pomkit::height`, ...); a method's `march` module or its own pass is
+//! path (`pomkit::view`, `pomkit::object`, `pomkit::height`, ...); a method's `march` module or its own pass is
 //! composed with them and the variant's shader defs into one naga module per pipeline.
 //!
-//! Shader defs: SHADOWS and FILTERING (values, always set), plus the method's flags (MARCH,
-//! LOD_BLEND, FLAT, BUMP, TESSELLATED). The method's parameters become the uniform block
+//! Shader defs: the options by name (SHADOWS_*, FILTERING_*: `option_enum!`'s `shader_def`),
+//! plus the method's flags (MARCH or SHADE, LOD_BLEND, MESH_SURFACE, its own). The method's parameters become the uniform block
 //! `params` (group 2, binding 0), generated here from its Rust parameter list, so the two sides agree by
 //! construction.
 
@@ -18,8 +18,8 @@ use std::sync::Mutex;
 /// The library modules, in dependency order (a module's imports come before it).
 pub const LIBRARY: &[(&str, &str)] = &[
     (
-        "shaders/globals.wgsl",
-        include_str!("../shaders/globals.wgsl"),
+        "shaders/view.wgsl",
+        include_str!("../shaders/view.wgsl"),
     ),
     (
         "shaders/vertex.wgsl",
@@ -166,14 +166,10 @@ pub fn defs(
     if frame.count_fragments {
         d.insert("COUNT_FRAGMENTS".to_string(), ShaderDefValue::Bool(true));
     }
-    d.insert(
-        "SHADOWS".to_string(),
-        ShaderDefValue::UInt(spec.pixel.shadows.def()),
-    );
-    d.insert(
-        "FILTERING".to_string(),
-        ShaderDefValue::UInt(if filtering == Filtering::Exact { 1 } else { 0 }),
-    );
+    // the options by name (`option_enum!`'s `shader_def`): SHADOWS_HORIZON, FILTERING_EXACT
+    for def in [spec.pixel.shadows.shader_def(), filtering.shader_def()] {
+        d.insert(def.to_string(), ShaderDefValue::Bool(true));
+    }
     for f in &spec.defs {
         d.insert(f.to_string(), ShaderDefValue::Bool(true));
     }
@@ -291,14 +287,13 @@ impl ShaderLib {
             .map_err(|_| Error::Gpu("shader composer lock poisoned".into()))?;
         let defs = defs(spec, filtering, frame);
         let (source, file) = match &spec.pass {
-            Pass::Surface { march: Some(unit) } => {
+            Pass::Surface { method: unit, .. } => {
                 Self::ensure(&mut composer, unit, Some(&spec.params), arg)?;
                 (
                     format!("#import {} as method\n{SURFACE}", unit.path),
                     SURFACE_FILE.to_string(),
                 )
             }
-            Pass::Surface { march: None } => (SURFACE.to_string(), SURFACE_FILE.to_string()),
             Pass::Own { shader, .. } => {
                 for d in &shader.deps {
                     Self::ensure(&mut composer, d, None, arg)?;

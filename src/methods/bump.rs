@@ -21,7 +21,7 @@ impl Unit for Bump {
     const PER_PIXEL: bool = false;
     fn spec(&self, _: &PerPixel) -> Spec {
         Spec::shade_only(
-            "BUMP",
+            crate::method_shader!("bump"),
             PerPixel {
                 filtering: self.filtering,
                 ..PerPixel::off()

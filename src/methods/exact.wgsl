@@ -3,7 +3,7 @@
 // `max_iterations` (G.max_iterations) bounds it and flags the rays that reach the bound.
 #define_import_path pomkit::methods::exact
 
-#import pomkit::globals::G
+#import pomkit::object::G
 #import pomkit::aov::FLAG_BOUND
 #import pomkit::march::{Ray, Hit, planar_hit, does_not_descend}
 #import pomkit::maxmip::{maxmip_traverse, positive_start}

@@ -11,6 +11,6 @@ impl Unit for Flat {
     }
     const PER_PIXEL: bool = false;
     fn spec(&self, _: &PerPixel) -> Spec {
-        Spec::shade_only("FLAT", PerPixel::off(), Geometry::Base)
+        Spec::shade_only(crate::method_shader!("flat"), PerPixel::off(), Geometry::Base)
     }
 }

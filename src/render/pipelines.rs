@@ -147,8 +147,8 @@ fn variant_key(
     defs.hash(&mut h);
     targets.hash(&mut h);
     match &spec.pass {
-        Pass::Surface { march } => {
-            ("surface", march.as_ref().map(|m| m.path.as_str())).hash(&mut h)
+        Pass::Surface { method, marches } => {
+            ("surface", method.path.as_str(), marches).hash(&mut h)
         }
         Pass::Own { shader, vs, fs, .. } => ("own", shader.path.as_str(), vs, fs).hash(&mut h),
     }
@@ -373,8 +373,8 @@ impl Pipelines {
             // the shadow-map pass: a marched method writes its hit's depth from its fragment
             // stage; a mesh that is its own surface writes its rasterised depth
             let (shadow_vs, shadow_fs) = match &spec.pass {
-                Pass::Surface { march: Some(_) } => ("vs_shadow", Some("fs_shadow")),
-                Pass::Surface { march: None } => ("vs_shadow", None),
+                Pass::Surface { marches: true, .. } => ("vs_shadow", Some("fs_shadow")),
+                Pass::Surface { marches: false, .. } => ("vs_shadow", None),
                 Pass::Own {
                     shadow_vs,
                     shadow_fs,

@@ -1,4 +1,4 @@
-//! The uniform blocks of shaders/globals.wgsl, filled from the scene and the method's spec:
+//! The uniform blocks of shaders/view.wgsl and shaders/object.wgsl, filled from the scene and the method's spec:
 //! `View` (bind group 0, per frame) and `ObjectUniforms` (bind group 1, per object).
 //! `tests/rust/uniform_layout.rs` checks that every field has the same name and offset in Rust and
 //! in the composed WGSL.
@@ -30,7 +30,7 @@ uniform_struct! {
 }
 
 uniform_struct! {
-    /// shaders/globals.wgsl's `View` (bind group 0): see the comments there.
+    /// shaders/view.wgsl's `View` (bind group 0): see the comments there.
     pub struct View {
         pub view_proj: [[f32; 4]; 4],
         pub eye: [f32; 3],
@@ -51,7 +51,7 @@ uniform_struct! {
 }
 
 uniform_struct! {
-    /// shaders/globals.wgsl's `ObjectUniforms` (bind group 1, one per object): see the comments there.
+    /// shaders/object.wgsl's `ObjectUniforms` (bind group 1, one per object): see the comments there.
     pub struct ObjectUniforms {
         pub map_size: [f32; 2],
         pub tiling: f32,

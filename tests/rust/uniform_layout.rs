@@ -1,5 +1,5 @@
 //! The uniform blocks' layouts: every field of `render::uniforms::{View, ObjectUniforms, LightU}` has
-//! the same name and offset as in the composed WGSL (shaders/globals.wgsl).
+//! the same name and offset as in the composed WGSL (shaders/view.wgsl, shaders/object.wgsl).
 
 use pomkit::methods::{Method, PerPixel};
 use pomkit::render::uniforms::{LightU, ObjectUniforms, View};

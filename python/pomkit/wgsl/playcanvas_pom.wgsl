@@ -12,7 +12,7 @@
 // Parameters: params.samples, params.texels_per_step, params.max_slope, params.fade_lo, params.fade_hi.
 #import pomkit::march::{Ray, Hit, planar_hit}
 #import pomkit::height::height_at
-#import pomkit::globals::G
+#import pomkit::object::G
 
 fn march(r: Ray) -> Hit {
     let lod = r.lod;

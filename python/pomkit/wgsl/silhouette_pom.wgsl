@@ -7,7 +7,7 @@
 // marches in the entry's tangent plane (pk.CurvedRelief and pk.NCS bend it).
 // Parameters: params.min_steps, params.max_steps.
 #import pomkit::march::{Ray, Hit, planar_hit, view_segment, linear_search, refine_linear, segment_s, segment_h, pom_sample_count}
-#import pomkit::globals::G
+#import pomkit::object::G
 
 fn march(r: Ray) -> Hit {
     let g = view_segment(r);

@@ -16,7 +16,7 @@
 #define_import_path pomkit::methods::cone_step
 
 #import pomkit::cost::{fetched, chained}
-#import pomkit::globals::G
+#import pomkit::object::G
 #import pomkit::aov::FLAG_BOUND
 #import pomkit::march::{Ray, Hit, planar_hit, does_not_descend}
 #import pomkit::maxmip::{cell_intersect, cell_point, maxmip_traverse, positive_start}

@@ -88,11 +88,7 @@ impl Unit for ConeStep {
                 ("binary_steps", self.binary_steps as f32),
             ],
         );
-        s.defs.push(match self.refine {
-            Refine::Exact => "REFINE_EXACT",
-            Refine::Binary => "REFINE_BINARY",
-            Refine::None => "REFINE_NONE",
-        });
+        s.defs.push(self.refine.shader_def());
         s.resources = Some(Arc::new(ConeMapResource(self.cones)));
         s.max_iterations = self.max_iterations;
         s

@@ -14,7 +14,7 @@
 // The hit is shaded in the mesh's basis at the hit.
 #define_import_path pomkit::methods::curved_relief
 
-#import pomkit::globals::G
+#import pomkit::object::G
 #import pomkit::march::{Ray, Hit}
 #import pomkit::aov::{FLAG_FALLBACK, FALLBACK_NDV}
 #import pomkit::height::height_at

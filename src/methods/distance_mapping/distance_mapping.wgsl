@@ -7,7 +7,7 @@
 #define_import_path pomkit::methods::distance_mapping
 
 #import pomkit::cost::{fetched, chained}
-#import pomkit::globals::G
+#import pomkit::object::G
 #import pomkit::aov::FLAG_BOUND
 #import pomkit::march::{Ray, Hit, planar_hit}
 #import pomkit::height::height_at

@@ -17,7 +17,7 @@
 
 #define_import_path pomkit::methods::ncs
 
-#import pomkit::globals::G
+#import pomkit::object::G
 #import pomkit::cost::chained
 #import pomkit::aov::{FLAG_EARLY, FLAG_FALLBACK, FALLBACK_NDV}
 #import pomkit::basis::{Basis, make_basis}

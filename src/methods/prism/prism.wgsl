@@ -28,7 +28,8 @@
 // entry lies behind its earlier one's whole walk), which keeps the early depth test.
 
 #import pomkit::cost::{fetched, chained, count_fragment}
-#import pomkit::globals::{G, V}
+#import pomkit::view::V
+#import pomkit::object::G
 #import pomkit::vertex::{VertexIn, VertexOut, pass_through}
 #import pomkit::aov::{FsOut, write_aovs, pack_aovs, FLAG_BOUND}
 #import pomkit::basis::{Basis, make_basis}

@@ -95,7 +95,7 @@ impl Unit for Tessellated {
             0
         };
         let mut s = Spec::shade_only(
-            "TESSELLATED",
+            crate::method_shader!("tessellated"),
             PerPixel {
                 ao_directions,
                 ..PerPixel::off().with_shadows(self.shadows)
@@ -106,6 +106,7 @@ impl Unit for Tessellated {
             })),
         );
         s.shadow_map_self = self.shadows == Shadows::Hard;
+        s.defs.push("MESH_SURFACE");
         s
     }
     fn validate(&self) -> Result<()> {
