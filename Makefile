@@ -8,7 +8,7 @@ VENV := .venv/bin
 # the tests that run a second time on the GL backend in `make test` (about five minutes)
 GL_TESTS := tests/test_pipelines.py tests/test_cost.py tests/test_supersampling.py tests/test_methods.py tests/test_analytic.py tests/test_differential.py tests/test_shadows.py tests/test_throughput.py tests/test_sizes.py tests/test_reference_exact.py tests/test_assets.py tests/test_golden.py tests/test_oracle_curved.py
 
-.PHONY: setup setup-test setup-bench setup-demo demo check test test-gl bench tables stubs wheel info clean
+.PHONY: setup setup-test setup-bench setup-demo demo check test test-gl bench tables tables-slow tables-all stubs wheel info clean
 
 setup:
 	scripts/setup.sh
@@ -67,9 +67,39 @@ info: setup
 bench: setup-bench
 	$(VENV)/python tools/goals.py
 
-# the measured tables of docs/tables (tools/tables.py; the reference tables need the test setup's Mitsuba)
+# the measured tables of docs/tables, each under its provenance line (tools/provenance.py: writer,
+# commit, adapter, date; tests/test_layout.py checks it and that this list names every file):
+#   make tables       the quick ones (about 4 minutes in all on a 2-core llvmpipe machine), no extra beyond the library:
+#     tools/tables.py --set quick       stability.md shadows.md timing.md
+#     tools/cost_model.py               cost_model.md
+#     tools/cost_refit.py               cost_refit.md (the timings of gpu/*-vulkan.json, `chain` counted here)
+#   make tables-slow  the rest: longer, and they need Mitsuba, Blender or the bench's extras (the test setup):
+#     tools/tables.py --set reference   references.md silhouettes.md pom_default.md seed002.md (Mitsuba)
+#     tools/reference_agreement.py      reference_agreement.md (Mitsuba, pyrender)
+#     tools/motion_table.py             motion.md
+#     tools/cycles_agreement.py         cycles.md (Blender's Cycles)
+#     tools/goals.py --tables           bench.md bench_goals.txt curved_tiling.md (the whole bench, as `make bench`)
+#     scripts/gpu_check.py              gpu/llvmpipe-LLVM-15-0-6-256-bits-vulkan.md gpu/llvmpipe-LLVM-15-0-6-256-bits-vulkan.json
+#                                       gpu/llvmpipe-LLVM-15-0-6-256-bits-gl.md gpu/llvmpipe-LLVM-15-0-6-256-bits-gl.json
+#   a device run (scripts/gpu_check.sh on a lent GPU, not a make target here):
+#     scripts/gpu_check.py              gpu/NVIDIA-H200-vulkan.md gpu/NVIDIA-H200-vulkan.json
+#   make tables-all   both: the slow ones first, so that cost_refit.md reads the new gpu/ tables
 tables: setup
-	$(VENV)/python tools/tables.py
+	$(VENV)/python tools/tables.py --set quick
+	$(VENV)/python tools/cost_model.py
+	$(VENV)/python tools/cost_refit.py > /dev/null
+
+tables-slow: setup-test
+	$(VENV)/python tools/tables.py --set reference
+	$(VENV)/python tools/reference_agreement.py
+	$(VENV)/python tools/motion_table.py
+	cd tests && PYTHONPATH=. ../$(VENV)/python ../tools/cycles_agreement.py > ../docs/tables/cycles.md.tmp
+	mv docs/tables/cycles.md.tmp docs/tables/cycles.md
+	$(VENV)/python tools/goals.py --tables docs/tables
+	$(VENV)/python scripts/gpu_check.py
+	POMKIT_BACKEND=gl $(VENV)/python scripts/gpu_check.py
+
+tables-all: tables-slow tables
 
 # the scene classes' stub, written from the core's schema (src/scene/schema.rs)
 stubs: setup

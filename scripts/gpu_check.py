@@ -28,6 +28,7 @@ import pomkit as pk
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
 import costfit  # noqa: E402
+from provenance import record  # noqa: E402
 
 SIZES = {"512²": (512, 512), "1920x1080": (1920, 1080)}
 
@@ -61,7 +62,7 @@ def measure(rounds: int) -> dict:
     info = raster.info
     scenes, methods = costfit.cost_model_suite(256, quick=True)
     out: dict = dict(adapter=f"{info['name']} ({info['backend']})", driver=info["driver"], commit=_commit(),
-                     auto=info["auto_pipeline"], pipelines={})
+                     provenance=record(info), auto=info["auto_pipeline"], pipelines={})
     pipelines = {"raster": (raster, methods)}
     if not any(f.startswith("compute pipeline") and not ok for f, ok, _ in info["features"]):
         pipelines["compute"] = (pk.Renderer(pipeline="compute"), [m for m in methods if m.name != "Prism"])
@@ -119,8 +120,8 @@ def _bounds(res: dict, size: dict) -> list[str]:
 
 
 def table(res: dict, base: dict | None) -> str:
-    lines = [f"# {res['adapter']}", "",
-             f"Written by `scripts/gpu_check.sh` at commit {res['commit']}. GPU ms are medians over the cost "
+    lines = [f"# {res['adapter']}", "", res["provenance"]["line"], "",
+             "GPU ms are medians over the cost "
              "model's quick suite (bricks 45° on a plane; cobblestones, two tiles, on a torus), shadows off, "
              "interleaved rounds after a warm-up (`pomkit.bench.time_methods`), in both pipelines "
              "(`pk.Renderer(pipeline=\"raster\")` and `\"compute\"`; the compute pipeline draws no prisms). "

@@ -33,6 +33,11 @@ macro_rules! params {
                 })
             }
         }
+
+        impl $name {
+            /// The fields the core reads, by name, in order.
+            pub const FIELDS: &'static [&'static str] = &[$(stringify!($f),)*];
+        }
     };
 }
 

@@ -90,3 +90,37 @@ def test_update_height_keeps_every_other_declared_field(renderer):
             a, b = getattr(new, name), getattr(mat, name)
             assert np.array_equal(a, b) if isinstance(a, np.ndarray) else a == b, name
     assert not np.array_equal(new.height, mat.height)
+
+
+def _stub_class(name: str) -> dict[str, str]:
+    cls = next(n for n in ast.parse(STUB.read_text()).body if isinstance(n, ast.ClassDef) and n.name == name)
+    return {n.target.id: ast.unparse(n.annotation) for n in cls.body
+            if isinstance(n, ast.AnnAssign) and isinstance(n.target, ast.Name)}
+
+
+def test_every_declared_report_field_reaches_the_report_the_stub_and_check_asset():
+    """src/assets/report.rs's `report!` declares the report once: each field is a field of
+    pk.AssetReport, in the stub with the declared type, and in what check_asset returns."""
+    declared = [(n, t) for n, t, _doc in _core.ASSET_REPORT_FIELDS]
+    assert len(declared) >= 20
+    names = [f.name for f in dataclasses.fields(pk.AssetReport)]
+    stub = _stub_class("AssetReport")
+    report = pk.check_asset(pk.Mesh.sphere(), pk.Material(pk.textures.bricks(32), depth=0.05))
+    for name, py_type in declared:
+        assert name in names, f"AssetReport.{name} is not a field of pk.AssetReport"
+        assert stub.get(name) == py_type, f"AssetReport.{name}: the stub says {stub.get(name)}, the core {py_type}: make stubs"
+        assert hasattr(report, name)
+    assert names[:len(declared)] == [n for n, _ in declared]
+
+
+def test_every_method_parameter_the_core_reads_is_a_field_of_its_class():
+    """The core reads each method's parameters by name from its dataclass (`params!`): every
+    name it reads is a field of the Python class of that `_kind`, and every field of the class
+    is read."""
+    classes = {c._kind: c for c in vars(pk).values()
+               if isinstance(c, type) and issubclass(c, pk.Method) and dataclasses.is_dataclass(c) and getattr(c, "_kind", None)}
+    core = dict(_core.METHOD_FIELDS)
+    assert set(core) == set(classes), f"core methods {sorted(core)} against Python's {sorted(classes)}"
+    for kind, read in core.items():
+        fields = {f.name for f in dataclasses.fields(classes[kind])}
+        assert set(read) == fields, f"{kind}: the core reads {sorted(read)}, the class has {sorted(fields)}"

@@ -4,6 +4,7 @@ that a newcomer's map of the tree is the tree."""
 
 from __future__ import annotations
 
+import json
 import re
 from pathlib import Path
 
@@ -72,3 +73,34 @@ def test_reference_pages_are_short():
         if n >= 400:
             long.append(f"docs/{f.name} ({n} lines)")
     assert not long, f"reference pages of 400 lines or more: {', '.join(long)}"
+
+
+#: what names an adapter in a provenance line: a vendor, a backend, or the CPU alone
+ADAPTER = re.compile(r"llvmpipe|lavapipe|NVIDIA|AMD|Intel|Apple|\b(vulkan|gl|metal|dx12)\b|the CPU")
+COMMIT = re.compile(r"commit [0-9a-f]{7,}")
+
+
+def test_every_table_states_its_commit_and_adapter():
+    """Every table of docs/tables says, on one line, the commit and the adapter it came from
+    (tools/provenance.py writes that line; a JSON table carries it under "provenance"), and the
+    Makefile's tables comments name every file, so that `make tables-all` (or the device run it
+    names) regenerates each (issue 67 §6)."""
+    tables = ROOT / "docs" / "tables"
+    makefile = (ROOT / "Makefile").read_text()
+    files = sorted(p for p in tables.rglob("*") if p.is_file())
+    assert files
+    bad, unnamed = [], []
+    for p in files:
+        rel = p.relative_to(tables).as_posix()
+        if not re.search(rf"(?<![\w./-]){re.escape(rel)}(?![\w.-])", makefile):
+            unnamed.append(rel)
+        if p.suffix == ".json":
+            prov = json.loads(p.read_text()).get("provenance") or ""
+            # {"commit": ..., "adapter": ..., "line": ...} as tools/provenance.py's record, or a line
+            lines = [f"commit {prov.get('commit', '')} {prov.get('adapter', '')}"] if isinstance(prov, dict) else [str(prov)]
+        else:
+            lines = p.read_text().splitlines()
+        if not any(COMMIT.search(ln) and ADAPTER.search(ln) for ln in lines):
+            bad.append(rel)
+    assert not bad, f"tables without a line naming their commit and adapter: {', '.join(bad)}"
+    assert not unnamed, f"tables the Makefile's `tables` comments do not name: {', '.join(unnamed)}"

@@ -21,6 +21,7 @@ import pomkit as pk
 from pomkit import bench
 
 import costfit
+from provenance import stamp
 from quads import group_total
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "scripts"))
@@ -51,7 +52,9 @@ def timed(table: dict) -> dict[str, dict[str, list[dict]]]:
 def refit(tables: list[Path]) -> str:
     ch = chains()
     lines = ["# The cost model, refitted with latency", "",
-             "Written by `tools/cost_refit.py`. Each adapter's timings are `scripts/gpu_check.sh`'s (its JSON in "
+             stamp(pk.Renderer(pipeline="raster").info) + " The adapter is the one that counted `chain`; each "
+             "adapter's timings carry their own commit below.", "",
+             "Each adapter's timings are `scripts/gpu_check.sh`'s (its JSON in "
              "docs/tables/gpu/: the quick suite, bricks 45° on a plane and cobblestones on a torus, 18 methods); "
              "`chain` and `chain_group` (the longest chain of dependent fetches, summed over the pixels and over "
              "SIMD groups of 32) are counted at this commit, the other counts are the table's own. R² is the fit's; "

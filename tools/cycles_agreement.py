@@ -10,6 +10,7 @@ import numpy as np
 
 import pomkit as pk
 import zoo
+from provenance import stamp
 from test_cycles import _charts_apart, _outline
 
 
@@ -28,6 +29,8 @@ def measure(label: str, sc, dicing: float = 0.25, px: int = 1) -> None:
 
 def main() -> None:
     print("# Blender's Cycles against the oracle\n")
+    print(stamp(None, "tools/cycles_agreement.py") + " Cycles renders on Blender's CPU device and the oracle is "
+          "pomkit's float64 CPU code: no GPU adapter takes part.\n")
     print("`pk.reference.render_cycles` (bpy 5.0.1, true displacement, simple adaptive subdivision) against")
     print("`pk.oracle.hits` at pixel centres; uv error in texels away from chart borders (within 1 pixel, 4 on")
     print("the crate, whose hard edges Cycles leaves split); coverage in pixels. Written by")

@@ -1,9 +1,11 @@
 """The project's goals, measured (`make bench`, after `python -m pomkit bench`): the speed goals
 over suites of scenes (tools/suite.py), the cost model over every method, the cone map's build,
 the call overhead, the several-objects scene, horizon AO's share and the silhouettes as the map
-tiles, each in one run, written to goals.txt and goals.csv beside the bench's output.
+tiles, each in one run, written to goals.txt and goals.csv beside the bench's output. With
+--tables DIR (`make tables-slow`: docs/tables) it also writes bench.md (the bench's sweep, tiling
+and swimming), bench_goals.txt (goals.txt) and curved_tiling.md there, under their provenance.
 
-Usage: python tools/goals.py [--out pomkit-out/bench] [--quick]"""
+Usage: python tools/goals.py [--out pomkit-out/bench] [--quick] [--tables docs/tables]"""
 
 from __future__ import annotations
 
@@ -20,6 +22,7 @@ from pomkit.bench import plane_scene, time_methods, write_csv
 
 import suite
 from costfit import ao_cost, cost_model, fit_cost
+from provenance import stamp
 
 
 def cone_build_cost(size: int = 512, repeats: int = 5) -> dict[str, Any]:
@@ -122,6 +125,36 @@ def curved_tiling_markdown(rows: list[dict]) -> str:
     return "\n".join(lines)
 
 
+def bench_markdown(res: dict, quick: bool) -> str:
+    """docs/tables/bench.md from `pareto.run_bench`'s result: the Pareto sweep's rows, the cost
+    against tiling on the plane and swimming (the charts are in the bench's output folder)."""
+    params = {name: pk.bench.label(fn()) for name, fn in pk.presets.ALL_PRESETS.items()}
+    size = res["size"]
+    lines = [f"{size}² frames, bricks at 60°, shadows off (`python -m pomkit bench{' --quick' if quick else ''}`, "
+             "run by `tools/goals.py`; the chart is pareto.png in its output). GPU ms: medians of interleaved rounds "
+             "after a warm-up; uv p95 against `pk.oracle.hits`; FLIP against `pk.oracle.image` (NaN under --quick).", "",
+             "| method | parameters | GPU ms | uv p95 (texels) | FLIP vs the oracle's image |", "|---|---|---|---|---|"]
+    for x in res["table"]:
+        lines.append(f"| {x['method']} | `{params.get(x['label'], x['label'])}` | {x['gpu_ms']:.2f} | {x['uv_p95']:.4f} | "
+                     f"{x['flip']:.4f} |")
+    by = {(x["tiling"], x["method"]): x["gpu_ms"] for x in res["tiling"]}
+    lines += ["", "Cost against tiling on the plane (bricks at 60°, Tessellated(1) on the grid):", "",
+              "| tiling | POM ms | Exact ms | Tessellated(1) ms | Tess/POM | Tess/Exact |", "|---|---|---|---|---|---|"]
+    for t in sorted({k[0] for k in by}):
+        pom, exact, tess = by[(t, "POM")], by[(t, "Exact")], by[(t, "Tessellated")]
+        lines.append(f"| {t}x | {pom:.1f} | {exact:.1f} | {tess:.1f} | {tess / pom:.1f} | {tess / exact:.1f} |")
+    lines += ["", "| method | swimming (texels/frame) |", "|---|---|"]
+    lines += [f"| {x['method']} | {x['swim_texels']:.4f} |" for x in res["swimming"]]
+    return "\n".join(lines)
+
+
+def curved_tiling_header(tiles: tuple, size: int, rounds: int) -> str:
+    return (f"The torus (48 x 24 segments), cobblestones 512² tiled {tiles[0]}-{tiles[-1]} times "
+            f"({', '.join(map(str, tiles))}), depth 0.12, {size}² frame, shadows off. GPU ms: medians of {rounds} "
+            "interleaved rounds after a warm-up; x POM: medians of per-round ratios. IoU and uv p95 against "
+            "Tessellated(1) at the same tiling (uv error in texels of the tiled map).")
+
+
 def throughput(size: int = 512, frames: int = 64) -> dict[str, Any]:
     """The call-overhead figures (issue 14), at `size`², bricks 60°: Flat with colour only
     against all AOVs (wall; the GPU figure is the suite's fixed-cost goal), wall over GPU for POM with ("color", "uv") through a single
@@ -163,7 +196,7 @@ def throughput(size: int = 512, frames: int = 64) -> dict[str, Any]:
     }
 
 
-def run_goals(out: str = "pomkit-out/bench", quick: bool = False) -> dict:
+def run_goals(out: str = "pomkit-out/bench", quick: bool = False, tables: str | None = None) -> dict:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -217,7 +250,8 @@ def run_goals(out: str = "pomkit-out/bench", quick: bool = False) -> dict:
     goals.update(suite_goals)
     for row in bevy_rows:
         row["chart"] = "issue11_vs_bevy_relief"
-    curved = curved_tiling(tiles=(1, 4) if quick else (1, 2, 4, 8), size=512, rounds=3 if quick else 5)
+    tiles, rounds = ((1, 4), 3) if quick else ((1, 2, 4, 8), 5)
+    curved = curved_tiling(tiles=tiles, size=512, rounds=rounds)
     (outdir / "curved_tiling.md").write_text(curved_tiling_markdown(curved) + "\n")
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
     for name in SILHOUETTE_METHODS:
@@ -249,6 +283,14 @@ def run_goals(out: str = "pomkit-out/bench", quick: bool = False) -> dict:
         fh.write("pareto front by fetches: " + "; ".join(res["front_fetches"]) + "\n")
     print(f"wrote {outdir.resolve()}/: goals.txt, goals.csv, curved_tiling.png, curved_tiling.md "
           f"in {time.perf_counter() - t_start:.0f} s")
+    if tables:
+        d = Path(tables)
+        head = stamp(r.info)
+        (d / "bench.md").write_text(head + "\n\n" + bench_markdown(res, quick) + "\n")
+        (d / "bench_goals.txt").write_text(f"provenance: {head}\n" + (outdir / "goals.txt").read_text())
+        (d / "curved_tiling.md").write_text(head + "\n\n" + curved_tiling_header(tiles, 512, rounds) + "\n\n"
+                                            + curved_tiling_markdown(curved) + "\n")
+        print(f"wrote {d}/: bench.md, bench_goals.txt, curved_tiling.md")
     return goals
 
 
@@ -256,5 +298,6 @@ if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--out", default="pomkit-out/bench")
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--tables", help="also write bench.md, bench_goals.txt and curved_tiling.md here (docs/tables)")
     a = ap.parse_args()
-    run_goals(a.out, a.quick)
+    run_goals(a.out, a.quick, a.tables)

@@ -1,6 +1,7 @@
 #!/usr/bin/env python
-"""Writes python/pomkit/_schema_classes.pyi, the static types of the scene classes the core
-declares (src/scene/schema.rs, built at import by pomkit._schema), from the same table:
+"""Writes python/pomkit/_schema_classes.pyi, the static types of the classes the core declares
+(the scene classes of src/scene/schema.rs, built at import by pomkit._schema; the asset report
+of src/assets/report.rs, built by pomkit._assets), from the same tables:
 
     .venv/bin/python tools/schema_stub.py          # write it (make stubs)
     .venv/bin/python tools/schema_stub.py --check  # exit 1 where it differs
@@ -19,9 +20,10 @@ BASES = {"Camera": "_CameraBase", "Material": "_MaterialBase", "DirectionalLight
 
 
 def stub() -> str:
-    lines = ['"""Static types of the scene classes the core declares (src/scene/schema.rs), which',
-             "pomkit._schema builds at import. Written by tools/schema_stub.py (make stubs); do not edit.\"\"\"",
+    lines = ['"""Static types of the classes the core declares (src/scene/schema.rs, src/assets/report.rs),',
+             "which pomkit builds at import. Written by tools/schema_stub.py (make stubs); do not edit.\"\"\"",
              "", "from dataclasses import dataclass", "from typing import Any, Optional", "", "import numpy as np", "",
+             "from ._assets import _AssetReportBase",
              "from ._scene import _CameraBase, _DirectionalBase, _LightBase, _MaterialBase", ""]
     for name in _core.SCHEMA:
         eq = "" if _schema.by_value(name) else ", eq=False"
@@ -29,6 +31,15 @@ def stub() -> str:
         for f, kind, default, _lo, _hi, doc in _schema.fields(name):
             lines.append(f"    #: {' '.join(doc.split())}")
             lines.append(f"    {f}: {_schema.PY_TYPES[kind]}" + (" = ..." if default is not None else ""))
+    from pomkit._assets import _AssetReportBase
+    lines += ["", "@dataclass(frozen=True)", "class AssetReport(_AssetReportBase):"]
+    for f, py_type, doc in _core.ASSET_REPORT_FIELDS:
+        if doc:
+            lines.append(f"    #: {' '.join(doc.split())}")
+        lines.append(f"    {f}: {py_type}")
+    for f, py_type, doc, _default in _AssetReportBase._PYTHON_FIELDS:
+        lines.append(f"    #: {doc}")
+        lines.append(f"    {f}: {py_type} = ...")
     return "\n".join(lines) + "\n"
 
 

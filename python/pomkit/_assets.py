@@ -12,8 +12,9 @@ from __future__ import annotations
 from ._errors import ArgumentError, ArgumentTypeError, MissingExtraError
 import os
 import warnings
-from dataclasses import dataclass, field
-from typing import Any, Optional, Union
+import dataclasses
+from dataclasses import field
+from typing import TYPE_CHECKING, Any, Union
 
 import numpy as np
 
@@ -149,60 +150,58 @@ _WARNINGS = [
 ]
 
 
-@dataclass(frozen=True)
-class AssetReport:
+class _AssetReportBase:
     """What `check_asset` found. Counts are over the mesh's triangles and its geometric edges
     (vertices welded by position); `examples` names up to five places (in the mesh's space) of
     each finding. The height-map fields are None without a map."""
 
-    vertices: int
-    triangles: int
-    welded_vertices: int
-    charts: int
-    mirrored_charts: int
-    mirrored_triangles: int
-    degenerate_uv_triangles: int
-    degenerate_triangles: int
-    seam_edges: int
-    mirror_edges: int
-    mirror_shared_edges: int
-    open_edges: int
-    open_length: float
-    hard_edges: int
-    nonmanifold_edges: int
-    uvs_outside_unit_square: bool
-    seam_height_max: Optional[float]
-    seam_height_mean: Optional[float]
-    seam_world_max: Optional[float]
-    overlapping_texels: Optional[int]
-    min_chart_gap_texels: Optional[int]
-    max_clean_mip: Optional[int]
-    normals_off_faces: int = 0
-    normals_flipped: int = 0
-    folded_prisms: Optional[int] = None
-    examples: list = field(default_factory=list)
-    warnings: list = field(default_factory=list)
+    #: fields the report computes in Python, after the core's (`_core.ASSET_REPORT_FIELDS`)
+    _PYTHON_FIELDS = (
+        ("seam_world_max", "Optional[float]", "the largest height mismatch across a seam in world units (with a material's depth)", None),
+        ("warnings", "list[str]", "what the findings break, and the remedy", list),
+    )
 
     def __str__(self) -> str:
-        lines = [f"{self.triangles} triangles, {self.vertices} vertices ({self.welded_vertices} positions), {self.charts} chart(s)"]
-        lines.append(f"seams: {self.seam_edges} edges; mirror axes: {self.mirror_edges} ({self.mirror_shared_edges} sharing vertices); mirrored charts: {self.mirrored_charts}")
-        lines.append(f"open borders: {self.open_edges} edges ({self.open_length:.4g} long); hard edges: {self.hard_edges}; non-manifold: {self.nonmanifold_edges}")
-        lines.append(f"degenerate: {self.degenerate_triangles} triangles, {self.degenerate_uv_triangles} in uv")
-        fold = "" if self.folded_prisms is None else f"; prisms folded at the depth: {self.folded_prisms}"
-        lines.append(f"normals past 60 degrees from their face: {self.normals_off_faces} triangles, past 90 (flipped): {self.normals_flipped}{fold}")
-        if self.seam_height_max is not None:
-            w = "" if self.seam_world_max is None else f" ({self.seam_world_max:.3g} world units)"
-            lines.append(f"seam height mismatch: max {self.seam_height_max:.4g}{w}, mean {self.seam_height_mean:.3g}")
-        if self.overlapping_texels is not None:
-            lines.append(f"overlapping texels: {self.overlapping_texels}")
-        if self.min_chart_gap_texels is not None:
-            mip = "none (charts touch)" if self.max_clean_mip is None else f"0..{self.max_clean_mip}"
-            lines.append(f"narrowest gap between charts: {self.min_chart_gap_texels} texels; mip levels that stay inside a chart: {mip}")
-        for w in self.warnings:
+        r: AssetReport = self  # type: ignore[assignment]
+        lines = [f"{r.triangles} triangles, {r.vertices} vertices ({r.welded_vertices} positions), {r.charts} chart(s)"]
+        lines.append(f"seams: {r.seam_edges} edges; mirror axes: {r.mirror_edges} ({r.mirror_shared_edges} sharing vertices); mirrored charts: {r.mirrored_charts}")
+        lines.append(f"open borders: {r.open_edges} edges ({r.open_length:.4g} long); hard edges: {r.hard_edges}; non-manifold: {r.nonmanifold_edges}")
+        lines.append(f"degenerate: {r.degenerate_triangles} triangles, {r.degenerate_uv_triangles} in uv")
+        fold = "" if r.folded_prisms is None else f"; prisms folded at the depth: {r.folded_prisms}"
+        lines.append(f"normals past 60 degrees from their face: {r.normals_off_faces} triangles, past 90 (flipped): {r.normals_flipped}{fold}")
+        if r.seam_height_max is not None:
+            w = "" if r.seam_world_max is None else f" ({r.seam_world_max:.3g} world units)"
+            lines.append(f"seam height mismatch: max {r.seam_height_max:.4g}{w}, mean {r.seam_height_mean:.3g}")
+        if r.overlapping_texels is not None:
+            lines.append(f"overlapping texels: {r.overlapping_texels}")
+        if r.min_chart_gap_texels is not None:
+            mip = "none (charts touch)" if r.max_clean_mip is None else f"0..{r.max_clean_mip}"
+            lines.append(f"narrowest gap between charts: {r.min_chart_gap_texels} texels; mip levels that stay inside a chart: {mip}")
+        for w in r.warnings:
             lines.append(f"warning: {w}")
-        for what, p in self.examples:
+        for what, p in r.examples:
             lines.append(f"  {what} at ({p[0]:.4g}, {p[1]:.4g}, {p[2]:.4g}): {_MEANING.get(what, '')}")
         return "\n".join(lines)
+
+
+def _build_report() -> Any:
+    """`AssetReport`, the frozen dataclass of the core's declared fields (src/assets/report.rs's
+    `report!`) and then the Python ones, on `_AssetReportBase`."""
+    specs: list[Any] = [(name, Any) for name, _t, _doc in _core.ASSET_REPORT_FIELDS]
+    for name, _t, _doc, default in _AssetReportBase._PYTHON_FIELDS:
+        specs.append((name, Any, field(default_factory=default) if callable(default) else field(default=default)))
+    lines = [" ".join((_AssetReportBase.__doc__ or "").split()), ""]
+    lines += [f"{name}: {' '.join(doc.split())}" for name, _t, doc in _core.ASSET_REPORT_FIELDS if doc]
+    cls = dataclasses.make_dataclass("AssetReport", specs, bases=(_AssetReportBase,), frozen=True,
+                                     namespace={"__doc__": "\n".join(lines)})
+    cls.__module__ = __name__
+    return cls
+
+
+if TYPE_CHECKING:
+    from ._schema_classes import AssetReport
+else:
+    AssetReport = _build_report()
 
 
 def check_asset(mesh: Mesh, height: Any = None) -> AssetReport:

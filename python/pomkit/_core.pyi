@@ -10,7 +10,7 @@ from ._methods import Method
 from ._scene import Scene
 
 __all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "COST_AOV_NAMES", "CONE_KINDS", "FILTERING_KINDS", "HeightData", "MAX_LIGHTS", "NORMALS_MODES", "PIPELINES",
-           "MAX_STEPS_LIMIT", "MeshData", "PATTERN_KINDS", "PRISM_BYTES", "PRISM_VERTEX_BYTES", "REFINE_KINDS", "RenderedFrame", "Renderer", "SCHEMA", "SCHEMA_SETTINGS", "SHADOW_KINDS", "WALK_BYTES_PER_TRIANGLE",
+           "MAX_STEPS_LIMIT", "MeshData", "PATTERN_KINDS", "PRISM_BYTES", "PRISM_VERTEX_BYTES", "REFINE_KINDS", "RenderedFrame", "Renderer", "SCHEMA", "SCHEMA_SETTINGS", "ASSET_REPORT_FIELDS", "METHOD_FIELDS", "SHADOW_KINDS", "WALK_BYTES_PER_TRIANGLE",
            "__version__", "adapters", "bounding_sphere", "check_asset", "oracle_hits", "oracle_image", "light_power", "load_gltf", "jod", "jod_displays", "load_image", "mesh_cube", "mesh_cylinder", "mesh_from_arrays", "mesh_plane", "mesh_sphere", "mesh_torus", "reference_directions", "reference_normals", "set_cache_dir", "set_progress_hook", "shell_findings", "tessellate"]
 __version__: str
 #: GPU bytes of one triangle's walk data (NCS and curved relief)
@@ -34,6 +34,8 @@ AOV_DOCS: dict[str, str]
 #: literal or None, lo, hi, doc)]), from which pomkit._schema builds Camera and the lights
 SCHEMA: dict[str, tuple[str, list[tuple[str, str, Optional[str], Optional[float], Optional[float], str]]]]
 SCHEMA_SETTINGS: dict[str, list[str]]
+ASSET_REPORT_FIELDS: list[tuple[str, str, str]]
+METHOD_FIELDS: list[tuple[str, list[str]]]
 
 
 @final
@@ -98,36 +100,6 @@ class GltfNode(MeshArrays):
     tangent_source: Literal["file", "mikktspace"]
     flat_normals: int
     replaced_normals: int
-
-
-@type_check_only
-class AssetReportDict(TypedDict):
-    """`check_asset`: the asset report's fields (pomkit.AssetReport)."""
-    vertices: int
-    triangles: int
-    welded_vertices: int
-    charts: int
-    mirrored_charts: int
-    mirrored_triangles: int
-    degenerate_uv_triangles: int
-    degenerate_triangles: int
-    seam_edges: int
-    mirror_edges: int
-    mirror_shared_edges: int
-    open_edges: int
-    open_length: float
-    hard_edges: int
-    nonmanifold_edges: int
-    uvs_outside_unit_square: bool
-    seam_height_max: Optional[float]
-    seam_height_mean: Optional[float]
-    overlapping_texels: Optional[int]
-    min_chart_gap_texels: Optional[int]
-    max_clean_mip: Optional[int]
-    normals_off_faces: int
-    normals_flipped: int
-    folded_prisms: Optional[int]
-    examples: list[tuple[str, list[float]]]
 
 
 @type_check_only
@@ -215,7 +187,7 @@ def mesh_from_arrays(positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray
 def load_gltf(path: str, normals: Literal["file", "recompute", "repair"] = "file") -> list[GltfNode]: ...
 def shell_findings(mesh: MeshData, depth: float) -> tuple[int, int]: ...
 def check_asset(mesh: MeshData, height: Optional[HeightData] = None, tiling: float = 1.0,
-                depth: Optional[float] = None) -> AssetReportDict: ...
+                depth: Optional[float] = None) -> dict[str, Any]: ...
 def mesh_plane(size: float, segments: int) -> MeshArrays: ...
 def mesh_sphere(radius: float, segments: int, rings: int) -> MeshArrays: ...
 def mesh_torus(major: float, minor: float, segments: int, tube_segments: int) -> MeshArrays: ...

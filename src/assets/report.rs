@@ -13,8 +13,71 @@ use std::collections::VecDeque;
 /// How many places the report names for each finding.
 pub const EXAMPLES: usize = 5;
 
-#[derive(Clone, Debug, Default)]
-pub struct AssetReport {
+/// The Python type of a report field's value (its stub's spelling), and how the pyo3 layer
+/// receives it (`ReportVisitor`).
+pub trait ReportValue {
+    const PY_TYPE: &'static str;
+    fn accept(&self, name: &'static str, v: &mut dyn ReportVisitor);
+}
+
+/// What receives a report's fields one by one (the pyo3 layer's dict).
+pub trait ReportVisitor {
+    fn count(&mut self, name: &'static str, v: Option<i64>);
+    fn real(&mut self, name: &'static str, v: Option<f64>);
+    fn flag(&mut self, name: &'static str, v: bool);
+    fn places(&mut self, name: &'static str, v: &[(String, [f32; 3])]);
+}
+
+macro_rules! report_value {
+    ($t:ty, $py:literal, |$s:ident, $n:ident, $v:ident| $body:expr) => {
+        impl ReportValue for $t {
+            const PY_TYPE: &'static str = $py;
+            fn accept(&self, $n: &'static str, $v: &mut dyn ReportVisitor) {
+                let $s = self;
+                $body
+            }
+        }
+    };
+}
+report_value!(usize, "int", |s, n, v| v.count(n, Some(*s as i64)));
+report_value!(Option<usize>, "Optional[int]", |s, n, v| v.count(n, s.map(|x| x as i64)));
+report_value!(Option<u32>, "Optional[int]", |s, n, v| v.count(n, s.map(|x| x as i64)));
+report_value!(Option<i32>, "Optional[int]", |s, n, v| v.count(n, s.map(|x| x as i64)));
+report_value!(f64, "float", |s, n, v| v.real(n, Some(*s)));
+report_value!(Option<f64>, "Optional[float]", |s, n, v| v.real(n, *s));
+report_value!(bool, "bool", |s, n, v| v.flag(n, *s));
+report_value!(Vec<(String, [f32; 3])>, "list[tuple[str, tuple[float, float, float]]]", |s, n, v| v.places(n, s));
+
+/// The report declared once: the struct, its field table (`AssetReport::FIELDS`: name, Python
+/// type, doc) and its visit, from which the pyo3 layer, the stub and `pk.AssetReport` follow.
+macro_rules! report {
+    (
+        $(#[$m:meta])*
+        pub struct $name:ident {
+            $( $(#[doc = $doc:literal])* pub $f:ident : $t:ty, )*
+        }
+    ) => {
+        $(#[$m])*
+        pub struct $name {
+            $( $(#[doc = $doc])* pub $f: $t, )*
+        }
+
+        impl $name {
+            /// (name, Python type, doc) per field, in order.
+            pub const FIELDS: &'static [(&'static str, &'static str, &'static str)] = &[
+                $( (stringify!($f), <$t as ReportValue>::PY_TYPE, concat!($($doc, "\n",)*)), )*
+            ];
+            /// Every field to `v`, in order.
+            pub fn visit(&self, v: &mut dyn ReportVisitor) {
+                $( ReportValue::accept(&self.$f, stringify!($f), v); )*
+            }
+        }
+    };
+}
+
+report! {
+    #[derive(Clone, Debug, Default)]
+    pub struct AssetReport {
     pub vertices: usize,
     pub triangles: usize,
     /// distinct positions
@@ -68,6 +131,7 @@ pub struct AssetReport {
     pub folded_prisms: Option<usize>,
     /// (finding, position in the mesh's space) for up to `EXAMPLES` places of each finding
     pub examples: Vec<(String, [f32; 3])>,
+}
 }
 
 /// What a triangle's normals do to its shell: a normal more than 90 degrees from the face

@@ -31,6 +31,9 @@ fn is_ident(s: &str) -> bool {
 }
 
 impl Custom {
+    /// The fields the core reads, by name.
+    pub const FIELDS: &'static [&'static str] = &["name", "wgsl", "params"];
+
     /// The import path: the name plus a hash of everything that shapes the module, so that a
     /// changed source or parameter list is a new module.
     pub fn module_path(&self) -> String {

@@ -102,6 +102,19 @@ macro_rules! registry {
             out
         }
 
+        /// Per method, its Python `_kind` and the fields the core reads from its dataclass: its
+        /// own, then the per-pixel options where it takes them.
+        pub fn method_fields() -> Vec<(&'static str, Vec<&'static str>)> {
+            vec![$((
+                $kind,
+                <$ty>::FIELDS
+                    .iter()
+                    .chain(if <$ty as Unit>::PER_PIXEL { PerPixel::FIELDS } else { &[] })
+                    .copied()
+                    .collect(),
+            ),)*]
+        }
+
         /// The method whose (Python dataclass's) `_kind` is `kind`, its parameters read field
         /// by field from `fields` (and its per-pixel options when it takes them). None: unknown
         /// kind.

@@ -57,37 +57,57 @@ pub fn check_asset<'py>(
     let m = mesh.get().0.clone();
     let h = height.map(|h| h.get().0.clone());
     let r = py.detach(|| assets::report::check_asset(&m, h.as_ref().map(|k| &***k), tiling, depth));
-    let d = PyDict::new(py);
-    d.set_item("vertices", r.vertices)?;
-    d.set_item("triangles", r.triangles)?;
-    d.set_item("welded_vertices", r.welded_vertices)?;
-    d.set_item("charts", r.charts)?;
-    d.set_item("mirrored_charts", r.mirrored_charts)?;
-    d.set_item("mirrored_triangles", r.mirrored_triangles)?;
-    d.set_item("degenerate_uv_triangles", r.degenerate_uv_triangles)?;
-    d.set_item("degenerate_triangles", r.degenerate_triangles)?;
-    d.set_item("seam_edges", r.seam_edges)?;
-    d.set_item("mirror_edges", r.mirror_edges)?;
-    d.set_item("mirror_shared_edges", r.mirror_shared_edges)?;
-    d.set_item("open_edges", r.open_edges)?;
-    d.set_item("open_length", r.open_length)?;
-    d.set_item("hard_edges", r.hard_edges)?;
-    d.set_item("nonmanifold_edges", r.nonmanifold_edges)?;
-    d.set_item("uvs_outside_unit_square", r.uvs_outside_unit_square)?;
-    d.set_item("seam_height_max", r.seam_height_max)?;
-    d.set_item("seam_height_mean", r.seam_height_mean)?;
-    d.set_item("overlapping_texels", r.overlapping_texels)?;
-    d.set_item("min_chart_gap_texels", r.min_chart_gap_texels)?;
-    d.set_item("max_clean_mip", r.max_clean_mip)?;
-    d.set_item("normals_off_faces", r.normals_off_faces)?;
-    d.set_item("normals_flipped", r.normals_flipped)?;
-    d.set_item("folded_prisms", r.folded_prisms)?;
-    let ex = PyList::empty(py);
-    for (what, p) in r.examples {
-        ex.append((what, p.to_vec()))?;
+    let mut d = ReportDict {
+        d: PyDict::new(py),
+        err: None,
+    };
+    r.visit(&mut d);
+    match d.err {
+        Some(e) => Err(e),
+        None => Ok(d.d),
     }
-    d.set_item("examples", ex)?;
-    Ok(d)
+}
+
+/// The report's fields into a dict, as `AssetReport::visit` hands them over.
+struct ReportDict<'py> {
+    d: Bound<'py, PyDict>,
+    err: Option<PyErr>,
+}
+
+impl ReportDict<'_> {
+    fn set<'a, T: pyo3::IntoPyObject<'a>>(&mut self, name: &str, v: T)
+    where
+        Self: 'a,
+    {
+        if self.err.is_none() {
+            self.err = self.d.set_item(name, v).err();
+        }
+    }
+}
+
+impl assets::report::ReportVisitor for ReportDict<'_> {
+    fn count(&mut self, name: &'static str, v: Option<i64>) {
+        self.set(name, v);
+    }
+    fn real(&mut self, name: &'static str, v: Option<f64>) {
+        self.set(name, v);
+    }
+    fn flag(&mut self, name: &'static str, v: bool) {
+        self.set(name, v);
+    }
+    fn places(&mut self, name: &'static str, v: &[(String, [f32; 3])]) {
+        let places: Vec<(String, (f32, f32, f32))> =
+            v.iter().map(|(w, p)| (w.clone(), (p[0], p[1], p[2]))).collect();
+        self.set(name, places);
+    }
+}
+
+/// `AssetReport::FIELDS`: (name, Python type, doc) per field of the asset report.
+pub fn report_fields() -> Vec<(&'static str, &'static str, &'static str)> {
+    assets::report::AssetReport::FIELDS
+        .iter()
+        .map(|(n, t, d)| (*n, *t, d.trim()))
+        .collect()
 }
 
 /// (flipped normals, folded prisms) of a mesh at `depth`: what makes the shell methods (Prism,

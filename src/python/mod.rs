@@ -62,6 +62,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("MAX_LIGHTS", crate::scene::MAX_LIGHTS)?;
     m.add("SCHEMA", schema(m.py())?)?;
     m.add("SCHEMA_SETTINGS", schema_settings(m.py())?)?;
+    m.add("ASSET_REPORT_FIELDS", assets::report_fields())?;
+    m.add("METHOD_FIELDS", crate::methods::method_fields())?;
     m.add("AOV_NAMES", crate::render::Aovs::NAMES.to_vec())?;
     // the AOVs counted only when named: those outside `aovs="all"`
     let standard = crate::render::Aovs::STANDARD;
