@@ -28,21 +28,21 @@ demo: setup-demo
 # lint, types, the Rust unit tests and the tests not marked slow, reference or browser; it builds
 # the extension in place first (`maturin develop`: seconds when only Python changed)
 check:
-	VIRTUAL_ENV=$(CURDIR)/.venv $(VENV)/maturin develop --release -q > .maturin-develop.log 2>&1 || { cat .maturin-develop.log; exit 1; }
+	VIRTUAL_ENV=$(CURDIR)/.venv $(VENV)/maturin develop --release -q --features python,test-hooks > .maturin-develop.log 2>&1 || { cat .maturin-develop.log; exit 1; }
 	$(VENV)/ruff check tools python/pomkit tests scripts
 	$(VENV)/python -m mypy
 	$(VENV)/python -m mypy.stubtest pomkit._core --mypy-config-file pyproject.toml
-	cargo test --release --lib -q 2>&1 | grep -E "^(test result|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
+	cargo test --release --features test-hooks --lib -q 2>&1 | grep -E "^(test result|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
 	$(VENV)/python -m pytest -q -p no:cacheprovider -m "not slow and not reference and not browser" tests
 
 test: setup-test
-	cargo test --release --lib --tests 2>&1 | tee .cargo-test.log | grep -E "^(test result|running|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
+	cargo test --release --features test-hooks --lib --tests 2>&1 | tee .cargo-test.log | grep -E "^(test result|running|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
 	$(VENV)/python -m mypy.stubtest pomkit._core --mypy-config-file pyproject.toml
 	$(VENV)/python -m mypy
 	scripts/numpy_floor.sh
 	$(VENV)/python -m pytest tests notebooks --nbmake
 	@echo "== the GL backend (POMKIT_BACKEND=gl): core, method, analytic, differential, shadow and target tests =="
-	POMKIT_BACKEND=gl cargo test --release --test core_render 2>&1 | grep -E "^(test result|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
+	POMKIT_BACKEND=gl cargo test --release --features test-hooks --test core_render 2>&1 | grep -E "^(test result|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
 	POMKIT_BACKEND=gl $(VENV)/python -m pytest $(GL_TESTS) -q
 	@echo "== the distributions: the manylinux2014 wheel's tag (auditwheel), the sdist built by pip, each rendering a frame =="
 	scripts/check_dist.sh
@@ -50,7 +50,7 @@ test: setup-test
 # the whole Python suite on the second adapter, the GL backend (about 8 minutes here): run before
 # every stop that touches shaders or tolerances (make test runs GL_TESTS there)
 test-gl: setup-test
-	POMKIT_BACKEND=gl cargo test --release --test core_render 2>&1 | grep -E "^(test result|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
+	POMKIT_BACKEND=gl cargo test --release --features test-hooks --test core_render 2>&1 | grep -E "^(test result|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
 	POMKIT_BACKEND=gl $(VENV)/python -m pytest tests -q
 
 # one abi3 wheel (CPython 3.10 and later, manylinux2014: glibc 2.17 and later) in target/wheels,

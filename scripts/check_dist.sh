@@ -36,5 +36,15 @@ for what in "$WHEEL" "$SDIST"; do
   python -m venv "$d"
   CARGO_TARGET_DIR="$BUILD" CARGO_PROFILE_RELEASE_OPT_LEVEL=0 "$d/bin/pip" install -q --no-cache-dir "$what"
   (cd "$d" && "$d/bin/python" -c "$smoke")
+  if [ "$what" = "$SDIST" ]; then
+    # what pip builds for a user holds what users call: no test hooks, no pytest plugin entry
+    # point, no cost-model fitting
+    (cd "$d" && "$d/bin/python" -c '
+import importlib.metadata as md, pomkit as pk, pomkit.bench as b
+assert not hasattr(pk._core.Renderer, "_provoke_validation_error"), "test hooks in a user build"
+assert not [e for e in md.entry_points(group="pytest11") if e.value.startswith("pomkit")], "a pytest11 entry point"
+assert not hasattr(b, "fit_model") and not hasattr(b, "cost_rows"), "cost fitting in the package"
+print("[dist] the sdist build holds no test hooks, no pytest plugin, no fitting code")')
+  fi
   rm -rf "$d"
 done

@@ -58,7 +58,10 @@ src_hash() {
   { git ls-files -s Cargo.toml Cargo.lock pyproject.toml src shaders python 2>/dev/null || true
     git diff HEAD -- Cargo.toml Cargo.lock pyproject.toml src shaders python 2>/dev/null || true; } | sha256sum | cut -c1-16
 }
-HASH=$(src_hash)
+# the test builds carry the test hooks (Cargo feature test-hooks); a user's wheel does not
+FEATURES=()
+for e in "${EXTRAS[@]}"; do if [ "$e" = "test" ]; then FEATURES=(--features python,test-hooks); fi; done
+HASH=$( { src_hash; echo "${FEATURES[*]:-}"; } | sha256sum | cut -c1-16)
 WHEEL=$(ls target/wheels/pomkit-*-abi3-*.whl 2>/dev/null | head -n 1 || true)
 if [ -n "$WHEEL" ] && [ "$(cat target/wheels/.source-hash 2>/dev/null)" = "$HASH" ]; then
   echo "[setup] $WHEEL matches the sources: not rebuilding"
@@ -73,10 +76,10 @@ else
     # Linux since CentOS 7 / RHEL 7 (glibc 2.17), not only on this machine's glibc
     echo "[setup] building the extension (release, abi3, manylinux2014 by zig)"
     pip install -q "ziglang>=0.13"
-    maturin build --release --quiet --zig --compatibility manylinux2014 -o target/wheels
+    maturin build --release --quiet ${FEATURES[@]+"${FEATURES[@]}"} --zig --compatibility manylinux2014 -o target/wheels
   else
     echo "[setup] building the extension (release, abi3)"
-    maturin build --release --quiet -o target/wheels
+    maturin build --release --quiet ${FEATURES[@]+"${FEATURES[@]}"} -o target/wheels
   fi
   WHEEL=$(ls target/wheels/pomkit-*.whl | head -n 1)
   echo "$HASH" > target/wheels/.source-hash

@@ -135,6 +135,7 @@ impl PyRenderer {
     }
 
     /// Trigger a wgpu validation error (tests: it must raise GpuError and leave the renderer usable).
+    #[cfg(feature = "test-hooks")]
     fn _provoke_validation_error(&self, py: Python<'_>) -> PyResult<()> {
         let r = self.inner.clone();
         py.detach(move || crate::render::test_hooks::provoke_validation_error(&r))
@@ -142,6 +143,7 @@ impl PyRenderer {
     }
 
     /// Destroy the device (to test device-loss handling).
+    #[cfg(feature = "test-hooks")]
     fn _destroy_device(&self) {
         self.inner.ctx.destroy();
     }

@@ -9,7 +9,7 @@
 //! - `targets`: the render targets and their readback
 //! - `uniforms`: the `View` and `ObjectUniforms` blocks (checked against the WGSL layout)
 //! - `shadow_map`: the shadow-map pass
-//! - `test_hooks`: hooks for the tests (a provoked validation error, the GPU's pyramids, a method's
+//! - `test_hooks`: hooks for the tests (the `test-hooks` feature) (a provoked validation error, the GPU's pyramids, a method's
 //!   built resources), apart from the Renderer's API
 //! - `supersample`: k x k samples per pixel, in one pass or in tiles, reduced to the frame
 //!
@@ -22,6 +22,7 @@ pub mod resources;
 pub mod shadow_map;
 pub mod supersample;
 pub mod targets;
+#[cfg(any(test, feature = "test-hooks"))]
 pub mod test_hooks;
 pub mod uniforms;
 
