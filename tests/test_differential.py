@@ -55,6 +55,7 @@ PLANAR = {
     "Exact": pk.Exact, "ConeStep": pk.ConeStep,
     "ConeStep-relaxed": lambda **k: pk.ConeStep(cones="relaxed", refine="binary", **k),
     "DistanceMapping": pk.DistanceMapping,
+    "ContactRefinement": lambda **k: dataclasses.replace(pk.presets.qgis_contact_refinement(), **k),
 }
 # methods whose displaced surface ends at the mesh's open border, as the oracle's and the
 # reference mesh's do (the texture-space marches tile the plane on): their coverage is not the

@@ -131,6 +131,71 @@ def stability_table(textures=("bricks", "spikes", "terrain", "gravel"), size: in
             lines.append(f"| {name} | {m.safety} | " + " | ".join(row) + " |")
         lines += ["", "Exact's traversal iterations (mean / max / rays at the bound): " +
                   ", ".join(f"{a:g}°: {mn:.1f} / {mx} / {b}" for a, mn, mx, b in iters)]
+    lines += ["", "## Contact refinement at equal taps", "", equal_taps_table.__doc__.strip().replace("\n    ", " "), "",
+              equal_taps_table(map_size=map_size, size=size)]
+    lines += ["", "## Normalising the range against more layers", "",
+              normalise_or_layers_table.__doc__.strip().replace("\n    ", " "), "",
+              normalise_or_layers_table(map_size=map_size, size=size)]
+    return "\n".join(lines)
+
+
+def _taps_and_error(r, m, sc, o) -> tuple[float, float]:
+    f = r.render(sc, m, aovs=("color", "uv", "mask", "steps"))
+    return float(f.steps[f.mask].mean()), metrics.uv_error(f, o, sc)["p95"]
+
+
+def equal_taps_table(size: int = 128, map_size: int = 256, angles=(30.0, 60.0, 80.0)) -> str:
+    """QGIS's contact refinement against POM and Relief at equal taps: each searches level 0
+    along the exact ray (contact refinement also as QGIS ships it: offset-limited slide and the
+    footprint's level), POM at a fixed count and Relief at linear + 5 binary taps, each count
+    chosen so that its mean taps match contact refinement's on the scene. uv p95 (texels)
+    against the oracle, with the mean taps (the `steps` AOV: every tap, entry and refinement)."""
+    import dataclasses
+    r = pk.Renderer()
+    cr = pk.presets.qgis_contact_refinement()
+    exact_cr = dataclasses.replace(cr, params={"steps": 15.0, "offset_limiting": 0.0}, mip_filtering=False)
+    lines = ["| map | angle | contact refinement (QGIS: offset-limited, footprint level) | contact refinement (exact ray, level 0) | POM (same taps) | Relief (same taps) |",
+             "|---|---|---|---|---|---|"]
+    for tex in ("bricks", "terrain"):
+        h = pk.textures.ALL[tex](map_size) if tex in pk.textures.ALL else pk.textures.real(tex, map_size)
+        for a in angles:
+            sc = _plane(h, a, size)
+            o = pk.oracle.hits(sc)
+            q = _taps_and_error(r, cr, sc, o)
+            t, e = _taps_and_error(r, exact_cr, sc, o)
+            pom = min((_taps_and_error(r, pk.POM(shadows="none", adaptive=False, min_steps=n, max_steps=n, lod_threshold=1000.0, mip_filtering=False), sc, o)
+                       for n in range(2, 33)), key=lambda x: abs(x[0] - t))
+            rel = min((_taps_and_error(r, pk.Relief(linear_steps=n, binary_steps=5, mip_filtering=False), sc, o)
+                       for n in range(1, 28)), key=lambda x: abs(x[0] - t))
+            cell = lambda x: f"{x[1]:.3f} ({x[0]:.1f} taps)"  # noqa: E731
+            lines.append(f"| {tex} | {a:g}° | {cell(q)} | {cell((t, e))} | {cell(pom)} | {cell(rel)} |")
+    return "\n".join(lines)
+
+
+def normalise_or_layers_table(size: int = 128, map_size: int = 256, angles=(30.0, 60.0, 80.0)) -> str:
+    """Godot's claim (godotengine/godot #100226: stretching a map's range helps more than raising
+    the layer count to 64): a map that holds 0.55..0.85 of 0..1 (a real elevation model,
+    squeezed), at depth 0.08, under SteepParallax and POM at 16, 32 and 64 layers, against the
+    same relief normalised (`pk.textures.normalize`, depth 0.08 x 0.3: the same relief, its top
+    moved up to the mesh) at 16 layers. uv p95 in texels against each scene's own oracle."""
+    r = pk.Renderer()
+    raw = 0.55 + 0.3 * pk.textures.real("terrain", map_size)
+    norm = pk.textures.normalize(raw)
+    lines = ["| method | " + " | ".join(f"{a:g}°" for a in angles) + " |", "|---|" + "---|" * len(angles)]
+    cases = []
+    for name, cls in (("SteepParallax", pk.SteepParallax), ("POM", pk.POM)):
+        kw = dict(mip_filtering=False) if name == "SteepParallax" else dict(shadows="none", adaptive=False, lod_threshold=1000.0, mip_filtering=False)
+        for n in (16, 32, 64):
+            m = cls(steps=n, **kw) if name == "SteepParallax" else cls(min_steps=n, max_steps=n, **kw)
+            cases.append((f"{name}, {n} layers, raw map (0.55..0.85)", m, raw, 0.08))
+        m16 = cls(steps=16, **kw) if name == "SteepParallax" else cls(min_steps=16, max_steps=16, **kw)
+        cases.append((f"{name}, 16 layers, normalised map (depth x 0.3)", m16, norm, 0.08 * 0.3))
+    for label, m, h, depth in cases:
+        row = []
+        for a in angles:
+            sc = _plane(h, a, size, depth=depth)
+            row.append(f"{metrics.uv_error(r.render(sc, m), pk.oracle.hits(sc), sc)['p95']:.3f}")
+        lines.append(f"| {label} | " + " | ".join(row) + " |")
     return "\n".join(lines)
 
 

@@ -169,6 +169,9 @@ class _AssetReportBase:
         lines.append(f"degenerate: {r.degenerate_triangles} triangles, {r.degenerate_uv_triangles} in uv")
         fold = "" if r.folded_prisms is None else f"; prisms folded at the depth: {r.folded_prisms}"
         lines.append(f"normals past 60 degrees from their face: {r.normals_off_faces} triangles, past 90 (flipped): {r.normals_flipped}{fold}")
+        if r.height_min is not None and r.height_max is not None:
+            rd = "" if r.relief_depth is None else f"; relief depth {r.relief_depth:.4g} (depth x {r.height_max - r.height_min:.3g})"
+            lines.append(f"heights used: {r.height_min:.4g}..{r.height_max:.4g} of 0..1{rd}")
         if r.seam_height_max is not None:
             w = "" if r.seam_world_max is None else f" ({r.seam_world_max:.3g} world units)"
             lines.append(f"seam height mismatch: max {r.seam_height_max:.4g}{w}, mean {r.seam_height_mean:.3g}")
@@ -234,6 +237,13 @@ def check_asset(mesh: Mesh, height: Any = None) -> AssetReport:
         warn.append(f"{d['mirrored_triangles']} of {d['triangles']} triangles are mirrored: the uvs probably have v pointing up (trimesh's, xatlas's and OBJ's convention); pomkit's v points down (use pk.Mesh.from_trimesh or v -> 1 - v)")
     if d["seam_height_max"] is not None and d["seam_height_max"] > 2.0 / 255.0:
         warn.append(f"heights disagree across seams by up to {d['seam_height_max']:.3g}: the displaced surface steps there, closed by a wall along the seam; the texture-space marches (POM, Exact, ...) leave the step open")
+    lo, hi = d["height_min"], d["height_max"]
+    if lo is not None and hi is not None and hi - lo < 0.75:
+        keep = "" if depth is None else f" and depth {depth * (hi - lo):.4g} (depth x {hi - lo:.3g})"
+        warn.append(f"the height map holds only {lo:.3g}..{hi:.3g} of 0..1: every march steps through the whole shell, "
+                    f"{1.0 / max(hi - lo, 1e-9):.3g}x coarser on the relief than it could; pk.textures.normalize(h){keep} "
+                    f"give the same relief with its top moved up to the mesh by depth x {1.0 - hi:.3g} "
+                    f"(normalize(h, base=...) keeps a zero level of your choosing on the mesh instead)")
     if d["min_chart_gap_texels"] is not None and d["max_clean_mip"] is None:
         warn.append("charts touch (no gutter): filtered samples bleed between them at every mip level")
     for key, text in _WARNINGS:

@@ -92,6 +92,11 @@ class AssetReport(_AssetReportBase):
     nonmanifold_edges: int
     #: any uv outside [0, 1] (the map repeats there)
     uvs_outside_unit_square: bool
+    #: with a height map: the lowest and highest height it holds (of 0..1; h = 1 is the mesh's surface, 0 lies the material's depth below it)
+    height_min: Optional[float]
+    height_max: Optional[float]
+    #: with a height map and the material's depth: the relief's own depth, depth × (max − min). A map that holds less than 0..1 spends the shell's depth on heights it never takes: `pk.textures.normalize` stretches it to 0..1, and this depth then keeps the relief
+    relief_depth: Optional[float]
     #: with a height map: the largest and mean difference of the height field across a seam (in height units, 0..1), sampled along each seam edge on its sides
     seam_height_max: Optional[float]
     seam_height_mean: Optional[float]

@@ -10,7 +10,7 @@ from importlib.resources import files
 
 from ._methods import POM, Custom, Relief
 
-__all__ = ["bevy_pom", "bevy_relief", "godot_deep_parallax", "godot_deep_parallax_97646", "engine_pom", "playcanvas_pom", "silhouette_pom", "hdrp_pom", "ALL_PRESETS"]
+__all__ = ["bevy_pom", "bevy_relief", "godot_deep_parallax", "godot_deep_parallax_97646", "engine_pom", "playcanvas_pom", "silhouette_pom", "hdrp_pom", "qgis_contact_refinement", "ALL_PRESETS"]
 
 NO_LOD = 1000.0  # engines without a POM -> bump hand-over
 
@@ -102,11 +102,25 @@ def hdrp_pom() -> Custom:
                   params={"min_samples": 5.0, "max_samples": 15.0, "lod_threshold": 5.0})
 
 
+def qgis_contact_refinement() -> Custom:
+    """QGIS's contact-refinement parallax mapping (qgis/QGIS #65955, April 2026, chosen there
+    after POM and steep parallax): 15 coarse taps 1/16 of the shell apart, then the one interval
+    that holds the crossing walked again in as many taps as the coarse search had left, and the
+    line through the last tap above and the first below intersected with the ray; the
+    footprint's mip level; the slide offset-limited, V.xy (2 - N.V). At most 16 taps a pixel
+    (17 where no coarse tap lies below and the floor is tapped). A `pk.Custom` method,
+    pomkit/wgsl/contact_refinement.wgsl, our own writing after QGIS's metalrough.frag; its zero
+    level at mid-grey is pomkit's h = 1 (the mesh's surface) instead."""
+    src = (files("pomkit") / "wgsl" / "contact_refinement.wgsl").read_text()
+    return Custom(wgsl=src, name="qgis_contact_refinement", mip_filtering=True,
+                  params={"steps": 15.0, "offset_limiting": 1.0})
+
+
 #: name -> factory. Unreal's ParallaxOcclusionMapping material function is not included: its
 #: algorithm is only available in the engine's own sources, which are not public material we can
 #: verify here.
 ALL_PRESETS = {"bevy_pom": bevy_pom, "bevy_relief": bevy_relief, "godot_deep_parallax": godot_deep_parallax,
                "godot_deep_parallax_97646": godot_deep_parallax_97646, "engine_pom": engine_pom,
                "playcanvas_pom": playcanvas_pom, "silhouette_pom": silhouette_pom,
-               "hdrp_pom": hdrp_pom}
+               "hdrp_pom": hdrp_pom, "qgis_contact_refinement": qgis_contact_refinement}
 

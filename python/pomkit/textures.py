@@ -20,7 +20,7 @@ import numpy as np
 
 from . import _validate as _v
 
-__all__ = ["bricks", "brick_albedo", "cobblestones", "pyramids", "sine", "noise", "spikes", "text", "constant", "real", "fit", "bake", "ALL"]
+__all__ = ["bricks", "brick_albedo", "cobblestones", "pyramids", "sine", "noise", "spikes", "text", "constant", "real", "fit", "normalize", "bake", "ALL"]
 
 
 def _check_size(size) -> int:
@@ -276,6 +276,45 @@ def fit(a, size: Optional[int] = 128) -> np.ndarray:
         a = _area_resample(_area_resample(a, size, 0), size, 1)
     lo, hi = float(a.min()), float(a.max())
     return ((a - lo) / (hi - lo) if hi > lo else np.zeros_like(a)).astype(np.float32)
+
+
+def normalize(h, base: Optional[float] = None) -> np.ndarray:
+    """A height map stretched to fill [0, 1], as a float32 array of its shape.
+
+    pomkit's h = 1 is the mesh's surface and h = 0 lies the material's depth below it. A map
+    that holds heights lo..hi spends the shell's depth on heights it never takes: every march
+    steps through the whole shell, so its steps are (hi - lo) times as fine on the relief as they
+    could be (`check_asset` reports the range and `relief_depth`).
+
+    base: None stretches lo..hi to 0..1; the relief then touches the mesh's surface (its top
+    moves up by depth * (1 - hi)), and a material depth of depth * (hi - lo) keeps its shape.
+    A number is the map's zero level (PlayCanvas's `heightMapBase`): the height that lies on the
+    mesh's surface. It maps to 1 and lo to 0, so the surface stays where the map's author put
+    it; a material depth of depth * (base - lo) keeps the relief. pomkit displaces inward only,
+    so heights above `base` (relief that would stand out of the mesh) are clipped to 1, with a
+    warning that counts them."""
+    a = np.asarray(h, np.float64)
+    if a.ndim != 2 or a.size == 0:
+        raise ArgumentError(f"h: expected a non-empty 2-D height map, got shape {a.shape}")
+    if not np.isfinite(a).all():
+        raise ArgumentError("h: holds NaN or infinite heights; replace them before normalising")
+    lo, hi = float(a.min()), float(a.max())
+    if base is None:
+        top = hi
+    else:
+        if isinstance(base, bool) or not isinstance(base, (int, float, np.integer, np.floating)):
+            raise ArgumentTypeError(f"base: expected a number (the map's zero level) or None, got {type(base).__name__}")
+        top = float(base)
+        if not np.isfinite(top) or top <= lo:
+            raise ArgumentError(f"base: the zero level must lie above the map's lowest height {lo:g}, got {top:g}")
+        above = int((a > top).sum())
+        if above:
+            import warnings
+            warnings.warn(f"normalize: {above} texels lie above the zero level base={top:g} (relief standing out of the "
+                          f"mesh); pomkit displaces inward only, so they are clipped to the surface", stacklevel=2)
+    if top <= lo:
+        return np.ones_like(a, np.float32)
+    return np.clip((a - lo) / (top - lo), 0.0, 1.0).astype(np.float32)
 
 
 def bake(mesh, f: Callable[[np.ndarray], np.ndarray], size: int = 512, gutter: int = 4) -> np.ndarray:

@@ -108,6 +108,14 @@ report! {
     pub nonmanifold_edges: usize,
     /// any uv outside [0, 1] (the map repeats there)
     pub uvs_outside_unit_square: bool,
+    /// with a height map: the lowest and highest height it holds (of 0..1; h = 1 is the mesh's
+    /// surface, 0 lies the material's depth below it)
+    pub height_min: Option<f64>,
+    pub height_max: Option<f64>,
+    /// with a height map and the material's depth: the relief's own depth, depth × (max − min).
+    /// A map that holds less than 0..1 spends the shell's depth on heights it never takes:
+    /// `pk.textures.normalize` stretches it to 0..1, and this depth then keeps the relief
+    pub relief_depth: Option<f64>,
     /// with a height map: the largest and mean difference of the height field across a seam
     /// (in height units, 0..1), sampled along each seam edge on its sides
     pub seam_height_max: Option<f64>,
@@ -349,6 +357,13 @@ pub fn check_asset(
     }
 
     let Some(hm) = height else { return r };
+    let (lo, hi) = hm
+        .data
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x as f64), b.max(x as f64)));
+    r.height_min = Some(lo);
+    r.height_max = Some(hi);
+    r.relief_depth = depth.map(|d| d * (hi - lo));
     // seams: the height field on each side, sampled along the edge
     let (w, h) = (hm.width as f64, hm.height as f64);
     let mut worst = 0.0f64;
