@@ -78,6 +78,7 @@ bench: setup-bench
 #     tools/reference_agreement.py      reference_agreement.md (Mitsuba, pyrender)
 #     tools/motion_table.py             motion.md
 #     tools/cycles_agreement.py         cycles.md (Blender's Cycles)
+#     tools/hybrid_table.py             hybrid.md (the zoo's assets: xatlas, trimesh)
 #     tools/goals.py --tables           bench.md bench_goals.txt curved_tiling.md (the whole bench, as `make bench`)
 #     scripts/gpu_check.py              gpu/llvmpipe-LLVM-15-0-6-256-bits-vulkan.md gpu/llvmpipe-LLVM-15-0-6-256-bits-vulkan.json
 #                                       gpu/llvmpipe-LLVM-15-0-6-256-bits-gl.md gpu/llvmpipe-LLVM-15-0-6-256-bits-gl.json
@@ -95,6 +96,7 @@ tables-slow: setup-test
 	$(VENV)/python tools/motion_table.py
 	cd tests && PYTHONPATH=. ../$(VENV)/python ../tools/cycles_agreement.py > ../docs/tables/cycles.md.tmp
 	mv docs/tables/cycles.md.tmp docs/tables/cycles.md
+	cd tools && ../$(VENV)/python hybrid_table.py
 	$(VENV)/python tools/goals.py --tables docs/tables
 	$(VENV)/python scripts/gpu_check.py
 	POMKIT_BACKEND=gl $(VENV)/python scripts/gpu_check.py

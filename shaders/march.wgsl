@@ -30,6 +30,11 @@ struct Ray {
     f: Basis,
     // the method's per-vertex attribute at the entry (its geometry's, with VERTEX_EXTRA; else 0)
     extra: vec4<f32>,
+    // the window of the shell the surface lies in: the ray enters at height `top` (at `s`) and
+    // the field lies above `floor` along it. [0, 1] but for Hybrid's fine method (shader def
+    // WINDOW: the coarse mesh's per-vertex window), whose search marches the window alone.
+    top: f32,
+    floor: f32,
 }
 
 // What a method returns. `planar_hit` fills every field from (s, h) for methods that march in
@@ -71,7 +76,7 @@ fn planar_hit(r: Ray, s: vec2<f32>, h: f32, steps: f32, flags: u32) -> Hit {
     hit.steps = steps;
     hit.flags = flags;
     hit.lod = r.lod;
-    hit.len = (1.0 - h) / max(-r.v_ts.z, 1e-12);
+    hit.len = (r.top - h) / max(-r.v_ts.z, 1e-12);
     hit.f = r.f;
     hit.exited = false;
     return hit;
@@ -85,9 +90,11 @@ struct Segment {
     dh: f32,
 }
 
-// The view ray from the base surface down to the floor.
+// The view ray from its entry down to the floor (the window's: the shell's top and floor but
+// for Hybrid's fine method).
 fn view_segment(r: Ray) -> Segment {
-    return Segment(r.s, r.dsdh, 1.0, -1.0);
+    let span = r.top - r.floor;
+    return Segment(r.s, r.dsdh * span, r.top, -span);
 }
 
 fn segment_s(g: Segment, t: f32) -> vec2<f32> {

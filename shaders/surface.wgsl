@@ -11,6 +11,8 @@
 //                or a mesh that is the displaced surface itself)
 //   DISPLACED_DEPTH  the marched hit's depth is written as the fragment's (src/shaders.rs)
 //   VERTEX_EXTRA  the method's own vertex attribute (NCS, CurvedRelief), passed to its march
+//   WINDOW       the vertex attribute is the window of the shell the march searches (Ray's
+//                floor and top: a coarse mesh displaced at its vertices, src/methods/hybrid)
 //   SHADOWS_*, FILTERING_*  the options by name; see shading.wgsl and height.wgsl
 //
 // Entry points: vs_main/fs_main (the raster pipeline), vs_visibility/fs_visibility then cs_main
@@ -56,6 +58,13 @@ fn make_ray(in: VertexOut, f: Basis, s0: vec2<f32>, lod: f32, view: vec3<f32>, u
     r.uv = uv;
     r.view = view;
     r.f = f;
+    r.top = 1.0;
+    r.floor = 0.0;
+#ifdef WINDOW
+    // the coarse mesh's window at the fragment (src/methods/hybrid): (floor, top)
+    r.floor = in.extra.x;
+    r.top = in.extra.y;
+#endif
     return r;
 }
 

@@ -243,9 +243,9 @@ pub struct GpuMesh {
 impl GpuMesh {
     /// Upload an indexed mesh; `arg` names what a user changes when it exceeds the device's
     /// buffer limit.
-    pub fn upload_indexed(
+    pub fn upload_indexed<V: bytemuck::Pod>(
         ctx: &Context,
-        verts: &[crate::mesh::Vertex],
+        verts: &[V],
         indices: &[u32],
         arg: &str,
     ) -> Result<GpuMesh> {

@@ -23,6 +23,10 @@ pub trait Fields {
     fn rgb(&self, name: &str) -> Result<[f32; 3]> {
         Err(Error::arg(name, "expected linear RGB"))
     }
+    /// a nested object (a method inside a method): its `_kind` and its fields
+    fn object(&self, name: &str) -> Result<(String, Box<dyn Fields + '_>)> {
+        Err(Error::arg(name, "expected a nested object"))
+    }
     /// shared core data made once for the field's value (a height map, an albedo), None where
     /// the value is None; the reader downcasts it to the type it expects
     fn handle(&self, name: &str) -> Result<Option<Handle>> {

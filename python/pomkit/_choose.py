@@ -46,6 +46,9 @@ FAMILIES: dict[str, Family] = {f.name: f for f in [
     Family("Relief", lambda n: _methods.Relief().with_steps(n or 16), 2, 256),
     Family("ConeStep", lambda n: _methods.ConeStep().with_steps(n or 32), 2, 256),
     Family("Exact", lambda n: _methods.Exact()),
+    # the coarse lattice's density as the knob: 64 / n texels a vertex, Exact marching the rest
+    Family("Hybrid", lambda n: _methods.Hybrid(coarse=_methods.Tessellated(texels_per_vertex=64.0 / (n or 8)),
+                                               fine=_methods.Exact()), 1, 64),
 ]}
 
 

@@ -10,7 +10,7 @@ from ._methods import Method
 from ._scene import Scene
 
 __all__ = ["AOV_DOCS", "AOV_NAMES", "AlbedoData", "COST_AOV_NAMES", "CONE_KINDS", "FILTERING_KINDS", "HeightData", "MAX_LIGHTS", "NORMALS_MODES", "PIPELINES",
-           "MAX_STEPS_LIMIT", "MeshData", "PATTERN_KINDS", "PRISM_BYTES", "PRISM_VERTEX_BYTES", "REFINE_KINDS", "RenderedFrame", "Renderer", "SCHEMA", "SCHEMA_SETTINGS", "ASSET_REPORT_FIELDS", "METHOD_FIELDS", "SHADOW_KINDS", "WALK_BYTES_PER_TRIANGLE",
+           "MAX_STEPS_LIMIT", "MeshData", "PATTERN_KINDS", "PRISM_BYTES", "PRISM_VERTEX_BYTES", "REFINE_KINDS", "RenderedFrame", "Renderer", "SCHEMA", "SCHEMA_SETTINGS", "ASSET_REPORT_FIELDS", "METHOD_FIELDS", "HYBRID_FINE_KINDS", "SHADOW_KINDS", "WALK_BYTES_PER_TRIANGLE",
            "__version__", "adapters", "bounding_sphere", "check_asset", "oracle_hits", "oracle_image", "light_power", "load_gltf", "jod", "jod_displays", "load_image", "mesh_cube", "mesh_cylinder", "mesh_from_arrays", "mesh_plane", "mesh_sphere", "mesh_torus", "reference_directions", "reference_normals", "set_cache_dir", "set_progress_hook", "shell_findings", "tessellate"]
 __version__: str
 #: GPU bytes of one triangle's walk data (NCS and curved relief)
@@ -36,6 +36,7 @@ SCHEMA: dict[str, tuple[str, list[tuple[str, str, Optional[str], Optional[float]
 SCHEMA_SETTINGS: dict[str, list[str]]
 ASSET_REPORT_FIELDS: list[tuple[str, str, str]]
 METHOD_FIELDS: list[tuple[str, list[str]]]
+HYBRID_FINE_KINDS: list[str]
 
 
 @final

@@ -34,7 +34,7 @@ from . import _core
 from . import _validate as _v
 
 __all__ = ["Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "ConeStep", "NCS", "Prism", "Tessellated",
-           "Custom", "CurvedRelief", "DistanceMapping"]
+           "Custom", "CurvedRelief", "DistanceMapping", "Hybrid"]
 
 #: the option values: the checks take them from the core (`_core.SHADOW_KINDS`, ...), the one
 #: source; the Literals type them for mypy and editors, and tests/test_contracts.py holds the two
@@ -511,6 +511,51 @@ class Tessellated(Method):
         _choice(self, "shadows", ("none", "hard", "exact"))
         _choice(self, "pattern", tuple(_core.PATTERN_KINDS))
         _real_field(self, "texels_per_vertex", 1 / 64, 1024)
+
+
+def _tessellated_default() -> "Tessellated":
+    return Tessellated(texels_per_vertex=8.0)
+
+
+def _pom_default() -> "Method":
+    return POM()
+
+
+@dataclass(frozen=True)
+class Hybrid(Method):
+    """A coarse mesh displaced at its vertices and a per-pixel method that marches only the
+    rest, as engines ship vertex displacement plus parallax (Unreal's Nanite displacement with
+    pixel depth offset, HDRP's vertex and pixel displacement, PlayCanvas #9246).
+
+    coarse: a `pk.Tessellated` (its `texels_per_vertex` and `pattern`: the coarse lattice; its
+    shadows are not used) or `pk.Flat()` (no coarse displacement: the fine method alone, on the
+    base mesh). fine: `pk.POM`, `pk.SteepParallax`, `pk.Relief` or `pk.Exact`, with its own
+    options (shadows, filtering, steps). Over each coarse triangle the residual (the height
+    minus the coarse surface's interpolated height) lies within bounds the method computes once
+    per mesh and map; the coarse mesh is drawn at the top of that window and the fine method
+    searches the window alone, so its steps resolve (window / shell) times finer than on the
+    base mesh. Depth, shadows and every AOV are the fine method's."""
+
+    coarse: Method = field(default_factory=_tessellated_default)
+    fine: Method = field(default_factory=_pom_default)
+    _kind = "Hybrid"
+
+    def __post_init__(self):
+        if not isinstance(self.coarse, (Tessellated, Flat)):
+            raise ArgumentTypeError(f"coarse: expected pk.Tessellated(texels_per_vertex=...) or pk.Flat(), got {type(self.coarse).__name__}")
+        if not isinstance(self.fine, Method) or self.fine._kind not in _core.HYBRID_FINE_KINDS:
+            raise ArgumentError(f"fine: expected one of pk.{', pk.'.join(_core.HYBRID_FINE_KINDS)} (a search that marches a "
+                                f"window of the shell), got {type(self.fine).__name__}")
+
+    @property
+    def safety(self) -> str:
+        return self.fine.safety
+
+    @property
+    def label(self) -> str:
+        c = self.coarse
+        tpv = f"{c.texels_per_vertex:g}" if isinstance(c, Tessellated) else "flat"
+        return f"Hybrid({tpv}, {label(self.fine)})"
 
 
 @dataclass(frozen=True)

@@ -16,8 +16,8 @@ fn march(r: Ray) -> Hit {
     }
     let d = r.dsdh * G.map_size;
     let p0 = positive_start(r.s, d);
-    let tr = maxmip_traverse(p0, 1.0, d.x, d.y, -1.0, 2.0, G.max_iterations);
-    var hit = planar_hit(r, r.s + r.dsdh * tr.t, clamp(1.0 - tr.t, 0.0, 1.0), tr.iters, select(0u, FLAG_BOUND, tr.bound));
+    let tr = maxmip_traverse(p0, r.top, d.x, d.y, -1.0, 2.0, G.max_iterations);
+    var hit = planar_hit(r, r.s + r.dsdh * tr.t, clamp(r.top - tr.t, 0.0, 1.0), tr.iters, select(0u, FLAG_BOUND, tr.bound));
     // the exact field: level 0, also for shading
     hit.lod = 0.0;
     return hit;

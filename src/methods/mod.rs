@@ -16,6 +16,7 @@ mod custom;
 pub mod distance_mapping;
 mod exact;
 mod flat;
+pub mod hybrid;
 pub mod ncs;
 mod parallax;
 mod pom;
@@ -46,7 +47,9 @@ pub use crate::contract::{
     check_finite, check_range, flag, Fields, Filtering, FromFields, Geometry, Pass, PerPixel,
     ShaderUnit, Shadows, Spec, Unit, MAX_STEPS_LIMIT,
 };
-use crate::error::Result;
+use crate::error::{Error, Result};
+use std::sync::Arc;
+use tessellated::Pattern;
 
 /// The registry: one line per method, `Variant(ParamStruct) = "python _kind"`. It generates the
 /// `Method` enum, its dispatch and its reading from `Fields` (the pyo3 layer's dataclasses).
@@ -145,6 +148,99 @@ registry! {
     Custom(Custom) = "Custom",
     CurvedRelief(CurvedRelief) = "CurvedRelief",
     DistanceMapping(DistanceMapping) = "DistanceMapping",
+    Hybrid(Hybrid) = "Hybrid",
+}
+
+/// The methods whose search honours the Ray's window (`floor`, `top`): `Hybrid`'s fine methods.
+pub const WINDOWED: &[&str] = &["POM", "SteepParallax", "Relief", "Exact"];
+
+/// A coarse mesh displaced at its vertices (hybrid/: Tessellated's lattice) and a per-pixel
+/// method that marches only the rest, the residual, in the window each coarse triangle bounds
+/// it to: engines' vertex displacement plus parallax. `coarse` None: a flat coarse mesh (the
+/// base mesh, the window [0, 1]), the fine method as it runs alone.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Hybrid {
+    /// (texels_per_vertex, pattern) of the coarse lattice
+    pub coarse: Option<(f64, Pattern)>,
+    pub fine: Box<Method>,
+}
+
+impl Hybrid {
+    /// The fields the core reads, by name.
+    pub const FIELDS: &'static [&'static str] = &["coarse", "fine"];
+}
+
+impl FromFields for Hybrid {
+    fn from_fields(f: &dyn Fields) -> Result<Self> {
+        let (ck, cf) = f.object("coarse")?;
+        let coarse = match ck.as_str() {
+            "Tessellated" => {
+                let t = <Tessellated as FromFields>::from_fields(&*cf)?;
+                Some((t.texels_per_vertex, t.pattern))
+            }
+            "Flat" => None,
+            o => {
+                return Err(Error::arg(
+                    "coarse",
+                    format!("must be a pk.Tessellated (the coarse mesh) or pk.Flat() (no coarse displacement), got {o}"),
+                ))
+            }
+        };
+        let (fk, ff) = f.object("fine")?;
+        if !WINDOWED.contains(&fk.as_str()) {
+            return Err(Error::arg(
+                "fine",
+                format!("must be one of {} (a search that marches a window of the shell), got {fk}", WINDOWED.join(", ")),
+            ));
+        }
+        let fine = from_fields(&fk, &*ff).expect("a registered kind")?;
+        Ok(Hybrid {
+            coarse,
+            fine: Box::new(fine),
+        })
+    }
+}
+
+impl Unit for Hybrid {
+    const PER_PIXEL: bool = false;
+    fn examples() -> Vec<Self> {
+        vec![
+            Hybrid {
+                coarse: Some((8.0, Pattern::Fan)),
+                fine: Box::new(Method::pom(PerPixel::off())),
+            },
+            Hybrid {
+                coarse: Some((4.0, Pattern::Grid)),
+                fine: Box::new(Method::Exact(
+                    Exact {
+                        max_iterations: 4096,
+                    },
+                    PerPixel::off(),
+                )),
+            },
+        ]
+    }
+    fn spec(&self, _: &PerPixel) -> Spec {
+        let mut s = self.fine.spec();
+        s.geometry = Geometry::Own(Arc::new(hybrid::WindowMesh {
+            texels_per_vertex: self.coarse.map(|c| c.0),
+            pattern: self.coarse.map_or(Pattern::Fan, |c| c.1),
+        }));
+        s.defs.push("WINDOW");
+        s.defs.push("VERTEX_EXTRA");
+        s
+    }
+    fn validate(&self) -> Result<()> {
+        if let Some((tpv, _)) = self.coarse {
+            if !(tpv.is_finite() && (1.0 / 64.0..=1024.0).contains(&tpv)) {
+                return Err(Error::arg(
+                    "coarse",
+                    format!("texels_per_vertex must lie in [1/64, 1024], got {tpv}"),
+                ));
+            }
+        }
+        self.fine.validate()
+    }
 }
 
 impl Method {

@@ -23,7 +23,8 @@ fn march(r: Ray) -> Hit {
     if (params.depth_bias > 0.5) {
         dsdh = dsdh * relief_depth_bias(r.ndotv);
     }
-    let g = Segment(r.s, dsdh, 1.0, -1.0);
+    let span = r.top - r.floor;
+    let g = Segment(r.s, dsdh * span, r.top, -span);
     let b = linear_search(g, params.linear_steps, r.lod);
     var steps = b.steps;
     var hi = segment_h(g, b.t_prev); // ray height above the surface
@@ -34,7 +35,7 @@ fn march(r: Ray) -> Hit {
             let mid = 0.5 * (hi + lo);
             // each midpoint follows from the last verdict
             chained();
-            let d = mid - height_at(r.s + dsdh * (1.0 - mid), r.lod);
+            let d = mid - height_at(r.s + dsdh * (r.top - mid), r.lod);
             steps = steps + 1.0;
             if (d <= 0.0) {
                 lo = mid;
@@ -43,5 +44,5 @@ fn march(r: Ray) -> Hit {
             }
         }
     }
-    return planar_hit(r, r.s + dsdh * (1.0 - lo), lo, steps, 0u);
+    return planar_hit(r, r.s + dsdh * (r.top - lo), lo, steps, 0u);
 }

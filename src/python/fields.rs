@@ -31,6 +31,14 @@ impl<'py> PyFields<'py> {
 }
 
 impl Fields for PyFields<'_> {
+    fn object(&self, name: &str) -> Result<(String, Box<dyn Fields + '_>)> {
+        let v = self.attr(name)?;
+        let kind: String = v
+            .getattr("_kind")
+            .and_then(|k| k.extract())
+            .map_err(|_| Error::wrong_type(name, format!("expected a pomkit method, got {v}")))?;
+        Ok((kind, Box::new(PyFields::new(v, "a pomkit method dataclass"))))
+    }
     fn u32(&self, name: &str) -> Result<u32> {
         self.get(name, "a non-negative integer")
     }

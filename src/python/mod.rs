@@ -64,6 +64,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SCHEMA_SETTINGS", schema_settings(m.py())?)?;
     m.add("ASSET_REPORT_FIELDS", assets::report_fields())?;
     m.add("METHOD_FIELDS", crate::methods::method_fields())?;
+    m.add("HYBRID_FINE_KINDS", crate::methods::WINDOWED.to_vec())?;
     m.add("AOV_NAMES", crate::render::Aovs::NAMES.to_vec())?;
     // the AOVs counted only when named: those outside `aovs="all"`
     let standard = crate::render::Aovs::STANDARD;

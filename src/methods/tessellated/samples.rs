@@ -13,6 +13,8 @@ pub struct Tessellation {
     pub normals: Vec<[f32; 3]>,
     pub uvs: Vec<[f32; 2]>,
     pub indices: Vec<u32>,
+    /// the base mesh's point each vertex was displaced from
+    pub base_positions: Vec<[f32; 3]>,
     pub base_normals: Vec<[f32; 3]>,
     pub tangents: Vec<[f32; 4]>,
     pub uv_scale: Vec<[f32; 2]>,

@@ -88,6 +88,8 @@ pub fn tessellate(
         out.normals.push([sn.x as f32, sn.y as f32, sn.z as f32]);
         out.uvs.push([uv.x as f32, uv.y as f32]);
         out.base_normals.push([n.x as f32, n.y as f32, n.z as f32]);
+        out.base_positions
+            .push([b.p.x as f32, b.p.y as f32, b.p.z as f32]);
         out.tangents.push([
             t.x as f32,
             t.y as f32,
