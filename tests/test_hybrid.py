@@ -3,7 +3,7 @@ per-pixel method that marches the rest, in the window the coarse triangles bound
 
 - With a flat coarse mesh (pk.Flat()) it is its fine method, bit for bit.
 - At one texel a vertex it is within Tessellated's uv p95 (+ 0.01 texel) against the oracle,
-  and with Exact as its fine method it is exact at every spacing.
+  and with Exact or ConeStep (the safe searches) as its fine method it is exact at every spacing.
 - The coarse mesh leaves no crack along its edges or across seams: no interior hole on the zoo's
   assets, against the oracle's coverage.
 The window itself holds the field over every coarse triangle: src/methods/hybrid's Rust test."""
@@ -49,8 +49,9 @@ def test_one_texel_a_vertex_converges_to_tessellated_and_exact_is_exact(renderer
         hyb = pk.metrics.uv_error(renderer.render(sc, pk.Hybrid(coarse=pk.Tessellated(texels_per_vertex=1.0), fine=_pom())), o, sc)["p95"]
         assert hyb <= tess + 0.01, (tex, angle, hyb, tess)
         for tpv in (1.0, 8.0, 32.0):
-            f = renderer.render(sc, pk.Hybrid(coarse=pk.Tessellated(texels_per_vertex=tpv), fine=pk.Exact()))
-            assert pk.metrics.uv_error(f, o, sc)["p95"] <= 0.01, (tex, angle, tpv)
+            for fine in (pk.Exact(), pk.ConeStep()):  # the safe searches stay exact
+                f = renderer.render(sc, pk.Hybrid(coarse=pk.Tessellated(texels_per_vertex=tpv), fine=fine))
+                assert pk.metrics.uv_error(f, o, sc)["p95"] <= 0.01, (tex, angle, tpv, fine.name)
 
 
 @pytest.mark.parametrize("name", ["rock", "crate", "mirrored_slab"])

@@ -529,7 +529,7 @@ class Hybrid(Method):
 
     coarse: a `pk.Tessellated` (its `texels_per_vertex` and `pattern`: the coarse lattice; its
     shadows are not used) or `pk.Flat()` (no coarse displacement: the fine method alone, on the
-    base mesh). fine: `pk.POM`, `pk.SteepParallax`, `pk.Relief` or `pk.Exact`, with its own
+    base mesh). fine: `pk.POM`, `pk.SteepParallax`, `pk.Relief`, `pk.Exact` or `pk.ConeStep`, with its own
     options (shadows, filtering, steps). Over each coarse triangle the residual (the height
     minus the coarse surface's interpolated height) lies within bounds the method computes once
     per mesh and map; the coarse mesh is drawn at the top of that window and the fine method
@@ -605,6 +605,8 @@ def label(m) -> str:
     a Custom method by its name and parameters."""
     if isinstance(m, Custom):
         return f"{m.name}({', '.join(f'{k}={v:g}' for k, v in m.params.items())})"
+    if isinstance(m, Hybrid):
+        return m.label
     default = type(m)()
     diff = [f"{f.name}={getattr(m, f.name)!r}" for f in dataclasses.fields(m) if getattr(m, f.name) != getattr(default, f.name)]
     return f"{m.name}({', '.join(diff)})"

@@ -152,7 +152,7 @@ registry! {
 }
 
 /// The methods whose search honours the Ray's window (`floor`, `top`): `Hybrid`'s fine methods.
-pub const WINDOWED: &[&str] = &["POM", "SteepParallax", "Relief", "Exact"];
+pub const WINDOWED: &[&str] = &["POM", "SteepParallax", "Relief", "Exact", "ConeStep"];
 
 /// A coarse mesh displaced at its vertices (hybrid/: Tessellated's lattice) and a per-pixel
 /// method that marches only the rest, the residual, in the window each coarse triangle bounds

@@ -42,13 +42,13 @@ fn cone_of(c: vec2<i32>) -> vec2<f32> {
 
 // how far (in height drop) the ray at height 1 - t may go under the cone without meeting the
 // surface (negative: the ray is below the cone's base)
-fn cone_step(cone: vec2<f32>, t: f32, a: f32) -> f32 {
-    return (1.0 - t - cone.x) * cone.y / (cone.y + a);
+fn cone_step(cone: vec2<f32>, t: f32, a: f32, top: f32) -> f32 {
+    return (top - t - cone.x) * cone.y / (cone.y + a);
 }
 
 // the ray is at or below the surface at height drop t
 fn below(r: Ray, t: f32) -> bool {
-    return 1.0 - t <= height_at(r.s + r.dsdh * t, 0.0);
+    return r.top - t <= height_at(r.s + r.dsdh * t, 0.0);
 }
 
 fn march(r: Ray) -> Hit {
@@ -63,13 +63,15 @@ fn march(r: Ray) -> Hit {
     let st = positive_start(r.s, d);
     let p0 = vec2<f32>(st.base) + st.frac;
     let n = u32(params.max_steps);
+    // the search descends from the window's top (1 but for Hybrid's fine method) to h = 0
+    let top = r.top;
     var t = 0.0;
     var i = 0u;
     var flags = 0u;
 #ifdef REFINE_EXACT
     var found = false;
     loop {
-        if (i >= n || t >= 1.0) {
+        if (i >= n || t >= top) {
             break;
         }
         i = i + 1u;
@@ -78,7 +80,7 @@ fn march(r: Ray) -> Hit {
         let p = p0 + d * t;
         let c = cell_ahead(p, d);
         let edge = vec2<f32>(c) + select(vec2<f32>(0.0), vec2<f32>(1.0), d > vec2<f32>(0.0));
-        var t_exit = 1.0;
+        var t_exit = top;
         if (d.x != 0.0) {
             t_exit = min(t_exit, t + (edge.x - p.x) / d.x);
         }
@@ -86,7 +88,7 @@ fn march(r: Ray) -> Hit {
             t_exit = min(t_exit, t + (edge.y - p.y) / d.y);
         }
         t_exit = max(t_exit, t);
-        let th = cell_intersect(c, st, 1.0, d.x, d.y, -1.0, t, t_exit);
+        let th = cell_intersect(c, st, top, d.x, d.y, -1.0, t, t_exit);
         if (th >= 0.0) {
             t = th;
             found = true;
@@ -95,13 +97,13 @@ fn march(r: Ray) -> Hit {
         t = t_exit;
         // the next cell's cone skips the empty space ahead
         let q = p0 + d * t;
-        t = min(t + max(cone_step(cone_of(cell_ahead(q, d)), t, a), 0.0), 1.0);
+        t = min(t + max(cone_step(cone_of(cell_ahead(q, d)), t, a, top), 0.0), top);
     }
     var steps = f32(i);
-    if (!found && t < 1.0) {
+    if (!found && t < top) {
         // max_steps cells walked: the max-mip walk finishes the ray, still exact
         let p = p0 + d * t;
-        let tr = maxmip_traverse(cell_point(p), 1.0 - t, d.x, d.y, -1.0, 2.0, G.max_iterations);
+        let tr = maxmip_traverse(cell_point(p), top - t, d.x, d.y, -1.0, 2.0, G.max_iterations);
         t = t + tr.t;
         steps = steps + tr.iters;
         flags = select(0u, FLAG_BOUND, tr.bound);
@@ -111,7 +113,7 @@ fn march(r: Ray) -> Hit {
     var inside = false;
     var converged = false;
     loop {
-        if (i >= n || t >= 1.0) {
+        if (i >= n || t >= top) {
             break;
         }
         // each step's cell follows from the last cone read
@@ -120,7 +122,7 @@ fn march(r: Ray) -> Hit {
             inside = true;
             break;
         }
-        var dt = cone_step(cone_of(vec2<i32>(floor(p0 + d * t))), t, a);
+        var dt = cone_step(cone_of(vec2<i32>(floor(p0 + d * t))), t, a, top);
 #ifdef REFINE_BINARY
         // relaxed cones may stop short of the surface: a minimum step of half a cell
         dt = max(dt, min(0.5 / max(a, 1e-6), 1.0 / 32.0));
@@ -132,7 +134,7 @@ fn march(r: Ray) -> Hit {
 #endif
         i = i + 1u;
         t_prev = t;
-        t = min(t + dt, 1.0);
+        t = min(t + dt, top);
     }
     var steps = f32(i);
 #ifdef REFINE_BINARY
@@ -152,11 +154,11 @@ fn march(r: Ray) -> Hit {
         steps = steps + params.binary_steps;
     }
 #endif
-    if (!inside && !converged && t < 1.0) {
+    if (!inside && !converged && t < top) {
         flags = FLAG_BOUND;
     }
 #endif
-    var hit = planar_hit(r, r.s + r.dsdh * t, clamp(1.0 - t, 0.0, 1.0), steps, flags);
+    var hit = planar_hit(r, r.s + r.dsdh * t, clamp(top - t, 0.0, 1.0), steps, flags);
     hit.lod = 0.0;
     return hit;
 }
