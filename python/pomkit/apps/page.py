@@ -78,10 +78,12 @@ ASSET_METHODS: dict[str, Callable[[], pk.Method]] = {
     "Prism (exact)": lambda: pk.Prism(exact=True), "Tessellated(1)": lambda: pk.Tessellated(1.0)}
 
 #: coarse + fine (pk.Hybrid) on the asset: three densities of the coarse mesh, Exact marching the rest
+def _hybrid(tpv: float) -> Callable[[], pk.Method]:
+    return lambda: pk.Hybrid(coarse=pk.Tessellated(texels_per_vertex=tpv), fine=pk.Exact())
+
+
 HYBRID_METHODS: dict[str, Callable[[], pk.Method]] = {
-    "Exact": pk.Exact,
-    **{f"Hybrid({tpv:g}, Exact)": (lambda tpv=tpv: pk.Hybrid(coarse=pk.Tessellated(texels_per_vertex=tpv), fine=pk.Exact()))
-       for tpv in (16.0, 4.0, 1.0)},
+    "Exact": pk.Exact, **{f"Hybrid({tpv:g}, Exact)": _hybrid(tpv) for tpv in (16.0, 4.0, 1.0)},
     "Tessellated(1)": lambda: pk.Tessellated(1.0)}
 
 
