@@ -78,7 +78,7 @@ bench: setup-bench
 #     tools/reference_agreement.py      reference_agreement.md (Mitsuba, pyrender)
 #     tools/motion_table.py             motion.md
 #     tools/cycles_agreement.py         cycles.md (Blender's Cycles)
-#     tools/hybrid_table.py             hybrid.md (the zoo's assets: xatlas, trimesh)
+#     tools/hybrid_table.py             hybrid.md hybrid.png (the zoo's assets: xatlas, trimesh; matplotlib)
 #     tools/goals.py --tables           bench.md bench_goals.txt curved_tiling.md (the whole bench, as `make bench`)
 #     scripts/gpu_check.py              gpu/llvmpipe-LLVM-15-0-6-256-bits-vulkan.md gpu/llvmpipe-LLVM-15-0-6-256-bits-vulkan.json
 #                                       gpu/llvmpipe-LLVM-15-0-6-256-bits-gl.md gpu/llvmpipe-LLVM-15-0-6-256-bits-gl.json

@@ -82,7 +82,8 @@ COMMIT = re.compile(r"commit [0-9a-f]{7,}")
 
 def test_every_table_states_its_commit_and_adapter():
     """Every table of docs/tables says, on one line, the commit and the adapter it came from
-    (tools/provenance.py writes that line; a JSON table carries it under "provenance"), and the
+    (tools/provenance.py writes that line; a JSON table carries it under "provenance", a chart is
+    shown by a table that states it), and the
     Makefile's tables comments name every file, so that `make tables-all` (or the device run it
     names) regenerates each (issue 67 §6)."""
     tables = ROOT / "docs" / "tables"
@@ -94,7 +95,10 @@ def test_every_table_states_its_commit_and_adapter():
         rel = p.relative_to(tables).as_posix()
         if not re.search(rf"(?<![\w./-]){re.escape(rel)}(?![\w.-])", makefile):
             unnamed.append(rel)
-        if p.suffix == ".json":
+        if p.suffix == ".png":
+            # a chart: it takes the provenance of the table that shows it
+            lines = [ln for t in tables.rglob("*.md") if p.name in t.read_text() for ln in t.read_text().splitlines()]
+        elif p.suffix == ".json":
             prov = json.loads(p.read_text()).get("provenance") or ""
             # {"commit": ..., "adapter": ..., "line": ...} as tools/provenance.py's record, or a line
             lines = [f"commit {prov.get('commit', '')} {prov.get('adapter', '')}"] if isinstance(prov, dict) else [str(prov)]

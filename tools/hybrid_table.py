@@ -60,8 +60,37 @@ def methods() -> dict[str, pk.Method]:
     return out
 
 
-def table(size: int = 128) -> str:
+def chart(all_rows: dict[str, list[tuple]], path: Path) -> None:
+    """uv p95 and JOD against GPU ms, per scene: each fine method's line over the spacings, the
+    single methods as points."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(2, len(all_rows), figsize=(4.2 * len(all_rows), 7.5), squeeze=False)
+    for k, (sname, rows) in enumerate(all_rows.items()):
+        for col, (ylabel, y) in enumerate((("uv p95 (texels; 0 at 0.001)", lambda x: max(x[1], 1e-3)), ("JOD in motion", lambda x: x[5]))):
+            ax = axes[col][k]
+            for fine in ("POM(16)", "Exact", "ConeStep"):
+                pts = [x for x in rows if x[0].startswith("Hybrid") and x[0].endswith(f", {fine})")]
+                ax.plot([x[3] for x in pts], [y(x) for x in pts], "o-", ms=3, label=f"Hybrid(n, {fine})")
+            for x in rows:
+                if not x[0].startswith("Hybrid"):
+                    ax.plot(x[3], y(x), "k^", ms=5)
+                    ax.annotate(x[0], (x[3], y(x)), fontsize=6)
+            ax.set_xscale("log")
+            if col == 0:
+                ax.set_yscale("log")
+                ax.set_title(sname, fontsize=9)
+            ax.set_xlabel("GPU ms")
+            ax.set_ylabel(ylabel)
+    axes[0][0].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+
+
+def table(size: int = 128, chart_path: Path | None = None) -> str:
     r = pk.Renderer()
+    all_rows: dict[str, list[tuple]] = {}
     ms = methods()
     lines = ["| scene | method | uv p95 (texels) | silhouette IoU | JOD in motion | GPU ms | ms above Flat |",
              "|---|---|---|---|---|---|---|"]
@@ -75,11 +104,15 @@ def table(size: int = 128) -> str:
             e = pk.metrics.uv_error(r.render(sc, m), o, sc)
             rows.append((name, e["p95"], e["mask_iou"], t["ms"], t["march_ms"], j["jod"]))
             lines.append(f"| {sname} | {name} | {e['p95']:.3f} | {e['mask_iou']:.4f} | {j['jod']:.2f} | {t['ms']:.2f} | {t['march_ms']:.2f} |")
+        all_rows[sname] = rows
         ok = [x for x in rows if x[1] <= GOAL and x[5] >= 10.0 - JOD_GOAL]
         hyb = min((x for x in ok if x[0].startswith("Hybrid")), key=lambda x: x[3], default=None)
         single = min((x for x in ok if not x[0].startswith("Hybrid")), key=lambda x: x[3], default=None)
         verdicts.append((sname, hyb, single))
-    out = ["| scene | cheapest Hybrid within 0.1 texel and 0.5 JOD | cheapest single method within the same |", "|---|---|---|"]
+    if chart_path is not None:
+        chart(all_rows, chart_path)
+    out = [f"![uv p95 and JOD against GPU ms, per scene]({chart_path.name})", ""] if chart_path is not None else []
+    out += ["| scene | cheapest Hybrid within 0.1 texel and 0.5 JOD | cheapest single method within the same |", "|---|---|---|"]
     cell = lambda x: "none" if x is None else f"{x[0]}: {x[1]:.3f} texels, {x[5]:.2f} JOD, {x[3]:.2f} ms"  # noqa: E731
     out += [f"| {s} | {cell(h)} | {cell(m)} |" for s, h, m in verdicts]
     return "\n".join(out + ["", "Every row:", ""] + lines)
@@ -91,7 +124,7 @@ def main() -> None:
     a.add_argument("--out", default=str(Path(__file__).resolve().parent.parent / "docs" / "tables" / "hybrid.md"))
     args = a.parse_args()
     t0 = time.perf_counter()
-    body = table(args.size)
+    body = table(args.size, Path(args.out).with_suffix(".png"))
     r = pk.Renderer()
     head = ["# Hybrid: a coarse mesh displaced at its vertices plus a per-pixel search of the rest", "",
             stamp(r.info, f"python tools/hybrid_table.py --size {args.size}"), "",
