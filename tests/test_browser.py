@@ -114,7 +114,7 @@ def test_the_chart_is_readable_and_tells_each_point(browser, demo_page):
         box = pg.locator("#pareto .main-svg").first.bounding_box()
         assert box["width"] >= 800, box  # not a thumbnail
         points = pg.locator("#pareto .scatterlayer .point")
-        assert points.count() == len(page.PLANAR) + len(page.CURVED) + len(page.ASSET_METHODS)
+        assert points.count() == len(page.PLANAR) + len(page.CURVED) + len(page.ASSET_METHODS) + len(page.HYBRID_METHODS)
         # hover each of a few points: its label names the method and its settings
         seen = []
         pg.locator("#pareto").scroll_into_view_if_needed()
