@@ -67,7 +67,8 @@ fn window_mesh(
         hm.sample(s.x, s.y)
     }).collect();
     let n = t.uvs.len();
-    let (mut rmax, mut rmin) = (vec![f64::MIN; n], vec![f64::MAX; n]);
+    // the residual is 0 at a vertex: every triangle's bounds hold it
+    let (mut rmax, mut rmin) = (vec![0.0f64; n], vec![0.0f64; n]);
     let (w, h) = (hm.width as f64, hm.height as f64);
     for tri in t.indices.chunks_exact(3) {
         let (a, b, c) = (tri[0] as usize, tri[1] as usize, tri[2] as usize);
