@@ -56,15 +56,15 @@ def test_a_node_graph_with_a_cycle_errors_within_seconds(tmp_path):
     assert time.perf_counter() - t < 5.0
 
 
-def test_zero_normals_are_refused_naming_the_vertex_or_repaired(tmp_path):
+def test_zero_normals_are_repaired_by_default_or_refused_naming_the_vertex(tmp_path):
     p, n, uv, i = _quad()
     n = [list(v) for v in n]
     n[3] = [0.0, 0.0, 0.0]
     path = _gltf(tmp_path / "zero.gltf", p, n, uv, i)
     with pytest.raises(ValueError, match=r'primitive 0: vertex 3 .*normals="repair"'):
-        pk.load_mesh(path)
+        pk.load_mesh(path, normals="file")
     with pytest.warns(RuntimeWarning, match="1 unusable normal"):
-        m = pk.load_mesh(path, normals="repair")
+        m = pk.load_mesh(path)
     np.testing.assert_allclose(m.normals, [[0, 1, 0]] * 4, atol=1e-6)
     m = pk.load_mesh(path, normals="recompute")
     np.testing.assert_allclose(m.normals, [[0, 1, 0]] * 4, atol=1e-6)

@@ -1,8 +1,8 @@
 """Users' assets: glTF 2.0 loaded as the file says (read by the core), other formats through
 trimesh, and the asset report.
 
-`load_mesh(path)` gives one `Mesh`; `load_objects(path, material)` one `Object` per mesh node with
-its world transform. glTF keeps positions, normals, TEXCOORD_0 and TANGENT as stored (glTF's uv
+`load_mesh(path)` gives one `Mesh`; `load_objects(path, material)` one `Object` per primitive and
+material of each mesh node, with its world transform and the file's base colour. glTF keeps positions, normals, TEXCOORD_0 and TANGENT as stored (glTF's uv
 origin is pomkit's; a file's tangent handedness w becomes pomkit's, -w); a file without tangents
 gets MikkTSpace ones, as the glTF specification asks.
 """
@@ -36,26 +36,47 @@ def _path(path: PathLike) -> str:
     return p
 
 
-def _nodes(path: str, normals: NormalsMode = "file") -> list:
+def _read(path: str, normals: NormalsMode = "repair") -> "_core.GltfFile":
+    """The core's reading of a glTF file (`_core.load_gltf`), with the warnings a user needs: the
+    normals repaired, the primitives left out or drawn undisplaced, the textures not read."""
     if normals not in _core.NORMALS_MODES:
         raise ArgumentError(f"normals: expected one of {', '.join(map(repr, _core.NORMALS_MODES))}, got {normals!r}")
-    nodes = list(_core.load_gltf(path, normals))
-    replaced = sum(n["replaced_normals"] for n in nodes)
+    f = _core.load_gltf(path, normals)
+    replaced = sum(p["replaced_normals"] for n in f["nodes"] for p in n["parts"])
     if replaced and normals == "repair":
         warnings.warn(f"{path}: {replaced} unusable normal(s) recomputed from the faces (normals=\"repair\")",
                       RuntimeWarning, stacklevel=3)
-    return nodes
+    for n in f["nodes"]:
+        if n["skipped"]:
+            what = ", ".join(f"primitive {i} ({why})" for i, why in n["skipped"])
+            warnings.warn(f"{path}: mesh {n['name']!r}: {what} left out: no surface to draw",
+                          RuntimeWarning, stacklevel=3)
+    for mi, why in f["texture_errors"]:
+        warnings.warn(f"{path}: material {mi}: baseColorTexture not read ({why}); its baseColorFactor alone is the albedo",
+                      RuntimeWarning, stacklevel=3)
+    return f
 
 
-def _merge(meshes: list[tuple[dict, np.ndarray]]) -> dict:
-    """Several nodes' arrays in one space (each node's transform applied)."""
+def _uvless(path: str, node: "_core.GltfNode", part: "_core.GltfPart", what: str) -> None:
+    tris = len(part["indices"]) // 3
+    prims = ", ".join(map(str, part["primitives"]))
+    warnings.warn(f"{path}: mesh {node['name']!r}, primitive(s) {prims}: {tris} triangles have no TEXCOORD_0 (or only "
+                  f"degenerate uvs), so no parameterisation to displace: {what}", RuntimeWarning, stacklevel=3)
+
+
+def _transform(node: "_core.GltfNode") -> np.ndarray:
+    return np.asarray(node["transform"], np.float64).reshape(4, 4)
+
+
+def _merge(meshes: "list[tuple[Any, np.ndarray]]") -> dict:
+    """Several parts' arrays in one space (each one's transform applied)."""
     pos, nrm, uv, tan, idx = [], [], [], [], []
     base = 0
     for a, m in meshes:
         lin = m[:3, :3]
         p = np.asarray(a["positions"], np.float64) @ lin.T + m[:3, 3]
         n = np.asarray(a["normals"], np.float64) @ np.linalg.inv(lin)
-        n /= np.linalg.norm(n, axis=1, keepdims=True)
+        n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-30)
         t = np.asarray(a["tangents"], np.float64).copy()
         t[:, :3] = t[:, :3] @ lin.T
         t[:, :3] /= np.maximum(np.linalg.norm(t[:, :3], axis=1, keepdims=True), 1e-30)
@@ -71,20 +92,23 @@ def _merge(meshes: list[tuple[dict, np.ndarray]]) -> dict:
                 tangents=np.concatenate(tan), indices=np.concatenate(idx))
 
 
-def load_mesh(path: PathLike, *, tangents: Any = None, normals: NormalsMode = "file") -> Mesh:
+def load_mesh(path: PathLike, *, tangents: Any = None, normals: NormalsMode = "repair") -> Mesh:
     """One mesh from a file. glTF 2.0 (.gltf, .glb) is read by pomkit's core as the file says:
     positions, normals, TEXCOORD_0 and TANGENT bit for bit (the tangent's w as pomkit's
     handedness, minus glTF's), MikkTSpace tangents where the file has none, flat normals where it
-    has none (as glTF asks). A file of several mesh nodes is merged into one mesh in the scene's
-    space (their transforms applied; `load_objects` keeps them apart). Other formats (OBJ, PLY,
-    ...) load through trimesh (`Mesh.from_trimesh`, v flipped to pomkit's convention).
+    has none (as glTF asks). A file of several mesh nodes and primitives is merged into one mesh
+    in the scene's space (their transforms applied; `load_objects` keeps them apart, with their
+    materials). A primitive without TEXCOORD_0 has nothing to displace: one mesh has one
+    material, so it is left out here with a warning that names it (`load_objects` keeps it,
+    drawn undisplaced); points and lines are left out too. Other formats (OBJ, PLY, ...) load
+    through trimesh (`Mesh.from_trimesh`, v flipped to pomkit's convention).
 
     tangents: None keeps the file's (or MikkTSpace); "mikktspace", "pomkit" or an (n, 4) array
     replace them (see `Mesh.from_arrays`).
-    normals: "file" (the default: what the file says; an unusable normal, NaN, Inf or zero length,
-    is refused with the mesh, primitive and vertex named), "repair" (only the unusable ones
-    recomputed from the faces, with a warning that counts them: what engines' importers do) or
-    "recompute" (all of them; hard edges over 60 degrees kept). A node graph that is not a tree
+    normals: "repair" (the default, as engines' importers do: an unusable normal, NaN, Inf or zero
+    length, defines no surface, so only those are recomputed from the faces, with a warning that
+    counts them), "file" (what the file says; an unusable normal is refused with the mesh,
+    primitive and vertex named) or "recompute" (all of them; hard edges over 60 degrees kept). A node graph that is not a tree
     (a cycle) is refused at once."""
     p = _path(path)
     if not p.lower().endswith(GLTF):
@@ -94,28 +118,82 @@ def load_mesh(path: PathLike, *, tangents: Any = None, normals: NormalsMode = "f
             raise MissingExtraError(f"path: {p}: formats other than glTF load through trimesh; pip install trimesh (or pomkit[reference])") from None
         tm = trimesh.load(p, force="mesh", process=False)
         return Mesh.from_trimesh(tm, tangents="mikktspace" if tangents is None else tangents, normals_mode=normals)
-    nodes = _nodes(p, normals)
-    as_stored = len(nodes) == 1 and np.array_equal(np.asarray(nodes[0]["transform"]), np.eye(4).reshape(-1))
+    f = _read(p, normals)
+    parts = []
+    for n in f["nodes"]:
+        for part in n["parts"]:
+            if part["has_uvs"]:
+                parts.append((n, part))
+    if parts:
+        for n in f["nodes"]:
+            for part in n["parts"]:
+                if not part["has_uvs"]:
+                    _uvless(p, n, part, "left out of the mesh (pk.load_objects keeps it, drawn undisplaced)")
+    if not parts:
+        # nothing has uvs: the whole mesh with its uvs projected per triangle (each triangle a chart)
+        parts = [(n, part) for n in f["nodes"] for part in n["parts"]]
+        warnings.warn(f"{p}: no primitive has usable TEXCOORD_0: the mesh's uvs are projected per triangle (each "
+                      "triangle its own chart, so a map displaces each one apart); unwrap it (e.g. with xatlas) for a "
+                      "parameterisation to displace", RuntimeWarning, stacklevel=2)
+    n0, a0 = parts[0]
+    as_stored = len(parts) == 1 and np.array_equal(_transform(n0), np.eye(4))
     if as_stored and tangents is None:
-        return Mesh._from_core(nodes[0], "arrays")
-    a = nodes[0] if as_stored else _merge([(n, np.asarray(n["transform"], np.float64).reshape(4, 4)) for n in nodes])
+        return Mesh._from_core(a0, "arrays")
+    a = a0 if as_stored else _merge([(part, _transform(n)) for n, part in parts])
     t = a["tangents"] if tangents is None else tangents
     return Mesh.from_arrays(a["positions"], a["normals"], a["uvs"], a["indices"], tangents=t)
 
 
-def load_objects(path: PathLike, material: Material) -> list[Object]:
-    """One `pk.Object` per mesh node of a glTF 2.0 file, each with its node's world transform
-    and the given `material`: positions, normals, uvs and tangents as the file stores them (see
-    `load_mesh`). Give each object its own material with `dataclasses.replace`."""
+def _albedo(path: str, mat: "_core.GltfMaterial") -> np.ndarray:
+    """A glTF material's albedo: baseColorTexture (sRGB, decoded to linear) times
+    baseColorFactor's RGB, or the factor alone as a constant map."""
+    from ._color import srgb_to_linear
+    factor = np.asarray(mat["base_color_factor"][:3], np.float32)
+    tex = mat["base_color_texture"]
+    if tex is None:
+        return np.broadcast_to(factor, (2, 2, 3)).astype(np.float32)
+    if tuple(tex["wrap"]) != ("repeat", "repeat"):
+        warnings.warn(f"{path}: material {mat['name']!r}: its baseColorTexture's sampler wraps {tex['wrap']}; pomkit "
+                      "samples every map with repeat, so uvs outside [0, 1] read the texture tiled", RuntimeWarning, stacklevel=4)
+    if tex["tex_coord"] != 0:
+        warnings.warn(f"{path}: material {mat['name']!r}: baseColorTexture reads TEXCOORD_{tex['tex_coord']}; pomkit "
+                      "reads TEXCOORD_0 for every map", RuntimeWarning, stacklevel=4)
+    rgb = srgb_to_linear(np.asarray(tex["rgba"])[..., :3])
+    return np.ascontiguousarray(rgb * factor, dtype=np.float32)
+
+
+def load_objects(path: PathLike, material: Material, *, normals: NormalsMode = "repair") -> list[Object]:
+    """One `pk.Object` per primitive and material of each mesh node of a glTF 2.0 file (a node's
+    primitives that share a material are one object), with the node's world transform:
+    positions, normals, uvs and tangents as the file stores them (see `load_mesh`).
+
+    Each object takes `material` (its height, depth, tiling), with the file's base colour as its
+    albedo unless `material.albedo` is set: baseColorTexture (sRGB, decoded) times
+    baseColorFactor, or the factor alone. A primitive without TEXCOORD_0 is kept as an object of
+    its own at depth 0 (drawn undisplaced, as Flat draws), with a warning that names it and
+    counts its triangles. `normals` as `load_mesh` takes it. Give each object its own material with `dataclasses.replace`; what the
+    file's materials hold beyond the base colour is ignored (docs/assets.md)."""
     if not isinstance(material, Material):
         raise ArgumentTypeError(f"material: expected a pk.Material, got {type(material).__name__}")
     p = _path(path)
     if not p.lower().endswith(GLTF):
         raise ArgumentError(f"path: {p}: load_objects reads glTF 2.0 (.gltf, .glb); use load_mesh for other formats")
+    f = _read(p, normals)
+    albedos: dict[int, np.ndarray] = {}
     out = []
-    for n in _nodes(p):
-        m = np.asarray(n["transform"], np.float64).reshape(4, 4)
-        out.append(Object(Mesh._from_core(n, "arrays"), material, transform=None if np.array_equal(m, np.eye(4)) else m))
+    for n in f["nodes"]:
+        m = _transform(n)
+        for part in n["parts"]:
+            mat = material
+            mi = part["material"]
+            if material.albedo is None and mi is not None:
+                if mi not in albedos:
+                    albedos[mi] = _albedo(p, f["materials"][mi])
+                mat = dataclasses.replace(mat, albedo=albedos[mi])
+            if not part["has_uvs"]:
+                _uvless(p, n, part, "kept at depth 0, drawn undisplaced")
+                mat = dataclasses.replace(mat, depth=0.0)
+            out.append(Object(Mesh._from_core(part, "arrays"), mat, transform=None if np.array_equal(m, np.eye(4)) else m))
     return out
 
 

@@ -94,13 +94,44 @@ class MeshFromArrays(MeshArrays):
 
 
 @type_check_only
-class GltfNode(MeshArrays):
-    """`load_gltf`: one mesh node of a glTF file."""
-    name: str
-    transform: list[float]   # 16, row-major: the node's world transform
+class GltfPart(MeshArrays):
+    """`load_gltf`: a node's primitives that share a material and uv presence, as one mesh."""
+    material: Optional[int]
+    has_uvs: bool            # False: no usable TEXCOORD_0 (uvs projected per triangle), drawn undisplaced
+    primitives: list[int]
     tangent_source: Literal["file", "mikktspace"]
     flat_normals: int
     replaced_normals: int
+
+
+@type_check_only
+class GltfNode(TypedDict):
+    """`load_gltf`: one mesh node of a glTF file."""
+    name: str
+    transform: list[float]   # 16, row-major: the node's world transform
+    skipped: list[tuple[int, str]]   # (primitive, why): points, lines and arealess primitives left out
+    parts: list[GltfPart]
+
+
+@type_check_only
+class GltfTexture(TypedDict):
+    rgba: np.ndarray         # (H, W, 4) uint8, sRGB
+    wrap: tuple[str, str]    # the sampler's wrapS, wrapT: "repeat", "clamp" or "mirror"
+    tex_coord: int
+
+
+@type_check_only
+class GltfMaterial(TypedDict):
+    name: Optional[str]
+    base_color_factor: list[float]   # linear RGBA
+    base_color_texture: Optional[GltfTexture]
+
+
+@type_check_only
+class GltfFile(TypedDict):
+    nodes: list[GltfNode]
+    materials: list[GltfMaterial]
+    texture_errors: list[tuple[int, str]]
 
 
 @type_check_only
@@ -185,7 +216,7 @@ def mesh_from_arrays(positions: np.ndarray, normals: np.ndarray, uvs: np.ndarray
                      tangents: Optional[np.ndarray] = None,
                      frames: Literal["pomkit", "mikktspace"] = "pomkit",
                      normals_mode: Literal["file", "recompute", "repair"] = "file") -> MeshFromArrays: ...
-def load_gltf(path: str, normals: Literal["file", "recompute", "repair"] = "file") -> list[GltfNode]: ...
+def load_gltf(path: str, normals: Literal["file", "recompute", "repair"] = "file") -> GltfFile: ...
 def shell_findings(mesh: MeshData, depth: float) -> tuple[int, int]: ...
 def check_asset(mesh: MeshData, height: Optional[HeightData] = None, tiling: float = 1.0,
                 depth: Optional[float] = None) -> dict[str, Any]: ...

@@ -1,6 +1,7 @@
 //! Assets across the boundary: glTF nodes (`load_gltf`) and the asset report (`check_asset`).
 
 use super::handles::{PyHeightData, PyMeshData};
+use super::arrays::nd_array;
 use super::scene_args::mesh_out;
 use crate::assets::{self, TangentSource};
 use crate::mesh::normals::NormalsMode;
@@ -8,38 +9,75 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::path::PathBuf;
 
-/// Every mesh node of a glTF 2.0 file (.gltf, .glb): a list of dicts with the mesh's arrays
-/// (`MeshArrays`), `name`, `transform` (16 numbers, row-major, the node's world transform),
-/// `tangent_source` ("file" or "mikktspace"), `flat_normals` (primitives given flat normals) and
-/// `replaced_normals` (normals recomputed as `normals` asked: "file", "recompute" or "repair").
+/// A glTF 2.0 file (.gltf, .glb) as a dict: `nodes`, every mesh node (`name`, `transform`: 16
+/// numbers, row-major, the node's world transform; `skipped`: (primitive, why) of the points, lines and
+/// arealess primitives left out; `parts`: per material and uv presence the primitives' mesh arrays
+/// (`MeshArrays`) with `material` (glTF index or None), `has_uvs` (False: no TEXCOORD_0, drawn
+/// undisplaced), `primitives`, `tangent_source` ("file" or "mikktspace"), `flat_normals` and
+/// `replaced_normals`); `materials` (`name`, `base_color_factor`, `base_color_texture`: None or
+/// `rgba` (H, W, 4) uint8 sRGB, `wrap` (s, t), `tex_coord`); `texture_errors`: (material, why).
 #[pyfunction]
 #[pyo3(signature = (path, normals="file"))]
 pub fn load_gltf<'py>(
     py: Python<'py>,
     path: PathBuf,
     normals: &str,
-) -> PyResult<Bound<'py, PyList>> {
+) -> PyResult<Bound<'py, PyDict>> {
     let mode = NormalsMode::parse(normals)?;
-    let nodes = super::errors::interruptible(py, || assets::load_gltf(&path, mode))?;
-    let out = PyList::empty(py);
-    for n in nodes {
-        let d = mesh_out(py, &n.mesh)?;
+    let file = super::errors::interruptible(py, || assets::load_gltf(&path, mode))?;
+    let nodes = PyList::empty(py);
+    for n in file.nodes {
+        let d = PyDict::new(py);
         d.set_item("name", n.name)?;
         d.set_item(
             "transform",
             n.transform.transpose().to_cols_array().to_vec(),
         )?;
-        d.set_item(
-            "tangent_source",
-            match n.tangents {
-                TangentSource::File => "file",
-                TangentSource::MikkTSpace => "mikktspace",
-            },
-        )?;
-        d.set_item("flat_normals", n.flat_normals)?;
-        d.set_item("replaced_normals", n.replaced_normals)?;
-        out.append(d)?;
+        d.set_item("skipped", n.skipped)?;
+        let parts = PyList::empty(py);
+        for p in n.parts {
+            let pd = mesh_out(py, &p.mesh)?;
+            pd.set_item("material", p.material)?;
+            pd.set_item("has_uvs", p.uvs)?;
+            pd.set_item("primitives", p.primitives)?;
+            pd.set_item(
+                "tangent_source",
+                match p.tangents {
+                    TangentSource::File => "file",
+                    TangentSource::MikkTSpace => "mikktspace",
+                },
+            )?;
+            pd.set_item("flat_normals", p.flat_normals)?;
+            pd.set_item("replaced_normals", p.replaced_normals)?;
+            parts.append(pd)?;
+        }
+        d.set_item("parts", parts)?;
+        nodes.append(d)?;
     }
+    let materials = PyList::empty(py);
+    for m in file.materials {
+        let d = PyDict::new(py);
+        d.set_item("name", m.name)?;
+        d.set_item("base_color_factor", m.base_color_factor.to_vec())?;
+        match m.base_color_texture {
+            Some(t) => {
+                let td = PyDict::new(py);
+                td.set_item(
+                    "rgba",
+                    nd_array(py, (t.height as usize, t.width as usize, 4), t.rgba)?,
+                )?;
+                td.set_item("wrap", (t.wrap[0], t.wrap[1]))?;
+                td.set_item("tex_coord", t.tex_coord)?;
+                d.set_item("base_color_texture", td)?;
+            }
+            None => d.set_item("base_color_texture", py.None())?,
+        }
+        materials.append(d)?;
+    }
+    let out = PyDict::new(py);
+    out.set_item("nodes", nodes)?;
+    out.set_item("materials", materials)?;
+    out.set_item("texture_errors", file.texture_errors)?;
     Ok(out)
 }
 

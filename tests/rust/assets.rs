@@ -155,10 +155,12 @@ fn arrays_arrive_as_the_file_stores_them() {
         [1.0, 0.0, 0.0, -1.0],
         [1.0, 0.0, 0.0, 1.0],
     ]);
-    let nodes = load_gltf(&write_gltf("tangents.gltf", &q, None), Default::default()).unwrap();
+    let nodes = load_gltf(&write_gltf("tangents.gltf", &q, None), Default::default())
+        .unwrap()
+        .nodes;
     assert_eq!(nodes.len(), 1);
-    let n = &nodes[0];
-    assert_eq!(n.name, "rock");
+    assert_eq!(nodes[0].name, "rock");
+    let n = &nodes[0].parts[0];
     assert_eq!(n.tangents, TangentSource::File);
     assert_eq!(n.mesh.positions, q.positions);
     assert_eq!(n.mesh.normals, q.normals.clone().unwrap());
@@ -169,13 +171,16 @@ fn arrays_arrive_as_the_file_stores_them() {
         assert_eq!(a[..3], b[..3]);
         assert_eq!(a[3], -b[3]);
     }
-    assert_eq!(n.transform, glam::DMat4::IDENTITY);
+    assert_eq!(nodes[0].transform, glam::DMat4::IDENTITY);
 }
 
 #[test]
 fn without_tangents_mikktspace_gives_pomkit_s_handedness() {
     let q = quad();
-    let n = &load_gltf(&write_gltf("mikk.gltf", &q, None), Default::default()).unwrap()[0];
+    let n = &load_gltf(&write_gltf("mikk.gltf", &q, None), Default::default())
+        .unwrap()
+        .nodes[0]
+        .parts[0];
     assert_eq!(n.tangents, TangentSource::MikkTSpace);
     // u runs along +X, v along +Z: the bitangent w * cross(N, T) must point along +Z
     for (t, nn) in n.mesh.tangents.iter().zip(&n.mesh.normals) {
@@ -192,7 +197,10 @@ fn no_normals_become_flat_and_transforms_compose() {
     let m = [
         2.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.5, 0.0, -1.0, 1.0,
     ];
-    let n = &load_gltf(&write_gltf("flat.gltf", &q, Some(m)), Default::default()).unwrap()[0];
+    let node = &load_gltf(&write_gltf("flat.gltf", &q, Some(m)), Default::default())
+        .unwrap()
+        .nodes[0];
+    let n = &node.parts[0];
     assert_eq!(n.flat_normals, 1);
     assert_eq!(n.mesh.positions.len(), 6);
     for tri in n.mesh.indices.chunks_exact(3) {
@@ -201,18 +209,25 @@ fn no_normals_become_flat_and_transforms_compose() {
             n.mesh.normals[tri[1] as usize]
         );
     }
+    let n = node;
     assert_eq!(n.transform.w_axis, glam::DVec4::new(0.5, 0.0, -1.0, 1.0));
     assert_eq!(n.transform.x_axis.x, 2.0);
 }
 
 #[test]
-fn a_file_without_uvs_names_the_fix() {
+fn a_primitive_without_uvs_is_kept_apart_and_a_missing_file_is_named() {
     let mut q = quad();
     q.uvs = None;
-    let e = load_gltf(&write_gltf("nouv.gltf", &q, None), Default::default())
-        .unwrap_err()
-        .to_string();
-    assert!(e.contains("TEXCOORD_0") && e.contains("xatlas"), "{e}");
+    let f = load_gltf(&write_gltf("nouv.gltf", &q, None), Default::default()).unwrap();
+    let part = &f.nodes[0].parts[0];
+    assert!(!part.uvs);
+    // unindexed, each triangle with uvs of its own that have area
+    assert_eq!(part.mesh.indices.len(), q.indices.len());
+    assert_eq!(part.mesh.positions.len(), q.indices.len());
+    for t in part.mesh.indices.chunks_exact(3) {
+        let uv = |k: usize| glam::Vec2::from(part.mesh.uvs[t[k] as usize]);
+        assert!((uv(1) - uv(0)).perp_dot(uv(2) - uv(0)).abs() > 1e-3);
+    }
     let e = load_gltf(
         std::path::Path::new("/nonexistent/rock.glb"),
         Default::default(),
@@ -259,7 +274,7 @@ fn zero_normals_are_refused_naming_the_vertex_or_repaired_on_request() {
             && e.contains("normals=\"repair\""),
         "{e}"
     );
-    let n = &load_gltf(&path, NormalsMode::Repair).unwrap()[0];
+    let n = &load_gltf(&path, NormalsMode::Repair).unwrap().nodes[0].parts[0];
     assert_eq!(n.replaced_normals, 1);
     let r = n.mesh.normals[2];
     assert!(

@@ -66,7 +66,7 @@ impl<'a> Object<'a> {
             let visibility = ray.want != Want::Exact && ray.part == 0.0;
             let low = match (visibility, ray.part > 0.0) {
                 (true, _) => self.field.low,
-                (false, false) => (self.field.low - 1e-6).max(0.0),
+                (false, false) => self.field.low - 1e-6,
                 (false, true) => 0.0,
             };
             let at_top = top.is_some_and(|(lt, _)| side.is_none_or(|s| lt <= s.lam));
