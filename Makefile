@@ -8,7 +8,7 @@ VENV := .venv/bin
 # the tests that run a second time on the GL backend in `make test` (about five minutes)
 GL_TESTS := tests/test_pipelines.py tests/test_cost.py tests/test_supersampling.py tests/test_methods.py tests/test_analytic.py tests/test_differential.py tests/test_shadows.py tests/test_throughput.py tests/test_sizes.py tests/test_reference_exact.py tests/test_assets.py tests/test_golden.py tests/test_oracle_curved.py
 
-.PHONY: setup setup-test setup-bench setup-demo demo check test test-gl bench tables tables-slow tables-all stubs wheel info clean
+.PHONY: setup setup-test setup-bench setup-demo demo check test test-gl bench tables tables-slow tables-all stubs wheel info clean wild
 
 setup:
 	scripts/setup.sh
@@ -52,6 +52,12 @@ test: setup-test
 test-gl: setup-test
 	POMKIT_BACKEND=gl cargo test --release --features test-hooks --test core_render 2>&1 | grep -E "^(test result|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
 	POMKIT_BACKEND=gl $(VENV)/python -m pytest tests -q
+
+# the corpus of other people's models (scripts/wild_manifest.toml, fetched by scripts/wild.py into
+# ~/.cache/pomkit/wild, about 300 MB): every file loaded and measured against the oracle by
+# tools/wild.py, written to docs/tables/wild.md (the test setup; tests/test_wild.py runs its sample)
+wild: setup-test
+	$(VENV)/python tools/wild.py
 
 # one abi3 wheel (CPython 3.10 and later, manylinux2014: glibc 2.17 and later) in target/wheels,
 # and the sdist in target/sdist; setup reuses the wheel while the sources match

@@ -43,6 +43,8 @@ const NONE: u32 = 0xffffffffu;
 // the bit of a boundary face's prism index that marks a wall on an open border of the surface
 // (prisms.rs's OPEN_WALL)
 const OPEN_WALL: u32 = 0x80000000u;
+// (prisms.rs's BOTTOM: a prism's bottom face)
+const BOTTOM: u32 = 0x40000000u;
 // the most prisms one ray walks through (a grazing ray crosses a handful)
 const MAX_PRISMS: u32 = 64u;
 
@@ -338,7 +340,7 @@ struct PrismHit {
 }
 
 fn prism_walk(face_prism: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
-    let first = face_prism & ~OPEN_WALL;
+    let first = face_prism & ~(OPEN_WALL | BOTTOM);
     let open_wall = (face_prism & OPEN_WALL) != 0u;
     var out: PrismHit;
     out.ok = false;
@@ -512,6 +514,11 @@ fn prism_walk(face_prism: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> Prism
 @fragment
 fn fs_prism(in: VertexOut) -> FsOut {
     count_fragment(in.clip.xy);
+    if ((in.prism & BOTTOM) != 0u) {
+        // the ray enters the shell from behind the surface: nothing shows from that side, and a
+        // later entry of the same ray (another part's top) is a fragment of its own
+        discard;
+    }
     let tiling = G.tiling;
     let lod = compute_lod(in.uv * tiling);
     // object space, as in surface.wgsl

@@ -330,7 +330,12 @@ pub fn build(
             push_tri(corner(0, true), corner(1, true), corner(2, true));
         }
         if open && !degenerate[t] {
-            push_tri(corner(0, false), corner(1, false), corner(2, false));
+            let bottom = |k: usize| {
+                let mut v = corner(k, false);
+                v.prism |= BOTTOM;
+                v
+            };
+            push_tri(bottom(0), bottom(1), bottom(2));
         }
         let mut diagonals = 0u32;
         for k in 0..3 {
@@ -391,6 +396,12 @@ pub fn build(
 
 /// The bit of `PrismVertex::prism` that marks a face on an open border of the surface.
 pub const OPEN_WALL: u32 = 1 << 31;
+
+/// The bit of `PrismVertex::prism` that marks a prism's bottom. A view ray that enters the shell
+/// there comes from behind the surface (below the field), which shows nothing from that side
+/// (docs/conventions.md, "The displaced surface"): prism.wgsl discards it. The light's pass walks
+/// it, since the back of a surface casts a shadow too.
+pub const BOTTOM: u32 = 1 << 30;
 
 /// The lowest top a tight shell gives a vertical edge, as a fraction of the depth: no prism is
 /// flat, so that a ray entering one always finds its way out.
