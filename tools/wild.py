@@ -12,7 +12,7 @@ luminance (stretched to [0, 1]) where it has one, else a field baked over its uv
 model's bounding diagonal. Each file runs in a worker process with a time limit, so that one that
 crashes or hangs is reported as such.
 
-    .venv/bin/python tools/wild.py [--sample] [--limit N] [--files-timeout S] [--out docs/tables/wild.md]
+    .venv/bin/python tools/wild.py [--sample] [--every N] [--limit N] [--files-timeout S] [--out docs/tables/wild.md]
 """
 
 from __future__ import annotations
@@ -299,11 +299,13 @@ def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sample", action="store_true")
     ap.add_argument("--limit", type=int, default=0)
+    ap.add_argument("--every", type=int, default=1, help="every n-th file of the index (a spread subset)")
     ap.add_argument("--files-timeout", type=float, default=300.0)
     ap.add_argument("--out", default=str(ROOT / "docs" / "tables" / "wild.md"))
     ap.add_argument("--json", default=str(ROOT / "pomkit-out" / "wild.json"))
     a = ap.parse_args(argv)
     entries = corpus(a.sample)
+    entries = entries[:: max(a.every, 1)]
     if a.limit:
         entries = entries[: a.limit]
     rows = run(entries, a.files_timeout)

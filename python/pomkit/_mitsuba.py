@@ -301,6 +301,10 @@ def _delta_emitters(scene: Scene) -> dict:
     return out
 
 
+#: back faces a camera ray passes through before its hit (an open mesh seen into: its inside)
+_BACK_FACES = 8
+
+
 class _Caster:
     """One Mitsuba scene of the displaced meshes, cast against in batches."""
 
@@ -319,8 +323,21 @@ class _Caster:
         ray, _ = sensor.sample_ray(0.0, 0.5, mi.Point2f(_slack(fx), _slack(fy)),
                                    mi.Point2f(0.5, 0.5))
         si = self.sc.ray_intersect(ray)
+        # the surface is seen only from the side the base mesh faces (the oracle's rule: a ray
+        # enters the shell through its top, docs/conventions.md): a ray that meets the displaced
+        # mesh from behind (its face, or the base normal there, turned away) goes on through it
+        import drjit as dr
+        for _ in range(_BACK_FACES):
+            bn = si.shape.eval_attribute_3("vertex_bn", si)
+            back = si.is_valid() & ((dr.dot(si.n, ray.d) > 0) | (dr.dot(bn, ray.d) > 0))
+            if not dr.any(back):
+                break
+            si = dr.select(back, self.sc.ray_intersect(si.spawn_ray(ray.d)), si)
         valid = np.array(si.is_valid(), bool)
-        out: dict[str, Any] = {"si": si, "valid": valid, "t": np.array(si.t, np.float64),
+        p_hit = _np(si.p).astype(np.float64)
+        origin = _np(ray.o).astype(np.float64).reshape(-1, 3)
+        t_hit = np.where(valid, np.linalg.norm(p_hit - origin, axis=-1), np.array(si.t, np.float64))
+        out: dict[str, Any] = {"si": si, "valid": valid, "t": t_hit,
                                "p": _np(si.p).astype(np.float64), "ng": _np(si.n).astype(np.float64),
                                "uv": _np(si.uv).astype(np.float64)}
         shape = si.shape
