@@ -88,6 +88,8 @@ bench: setup-bench
 #     tools/goals.py --tables           bench.md bench_goals.txt curved_tiling.md (the whole bench, as `make bench`)
 #     scripts/gpu_check.py              gpu/llvmpipe-LLVM-15-0-6-256-bits-vulkan.md gpu/llvmpipe-LLVM-15-0-6-256-bits-vulkan.json
 #                                       gpu/llvmpipe-LLVM-15-0-6-256-bits-gl.md gpu/llvmpipe-LLVM-15-0-6-256-bits-gl.json
+#   make wild         the corpus of other people's models (about 300 MB fetched once; a few hours here):
+#     tools/wild.py                     wild.md
 #   a device run (scripts/gpu_check.sh on a lent GPU, not a make target here):
 #     scripts/gpu_check.py              gpu/NVIDIA-H200-vulkan.md gpu/NVIDIA-H200-vulkan.json
 #   make tables-all   both: the slow ones first, so that cost_refit.md reads the new gpu/ tables

@@ -54,9 +54,8 @@ def image(scene: Scene, spp: int = 16, shadows: bool = True, cache: bool = True)
     leave the shell, ambient times the fraction of 64 cosine-weighted directions that do).
 
     Every sample's hit is the float64 oracle's (`hits`), with no mesh built, at any map
-    size: on one untransformed planar object (a plane, a cube) the closed-form walk of each
-    triangle's plane; on any other scene (curved meshes, atlases, several objects, transforms)
-    the shell walk, exact to 1e-4 texel, whose light rays meet every object as in the world.
+    size: the shell walk on every scene (planes, curved meshes, atlases, several objects,
+    transforms), exact to 1e-4 texel, whose light rays meet every object as in the world.
     `render_mitsuba(integrator="cast")` is the independent check: the same shading on Mitsuba's
     ray casts against the displaced mesh.
 
