@@ -303,6 +303,8 @@ def _delta_emitters(scene: Scene) -> dict:
 
 #: back faces a camera ray passes through before its hit (an open mesh seen into: its inside)
 _BACK_FACES = 8
+#: what the caster's camera rays see (part of reference.py's cache key)
+CAST_FACES = "front faces"
 
 
 class _Caster:
@@ -323,13 +325,13 @@ class _Caster:
         ray, _ = sensor.sample_ray(0.0, 0.5, mi.Point2f(_slack(fx), _slack(fy)),
                                    mi.Point2f(0.5, 0.5))
         si = self.sc.ray_intersect(ray)
-        # the surface is seen only from the side the base mesh faces (the oracle's rule: a ray
-        # enters the shell through its top, docs/conventions.md): a ray that meets the displaced
-        # mesh from behind (its face, or the base normal there, turned away) goes on through it
+        # a back face shows nothing (the oracle's rule: a ray enters the shell through its top,
+        # docs/conventions.md): a ray that meets a face of the displaced mesh from behind (an open
+        # mesh seen into) goes on through it. (The base normal is not asked: at a curved mesh's
+        # silhouette it turns away where the displaced faces still face the viewer.)
         import drjit as dr
         for _ in range(_BACK_FACES):
-            bn = si.shape.eval_attribute_3("vertex_bn", si)
-            back = si.is_valid() & ((dr.dot(si.n, ray.d) > 0) | (dr.dot(bn, ray.d) > 0))
+            back = si.is_valid() & (dr.dot(si.n, ray.d) > 0)
             if not dr.any(back):
                 break
             si = dr.select(back, self.sc.ray_intersect(si.spawn_ray(ray.d)), si)

@@ -21,6 +21,12 @@ from ._scene import Scene
 __all__ = ["hits", "image"]
 
 
+
+#: the rule of the walk the cached images were made by (part of the cache key: images made by an
+#: earlier rule are not served): a camera ray's stretch ends below the field's lowest texel, 0 too
+_WALK = "ends below the lowest texel"
+
+
 def hits(scene: Scene, *, light_bias: float = 0.0) -> Frame:
     """The exact first hit of each pixel's ray with the displaced surface
     S = P + depth (h - 1) N, P and N interpolated over each base triangle (N normalised) as the
@@ -71,7 +77,7 @@ def image(scene: Scene, spp: int = 16, shadows: bool = True, cache: bool = True)
     spp = _v.integer("spp", spp, 1, 256, strict=True)  # a square: the core's rule
     shadows = _v.boolean("shadows", shadows)
     # the hash reads every array of the scene: only when the cache is asked for
-    key = scene_hash(scene, kind="oracle_image", spp=spp, shadows=shadows) if cache else ""
+    key = scene_hash(scene, kind="oracle_image", spp=spp, shadows=shadows, walk=_WALK) if cache else ""
 
     def compute():
         t0 = time.perf_counter()

@@ -108,7 +108,8 @@ def render_mitsuba(scene: Scene, spp: int | None = None, seed: int = 0, variant:
     # `direct` shades with pomkit_lambert (lit from the shading normal's side whatever the viewer's)
     bsdf = "pomkit_lambert" if integrator == "direct" else "diffuse"
     key = scene_hash(scene, kind="mitsuba", spp=spp, seed=seed, variant=variant, resolution=resolution,
-                     integrator=integrator, shadows=shadows, mesh=_displaced.MESH, bsdf=bsdf) if cache else ""
+                     integrator=integrator, shadows=shadows, mesh=_displaced.MESH, bsdf=bsdf,
+                     faces=_mitsuba.CAST_FACES if integrator == "cast" else "both") if cache else ""
 
     def compute():
         t0 = time.perf_counter()
