@@ -737,7 +737,9 @@ class TextureFinder:
                 self._listing[d] = {}
         return self._listing[d]
 
-    def walk(self, start: Path, parts: list[str]) -> Path | None:
+    def follow(self, start: Path, parts: list[str], dirs: bool = False) -> Path | None:
+        """The path `parts` leads to from `start`, each part matched without case (only folders
+        with `dirs`), or None."""
         d = start
         for part in parts:
             if part in ("", "."):
@@ -746,10 +748,14 @@ class TextureFinder:
                 d = d.parent
                 continue
             hit = self.listing(d).get(part.lower())
-            if hit is None:
+            if hit is None or (dirs and not hit.is_dir()):
                 return None
             d = hit
-        if d.is_file() and (d.resolve() == self.pkg_root or self.pkg_root in d.resolve().parents):
+        return d
+
+    def walk(self, start: Path, parts: list[str]) -> Path | None:
+        d = self.follow(start, parts)
+        if d is not None and d.is_file() and (d.resolve() == self.pkg_root or self.pkg_root in d.resolve().parents):
             return d
         return None
 
@@ -783,7 +789,7 @@ class TextureFinder:
                     return hit
         dirs = [model_dir, *self.extra]
         if len(parts) > 1 and not absolute:
-            folder = self.walk_dir(model_dir, parts[:-1])
+            folder = self.follow(model_dir, parts[:-1], dirs=True)
             if folder is not None:
                 dirs.insert(0, folder)
         for names in ([base], [stem + ext for ext in self.EXTS]):
@@ -808,20 +814,6 @@ class TextureFinder:
 
                 return min(cands, key=nearness)
         return None
-
-    def walk_dir(self, start: Path, parts: list[str]) -> Path | None:
-        d = start
-        for part in parts:
-            if part in ("", "."):
-                continue
-            if part == "..":
-                d = d.parent
-                continue
-            hit = self.listing(d).get(part.lower())
-            if hit is None or not hit.is_dir():
-                return None
-            d = hit
-        return d
 
 
 def strip_images(js: dict[str, Any], drop: set[int]) -> None:

@@ -33,6 +33,9 @@ from typing import Any
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "tests"))
+import zoo  # noqa: E402  (interior_holes: the zoo's measure of holes)
+
 FETCHER = ROOT / "scripts" / "wild.py"
 SIZE = 96
 #: the methods measured, by the name the table gives them
@@ -128,13 +131,6 @@ def views(lo, hi, size: int = SIZE, fov: float = 35.0):
     return out
 
 
-def interior_holes(mask: np.ndarray, inside: np.ndarray) -> int:
-    """Pixels of `inside` (the reference's coverage, eroded by 3 pixels) that `mask` misses."""
-    from scipy import ndimage
-    core = ndimage.binary_erosion(inside, iterations=3)
-    return int((core & ~mask).sum())
-
-
 def findings(objs) -> dict[str, int]:
     import pomkit as pk
     tot: dict[str, int] = {}
@@ -173,7 +169,7 @@ def measure(entry: dict, renderer=None) -> dict:
                 res[name].append(dict(error=str(e)[:200]))
                 continue
             u = pk.metrics.uv_error(f, ref, s)
-            res[name].append(dict(iou=float(u["mask_iou"]), holes=interior_holes(f.mask, ref.mask),
+            res[name].append(dict(iou=float(u["mask_iou"]), holes=zoo.interior_holes(f.mask, ref.mask),
                                   uv_p95=float(u["p95"]) if u["n"] else float("nan")))
     row["methods"] = res
     row["seconds"] = time.perf_counter() - t0
