@@ -35,6 +35,9 @@ struct Ray {
     // WINDOW: the coarse mesh's per-vertex window), whose search marches the window alone.
     top: f32,
     floor: f32,
+    // world length from the rasterised fragment to the entry (s, top) along the view ray: 0 but
+    // for Hybrid's fine method, whose entry starts where the ray reaches h = 1 (planar_hit adds it)
+    lead: f32,
 }
 
 // What a method returns. `planar_hit` fills every field from (s, h) for methods that march in
@@ -76,7 +79,7 @@ fn planar_hit(r: Ray, s: vec2<f32>, h: f32, steps: f32, flags: u32) -> Hit {
     hit.steps = steps;
     hit.flags = flags;
     hit.lod = r.lod;
-    hit.len = (r.top - h) / max(-r.v_ts.z, 1e-12);
+    hit.len = r.lead + (r.top - h) / max(-r.v_ts.z, 1e-12);
     hit.f = r.f;
     hit.exited = false;
     return hit;

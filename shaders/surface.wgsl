@@ -44,6 +44,12 @@ fn vs_shadow(v: VertexIn) -> VertexOut {
     return pass_through(v, to_clip(v.position, V.shadow_vp));
 }
 
+#ifdef WINDOW
+// the share of a window's reach within which its nearest floor holds (src/methods/hybrid:
+// NEAR_SHARE)
+const NEAR_SHARE: f32 = 0.0625;
+#endif
+
 // The ray of a fragment along `view` (object space, unit) in its tangent basis.
 fn make_ray(in: VertexOut, f: Basis, s0: vec2<f32>, lod: f32, view: vec3<f32>, uv: vec2<f32>) -> Ray {
     var r: Ray;
@@ -60,10 +66,33 @@ fn make_ray(in: VertexOut, f: Basis, s0: vec2<f32>, lod: f32, view: vec3<f32>, u
     r.f = f;
     r.top = 1.0;
     r.floor = 0.0;
+    r.lead = 0.0;
 #ifdef WINDOW
-    // the coarse mesh's window at the fragment (src/methods/hybrid): (floor, top)
-    r.floor = in.extra.x;
-    r.top = in.extra.y;
+    // the coarse mesh's window at the fragment (src/methods/hybrid): (floor, top, near floor,
+    // reach), within the
+    // shell [0, 1]: the field lies below h = 1, so a fragment above it starts its search where
+    // the ray comes down to h = 1 (never a wider window than the method's own)
+    let above = select(0.0, max(in.extra.y - 1.0, 0.0), r.v_ts.z < 0.0);
+    r.s = s0 + r.dsdh * above;
+    r.lead = above / max(-r.v_ts.z, 1e-12);
+    r.top = in.extra.y - above;
+    // the nearest floor (extra.x) holds for a ray whose descent to it stays within
+    // NEAR_SHARE * extra.w of the fragment (s units), the near one (extra.z) within extra.w; a
+    // longer one searches down to h = 0
+    let slope = select(1e30, length(r.dsdh), r.v_ts.z < 0.0);
+    r.floor = 0.0;
+    if (slope * (in.extra.y - in.extra.z) <= in.extra.w) {
+        r.floor = max(in.extra.z, 0.0);
+    }
+    if (slope * (in.extra.y - in.extra.x) <= NEAR_SHARE * in.extra.w) {
+        r.floor = max(in.extra.x, 0.0);
+    }
+    if (r.v_ts.z >= 0.0 && in.extra.w > 0.0) {
+        // a coarse face seen where the base normal turns away (past the base mesh's outline):
+        // the ray does not descend in the base's basis, and the surface is taken at the entry
+        // (a flat coarse mesh, reach 0, is the base mesh: its fine method as alone)
+        r.floor = r.top;
+    }
 #endif
     return r;
 }

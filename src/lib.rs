@@ -16,6 +16,7 @@ pub mod jod;
 pub mod mesh;
 pub mod methods;
 pub mod oracle;
+pub mod parallel;
 pub mod progress;
 pub mod render;
 pub mod scene;

@@ -532,9 +532,11 @@ class Hybrid(Method):
     base mesh). fine: `pk.POM`, `pk.SteepParallax`, `pk.Relief`, `pk.Exact` or `pk.ConeStep`, with its own
     options (shadows, filtering, steps). Over each coarse triangle the residual (the height
     minus the coarse surface's interpolated height) lies within bounds the method computes once
-    per mesh and map; the coarse mesh is drawn at the top of that window and the fine method
-    searches the window alone, so its steps resolve (window / shell) times finer than on the
-    base mesh. Depth, shadows and every AOV are the fine method's."""
+    per mesh and map; the coarse mesh (never coarser than the base mesh; at hard edges each side
+    on its own normals, meeting on the base mesh) is drawn at the top of that window and the
+    fine method searches down to a floor that holds along its ray, so its steps resolve
+    (window / shell) times finer than on the base mesh, and it is never worse than alone
+    (docs/hybrid.md). Depth, shadows and every AOV are the fine method's."""
 
     coarse: Method = field(default_factory=_tessellated_default)
     fine: Method = field(default_factory=_pom_default)

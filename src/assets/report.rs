@@ -8,6 +8,7 @@ use crate::mesh::topology::Topology;
 use crate::mesh::{uv_derivatives, Mesh};
 use crate::scene::HeightMap;
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 use std::collections::VecDeque;
 
 /// How many places the report names for each finding.
@@ -233,7 +234,13 @@ pub fn check_asset(
         .flatten()
         .any(|&x| !(0.0..=1.0).contains(&x));
 
-    // triangles: handedness, degeneracy
+    // triangles: handedness, degeneracy; each triangle's shell on every core (src/parallel.rs)
+    crate::parallel::init();
+    let shells: Vec<ShellTriangle> = mesh
+        .indices
+        .par_chunks_exact(3)
+        .map(|tri| shell_triangle(mesh, tri, depth))
+        .collect();
     let mut mirrored = vec![false; ntri];
     for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
         let p = tri
@@ -248,7 +255,7 @@ pub fn check_asset(
             example(&mut r, "degenerate triangle", c);
             continue;
         }
-        let shell = shell_triangle(mesh, tri, depth);
+        let shell = &shells[t];
         if shell.flipped {
             r.normals_flipped += 1;
             example(&mut r, "flipped normal", c);

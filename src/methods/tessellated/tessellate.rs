@@ -67,6 +67,37 @@ pub fn tessellate(
     texels_per_vertex: f64,
     pattern: Pattern,
 ) -> Result<Tessellation> {
+    tessellate_with(mesh, mat, texels_per_vertex, pattern, false)
+}
+
+/// `tessellate` whose lattice on a uv grid also holds the base grid's own lines, so that no
+/// triangle spans two base cells: the mesh is never coarser than the base mesh, however wide
+/// the spacing (Hybrid's coarse mesh: a lattice 64 texels apart on a torus of 4-texel cells
+/// would cut chords through the tube). Meshes from arrays keep their vertices either way.
+pub fn tessellate_on_base(
+    mesh: &Mesh,
+    mat: &Material,
+    texels_per_vertex: f64,
+    pattern: Pattern,
+) -> Result<Tessellation> {
+    tessellate_with(mesh, mat, texels_per_vertex, pattern, true)
+}
+
+/// The sorted union of `lattice` and the base grid's lines k / cells (k = 0..=cells).
+fn with_base_lines(mut l: Vec<f64>, cells: u32) -> Vec<f64> {
+    l.extend((0..=cells).map(|k| k as f64 / cells as f64));
+    l.sort_by(f64::total_cmp);
+    l.dedup_by(|a, b| (*a - *b).abs() <= 1e-9);
+    l
+}
+
+fn tessellate_with(
+    mesh: &Mesh,
+    mat: &Material,
+    texels_per_vertex: f64,
+    pattern: Pattern,
+    keep_base: bool,
+) -> Result<Tessellation> {
     if !(texels_per_vertex.is_finite() && (1.0 / 64.0..=1024.0).contains(&texels_per_vertex)) {
         return Err(Error::arg(
             "texels_per_vertex",
@@ -115,12 +146,18 @@ pub fn tessellate(
         Ok(())
     };
     if !mesh.charts.is_empty() {
-        let us = lattice(tiling, hm.width, tpv);
-        let vs = lattice(tiling, hm.height, tpv);
-        let quads = (us.len() - 1) * (vs.len() - 1);
-        let centres = if pattern == Pattern::Fan { quads } else { 0 };
-        check((us.len() * vs.len() + centres) * mesh.charts.len())?;
+        let (lu, lv) = (lattice(tiling, hm.width, tpv), lattice(tiling, hm.height, tpv));
+        let axes = |nu: u32, nv: u32| match keep_base {
+            true => (with_base_lines(lu.clone(), nu), with_base_lines(lv.clone(), nv)),
+            false => (lu.clone(), lv.clone()),
+        };
+        let count = |(us, vs): &(Vec<f64>, Vec<f64>)| {
+            let quads = (us.len() - 1) * (vs.len() - 1);
+            us.len() * vs.len() + if pattern == Pattern::Fan { quads } else { 0 }
+        };
+        check(mesh.charts.iter().map(|&[nu, nv, _]| count(&axes(nu, nv))).sum())?;
         for &[nu, nv, first] in &mesh.charts {
+            let (us, vs) = axes(nu, nv);
             let base = out.positions.len() as u32;
             let row = nu as usize + 1;
             // the base mesh's point at chart uv (u, v), as the rasteriser interpolates it

@@ -35,6 +35,7 @@ use bvh::Bvh;
 use glam::{DMat3, DMat4, DVec2, DVec3};
 use bundle_shows::Bundle;
 use prism::{Crossing, Local, Prism};
+use rayon::prelude::*;
 use std::sync::atomic::{AtomicU8, Ordering};
 use std::sync::{Arc, Mutex};
 
@@ -583,7 +584,8 @@ impl<'a> Object<'a> {
 impl Geometry {
     fn new(mesh: &Mesh, depth: f64) -> Result<Geometry> {
         let n = mesh.indices.len() / 3;
-        let prisms: Vec<Option<Prism>> = (0..n).map(|t| Prism::new(mesh, t)).collect();
+        crate::parallel::init();
+        let prisms: Vec<Option<Prism>> = (0..n).into_par_iter().map(|t| Prism::new(mesh, t)).collect();
         if prisms.iter().all(Option::is_none) {
             return Err(Error::arg(
                 "mesh",
@@ -592,6 +594,7 @@ impl Geometry {
         }
         let topo = Topology::quantised(mesh);
         let across: Vec<[Option<u32>; 3]> = (0..n)
+            .into_par_iter()
             .map(|t| {
                 std::array::from_fn(|k| {
                     let e = topo.tri_edges[t][k] as usize;
@@ -623,7 +626,7 @@ impl Geometry {
         // corner's normal, and as much again for the floor's bulge between corners, where
         // |n(b)| < 1)
         let boxes: Vec<Option<(DVec3, DVec3)>> = prisms
-            .iter()
+            .par_iter()
             .enumerate()
             .map(|(t, p)| {
                 let p = p.as_ref()?;
