@@ -36,14 +36,19 @@ check:
 	$(VENV)/python -m pytest -q -p no:cacheprovider -m "not slow and not reference and not browser" tests
 
 test: setup-test
+	@scripts/stage.sh cargo-test
 	cargo test --release --features test-hooks --lib --tests 2>&1 | tee .cargo-test.log | grep -E "^(test result|running|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
+	@scripts/stage.sh stubtest-mypy-numpy-floor
 	$(VENV)/python -m mypy.stubtest pomkit._core --mypy-config-file pyproject.toml
 	$(VENV)/python -m mypy
 	scripts/numpy_floor.sh
+	@scripts/stage.sh pytest
 	$(VENV)/python -m pytest tests notebooks --nbmake
+	@scripts/stage.sh gl
 	@echo "== the GL backend (POMKIT_BACKEND=gl): core, method, analytic, differential, shadow and target tests =="
 	POMKIT_BACKEND=gl cargo test --release --features test-hooks --test core_render 2>&1 | grep -E "^(test result|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
 	POMKIT_BACKEND=gl $(VENV)/python -m pytest $(GL_TESTS) -q
+	@scripts/stage.sh distributions
 	@echo "== the distributions: the manylinux2014 wheel's tag (auditwheel), the sdist built by pip, each rendering a frame =="
 	scripts/check_dist.sh
 
