@@ -68,30 +68,45 @@ fn make_ray(in: VertexOut, f: Basis, s0: vec2<f32>, lod: f32, view: vec3<f32>, u
     r.floor = 0.0;
     r.lead = 0.0;
 #ifdef WINDOW
-    // the coarse mesh's window at the fragment (src/methods/hybrid): (floor, top, near floor,
-    // reach), within the
-    // shell [0, 1]: the field lies below h = 1, so a fragment above it starts its search where
-    // the ray comes down to h = 1 (never a wider window than the method's own)
-    let above = select(0.0, max(in.extra.y - 1.0, 0.0), r.v_ts.z < 0.0);
-    r.s = s0 + r.dsdh * above;
-    r.lead = above / max(-r.v_ts.z, 1e-12);
-    r.top = in.extra.y - above;
-    // the nearest floor (extra.x) holds for a ray whose descent to it stays within
-    // NEAR_SHARE * extra.w of the fragment (s units), the near one (extra.z) within extra.w; a
-    // longer one searches down to h = 0
-    let slope = select(1e30, length(r.dsdh), r.v_ts.z < 0.0);
-    r.floor = 0.0;
-    if (slope * (in.extra.y - in.extra.z) <= in.extra.w) {
-        r.floor = max(in.extra.z, 0.0);
+    // the coarse mesh's window at the fragment (src/methods/hybrid): (nearest floor, top, near
+    // floor, reach). The nearest floor holds for a ray whose descent to it stays within
+    // NEAR_SHARE * reach of the fragment (s units), the near one within reach.
+    let top = in.extra.y;
+    let descends = r.v_ts.z < 0.0;
+    let slope = select(1e30, length(r.dsdh), descends);
+    var near = false;
+    var fl = 0.0;
+    if (slope * (top - in.extra.z) <= in.extra.w) {
+        near = true;
+        fl = in.extra.z;
     }
-    if (slope * (in.extra.y - in.extra.x) <= NEAR_SHARE * in.extra.w) {
-        r.floor = max(in.extra.x, 0.0);
+    if (slope * (top - in.extra.x) <= NEAR_SHARE * in.extra.w) {
+        near = true;
+        fl = in.extra.x;
     }
-    if (r.v_ts.z >= 0.0 && in.extra.w > 0.0) {
+    if (!descends && in.extra.w > 0.0) {
         // a coarse face seen where the base normal turns away (past the base mesh's outline):
         // the ray does not descend in the base's basis, and the surface is taken at the entry
-        // (a flat coarse mesh, reach 0, is the base mesh: its fine method as alone)
-        r.floor = r.top;
+        r.top = top;
+        r.floor = top;
+    } else if (near || in.extra.w <= 0.0) {
+        // the field lies below h = 1: a fragment above it starts where the ray comes down to
+        // h = 1 (never a wider window than the method's own; a flat coarse mesh, reach 0, is
+        // the base mesh: the method as alone)
+        let above = select(0.0, max(top - 1.0, 0.0), descends);
+        r.s = s0 + r.dsdh * above;
+        r.lead = above / max(-r.v_ts.z, 1e-12);
+        r.top = top - above;
+        r.floor = max(fl, 0.0);
+    } else {
+        // a ray that travels farther than either reach: the method's own window [0, 1] along
+        // the same ray, from where it passes h = 1 (on a plane the very samples of the method
+        // alone; the ray lies above the field until it enters the coarse mesh)
+        let back = 1.0 - top;
+        r.s = s0 - r.dsdh * back;
+        r.lead = -back / max(-r.v_ts.z, 1e-12);
+        r.top = 1.0;
+        r.floor = 0.0;
     }
 #endif
     return r;

@@ -41,6 +41,11 @@ def families(quick: bool) -> dict[str, list[pk.Method]]:
         "Exact": [pk.Exact()],
         "ConeStep": [pk.ConeStep(cones="relaxed", refine="binary").with_steps(n) for n in grid],
         "Tessellated": [pk.Tessellated(texels_per_vertex=t, shadows="none") for t in ([1.0, 2.0, 4.0] if quick else [0.5, 1.0, 2.0, 4.0])],
+        # the coarse mesh plus POM(16) (the POM family's 16-step setting): its taps and GPU ms beside
+        # POM alone at equal taps
+        "Hybrid": [pk.Hybrid(coarse=pk.Tessellated(texels_per_vertex=t),
+                             fine=pk.POM(shadows="none", lod_threshold=1000.0, mip_filtering=False).with_steps(16))
+                   for t in ([16.0, 4.0] if quick else [16.0, 4.0, 1.0])],
     }
 
 

@@ -23,7 +23,8 @@
 //! lowest texel within a box of half-width (reach + its longest edge) about it, for two reaches
 //! (`reach` and NEAR_SHARE of it, s units). A ray whose descent to a floor stays within that
 //! floor's reach of its fragment cannot meet the field below it; one that goes farther searches
-//! down to h = 0. The fine method spends its steps over that window.
+//! the method's own window [0, 1] along the same ray, from where it passes h = 1. The fine
+//! method spends its steps over that window.
 //!
 //! Without a lattice (`texels_per_vertex` None: a flat coarse mesh) the mesh is the base mesh
 //! with the window [0, 1]: the fine method as it runs alone.
@@ -59,7 +60,7 @@ struct WindowVertex {
     vertex: Vertex,
     /// (nearest floor, top, near floor, reach): the window's top at the vertex, and the floors that
     /// hold for a ray that stays within NEAR_SHARE * reach, and within reach (s units), of its
-    /// fragment; a ray that goes farther searches down to h = 0
+    /// fragment; a ray that goes farther searches [0, 1] from where it passes h = 1
     window: [f32; 4],
 }
 
@@ -176,7 +177,7 @@ fn window_mesh(
     // REACH + (the vertex's longest incident edge) about each vertex (s units), every fragment of
     // its triangles sees the field above it within REACH of itself, and so does their
     // interpolation (each vertex's floor lies below the field there)
-    let reach = (4.0 * tpv + 8.0) / w.max(h);
+    let reach = (4.0 * tpv + 32.0) / w.max(h);
     let mut edge = vec![0.0f64; n];
     for tri in t.indices.chunks_exact(3) {
         for k in 0..3 {
