@@ -119,3 +119,35 @@ def test_no_silhouette_method_below_pom(rows):
                 fixed.append((r["id"], m))
     assert not found, found
     assert not fixed, f"fixed, take them out of KNOWN_BELOW_POM: {fixed}"
+
+
+#: (file id ending, texels a vertex) -> where Hybrid(n, Exact) is worse than Exact alone, as measured
+KNOWN_HYBRID_WORSE = {
+    ("truck1.3ds", 16.0): "4.27 texels p95 against 3.36 alone at the second view: its box body and wheels carry normals "
+                          "averaged across their corners, so that neither the coarse mesh (a 64² map, 16 texels a vertex: "
+                          "the base triangles barely split) nor the texture-space search follows the shell; 4 and 1 texels a "
+                          "vertex are better than alone (1.05-1.73 and 0.03-0.11)",
+}
+
+
+@pytest.mark.parametrize("ending", ["little_house.ac", "truck1.3ds"])
+def test_a_coarse_mesh_never_makes_exact_worse_on_hard_edged_low_poly(renderer, ending):
+    """Issue 74 on models other people made (hard edges everywhere, open bottoms, texels mapped
+    twice): Hybrid(n, Exact) is within 0.005 texel p95 of Exact alone or better at 16, 4 and 1
+    texels a vertex, at the corpus's three views, but where KNOWN_HYBRID_WORSE says (held there to
+    1.35 times alone). Measured here: 0.000 on little_house, and on the opencity buildings of the
+    full corpus 0.000-0.013 where Exact alone is 0.000-0.109."""
+    import pomkit as pk
+    entry = next(e for e in wild.corpus(sample=True) if e["id"].endswith(ending))
+    objs, (lo, hi), _ = wild.scene_objects(entry["glb"])
+    for cam in wild.views(lo, hi, size=128):
+        sc = pk.Scene(objects=objs, camera=cam, lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0)], ambient=0.1)
+        o = pk.oracle.hits(sc)
+        alone = pk.metrics.uv_error(renderer.render(sc, pk.Exact()), o, sc)["p95"]
+        for n in (16.0, 4.0, 1.0):
+            f = renderer.render(sc, pk.Hybrid(coarse=pk.Tessellated(texels_per_vertex=n), fine=pk.Exact()))
+            e = pk.metrics.uv_error(f, o, sc)["p95"]
+            if (ending, n) in KNOWN_HYBRID_WORSE:
+                assert e <= 1.35 * alone + 0.005, (ending, n, e, alone, KNOWN_HYBRID_WORSE[(ending, n)])
+            else:
+                assert e <= alone + 0.005, (ending, n, e, alone)
