@@ -250,6 +250,12 @@ impl Method {
         self.unit_validate()
     }
 
+    /// The method "auto"'s pipeline probe times (src/render/choice.rs): POM with the paper's
+    /// defaults, no shadows, the per-pixel search most frames draw.
+    pub fn auto_probe() -> Self {
+        Method::pom(PerPixel::off())
+    }
+
     /// POM with the paper's defaults (8..50 samples, LOD threshold 4) and the given options:
     /// for the core's own tests and examples.
     pub fn pom(pixel: PerPixel) -> Self {

@@ -12,11 +12,16 @@
 //! - `test_hooks`: hooks for the tests (the `test-hooks` feature) (a provoked validation error, the GPU's pyramids, a method's
 //!   built resources), apart from the Renderer's API
 //! - `supersample`: k x k samples per pixel, in one pass or in tiles, reduced to the frame
+//! - `choice`: which pipeline draws a frame ("auto"'s probe); `compute`: the compute pipeline's
+//!   passes; `limits`: the device's limits, checked before anything reaches the GPU
 //!
 //! The renderer binds what a method's `Spec` declares (src/contract.rs): its geometry, its
 //! `params` and its own resources (and the argument its shader errors name). It names no method.
 
 pub mod aovs;
+mod choice;
+mod compute;
+mod limits;
 pub mod pipelines;
 pub mod resources;
 pub mod shadow_map;
@@ -216,56 +221,6 @@ impl Renderer {
         Ok(res.heights.rekey(old_key, new.key))
     }
 
-    /// Refuse sizes over the device's limits before anything reaches the GPU.
-    pub fn check_limits(&self, scene: &Scene) -> Result<()> {
-        let lim = &self.ctx.limits;
-        let maxd = lim.max_texture_dimension_2d;
-        let dims = |arg: &str, what: &str, w: u32, h: u32| -> Result<()> {
-            if w > maxd || h > maxd {
-                let way_out = if arg == "width" {
-                    "lower the resolution (spp= renders its samples in tiles)".to_string()
-                } else {
-                    format!("crop it to at most {maxd} a side, or resample it: pk.textures.fit({arg}, {}) gives its centred square at that size", w.min(h).min(maxd))
-                };
-                return Err(Error::limit(
-                    arg,
-                    format!(
-                        "{what} {w}x{h} exceeds the device's max_texture_dimension_2d = {maxd}; {way_out}"
-                    ),
-                ));
-            }
-            Ok(())
-        };
-        let cam = &scene.camera;
-        dims("width", "frame", cam.width, cam.height)?;
-        let bytes = targets::row_bytes(cam.width) * cam.height as u64;
-        if bytes > lim.max_buffer_size {
-            return Err(Error::limit(
-                "width",
-                format!("frame {}x{} needs a {bytes}-byte readback buffer; the device's max_buffer_size is {}: lower the resolution (spp= renders its samples in tiles)", cam.width, cam.height, lim.max_buffer_size),
-            ));
-        }
-        for o in &scene.objects {
-            let hm = &o.material.height;
-            dims("height", "height map", hm.width, hm.height)?;
-            if let Some(a) = &o.material.albedo {
-                dims("albedo", "albedo", a.width, a.height)?;
-            }
-            let vbytes =
-                o.mesh.positions.len() as u64 * std::mem::size_of::<crate::mesh::Vertex>() as u64;
-            if vbytes > lim.max_buffer_size {
-                return Err(Error::limit(
-                    "mesh",
-                    format!(
-                        "vertex buffer of {vbytes} bytes exceeds the device's max_buffer_size = {}: split the mesh into several pk.Object, or decimate it",
-                        lim.max_buffer_size
-                    ),
-                ));
-            }
-        }
-        Ok(())
-    }
-
     /// Render every AOV of one frame.
     pub fn render(&self, scene: &Scene, method: &Method) -> Result<Frame> {
         self.render_aovs(scene, method, Aovs::STANDARD)
@@ -370,155 +325,6 @@ impl Renderer {
             frames.push(self.finish(p)?);
         }
         Ok(frames)
-    }
-
-    /// Why the compute pipeline cannot draw `scene` with `spec` (None: it can).
-    pub fn compute_refusal(&self, scene: &Scene, spec: &Spec, aovs: Aovs) -> Option<String> {
-        if !self.ctx.caps.compute_pipeline() {
-            return Some(format!(
-                "this adapter ({}, {}) lacks what it needs: {} (python -m pomkit info lists its features)",
-                self.ctx.info.name,
-                self.ctx.info.backend,
-                self.ctx.caps.compute_pipeline_missing.join(", ")
-            ));
-        }
-        if !matches!(spec.pass, crate::contract::Pass::Surface { .. }) {
-            return Some(
-                "the method draws geometry of its own (prisms: a pixel may need several of them), which only the raster pipeline draws".into(),
-            );
-        }
-        if scene.objects.len() > 1 {
-            return Some(
-                "a frame of several objects orders them by their displaced depth, which a visibility pass at the base mesh's depth cannot".into(),
-            );
-        }
-        if aovs.counts_fragments() {
-            return Some(
-                "the `fragments` AOV counts the raster pipeline's fragment invocations (the compute pipeline runs one invocation a pixel)".into(),
-            );
-        }
-        let extra = if spec.defs.contains(&"VERTEX_EXTRA") {
-            16
-        } else {
-            0
-        };
-        let stride = pipelines::vertex_layout(&spec.geometry).array_stride;
-        if stride != std::mem::size_of::<crate::mesh::Vertex>() as u64 + extra {
-            return Some(format!(
-                "the method's geometry has {stride}-byte vertices, a layout shaders/visibility.wgsl does not read"
-            ));
-        }
-        None
-    }
-
-    /// The pipeline that draws `scene` with `spec`: the one asked for, or for "auto" the
-    /// adapter's verdict (`auto_compute`) where the compute pipeline can draw the frame.
-    pub fn kind(
-        &self,
-        choice: pipelines::Choice,
-        auto_compute: bool,
-        scene: &Scene,
-        spec: &Spec,
-        aovs: Aovs,
-    ) -> Result<Kind> {
-        match choice {
-            pipelines::Choice::Raster => Ok(Kind::Raster),
-            pipelines::Choice::Compute => match self.compute_refusal(scene, spec, aovs) {
-                None => Ok(Kind::Compute),
-                Some(why) => Err(Error::arg(
-                    "pipeline",
-                    format!("'compute' cannot draw this frame: {why}; use pipeline='raster', or 'auto' (which rasterises such frames)"),
-                )),
-            },
-            pipelines::Choice::Auto => Ok(
-                if auto_compute && self.compute_refusal(scene, spec, aovs).is_none() {
-                    Kind::Compute
-                } else {
-                    Kind::Raster
-                },
-            ),
-        }
-    }
-
-    /// "auto"'s rule: whether this device draws the per-pixel methods faster in compute. A CPU
-    /// adapter rasterises (measured on llvmpipe: docs/cost.md, "Two pipelines"); any other
-    /// adapter with the compute pipeline is measured once, on first use: POM on a plane at
-    /// 512², both pipelines interleaved, and compute wins where its median GPU time is below
-    /// `AUTO_MARGIN` of the raster pipeline's.
-    pub fn auto_compute(&self) -> bool {
-        if !self.ctx.caps.compute_pipeline() || self.ctx.info.device_type == "Cpu" {
-            return false;
-        }
-        *self.ctx.auto_compute.get_or_init(|| match self.probe() {
-            Ok((r, c)) => c < AUTO_MARGIN * r,
-            Err(_) => false,
-        })
-    }
-
-    /// "auto"'s probe on this device: the median ms of the raster and the compute pipeline.
-    pub fn probe(&self) -> Result<(f64, f64)> {
-        Ok((
-            self.probe_ms(pipelines::Choice::Raster)?,
-            self.probe_ms(pipelines::Choice::Compute)?,
-        ))
-    }
-
-    /// The median time (GPU time, or wall time without timestamps) of "auto"'s probe frame with
-    /// `choice`, after a warm-up.
-    fn probe_ms(&self, choice: pipelines::Choice) -> Result<f64> {
-        use crate::methods::{PerPixel, Pom};
-        let n = 256u32;
-        let field: Vec<f32> = (0..n * n)
-            .map(|i| {
-                let (x, y) = ((i % n) as f32 / n as f32, (i / n) as f32 / n as f32);
-                0.5 + 0.25 * ((x * 50.0).sin() + (y * 40.0).cos())
-            })
-            .collect();
-        let scene = Scene::single(
-            crate::scene::shared(crate::mesh::Mesh::plane(2.0, 1)?)?,
-            crate::scene::Material {
-                height: crate::scene::shared(HeightMap::new(n, n, field)?)?,
-                depth: 0.08,
-                tiling: 1.0,
-                albedo: None,
-            },
-            crate::scene::Camera {
-                eye: [0.0, 1.2, 1.6],
-                target: [0.0; 3],
-                up: [0.0, 1.0, 0.0],
-                fov_y: 40.0,
-                width: 512,
-                height: 512,
-                window: None,
-                samples: 1,
-            },
-            vec![],
-            [0.5; 3],
-        );
-        let method = Method::Pom(
-            Pom {
-                min_steps: 8,
-                max_steps: 50,
-                lod_threshold: 4.0,
-                adaptive: true,
-            },
-            PerPixel::off(),
-        );
-        let mut times = Vec::new();
-        for i in 0..7 {
-            let f = self.render_with(
-                std::slice::from_ref(&scene),
-                &method,
-                Aovs::STANDARD,
-                choice,
-            )?;
-            if i >= 2 {
-                let f = &f[0];
-                times.push(f.gpu_ms.unwrap_or(f.wall_ms));
-            }
-        }
-        times.sort_by(f64::total_cmp);
-        Ok(times[times.len() / 2])
     }
 
     /// Read back a submitted frame once its submission has finished.
@@ -732,101 +538,6 @@ impl Renderer {
                 read,
             })
         })
-    }
-}
-
-impl Renderer {
-    /// The compute pipeline's passes: the visibility pass (triangle ids under the same depth
-    /// test), then the surface per pixel into the targets. Timed from the first pass's start to
-    /// the second's end.
-    fn encode_compute(
-        &self,
-        enc: &mut wgpu::CommandEncoder,
-        tg: &Targets,
-        (visibility, surface): (&wgpu::RenderPipeline, &wgpu::ComputePipeline),
-        binds: &FrameBinds,
-        draws: &[Draw],
-    ) -> Result<()> {
-        use wgpu::BindingResource as R;
-        let ctx = &self.ctx;
-        let vis_view = tg
-            .visibility
-            .as_ref()
-            .ok_or_else(|| Error::Gpu("no visibility target on this adapter".into()))?;
-        let mesh_groups: Vec<(wgpu::BindGroup, wgpu::BindGroup)> = draws
-            .iter()
-            .map(|d| {
-                let idx = d.mesh.ibuf.as_ref().unwrap_or(&self.fixed.no_indices);
-                let vis = ctx.bind_group(
-                    "visibility mesh",
-                    &self.pipelines.visibility_bgl,
-                    vec![d.mesh.vbuf.as_entire_binding(), idx.as_entire_binding()],
-                );
-                let mut e = vec![
-                    d.mesh.vbuf.as_entire_binding(),
-                    idx.as_entire_binding(),
-                    R::TextureView(vis_view),
-                ];
-                e.extend(tg.targets.iter().map(|t| R::TextureView(&t.v)));
-                let cs = ctx.bind_group("compute surface", &self.pipelines.compute_bgl, e);
-                (vis, cs)
-            })
-            .collect();
-        {
-            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("visibility"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: vis_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(tg.depth_attachment()),
-                timestamp_writes: tg
-                    .queries
-                    .as_ref()
-                    .map(|q| wgpu::RenderPassTimestampWrites {
-                        query_set: q,
-                        beginning_of_pass_write_index: Some(0),
-                        end_of_pass_write_index: None,
-                    }),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(visibility);
-            pass.set_bind_group(0, &binds.view, &[]);
-            for (d, (vis, _)) in draws.iter().zip(&mesh_groups) {
-                pass.set_bind_group(1, &d.object, &[]);
-                pass.set_bind_group(2, &d.method, &[]);
-                pass.set_bind_group(3, vis, &[]);
-                pass.draw(0..d.mesh.count, 0..1);
-            }
-        }
-        {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("compute surface"),
-                timestamp_writes: tg
-                    .queries
-                    .as_ref()
-                    .map(|q| wgpu::ComputePassTimestampWrites {
-                        query_set: q,
-                        beginning_of_pass_write_index: None,
-                        end_of_pass_write_index: Some(1),
-                    }),
-            });
-            pass.set_pipeline(surface);
-            pass.set_bind_group(0, &binds.view, &[]);
-            for (d, (_, cs)) in draws.iter().zip(&mesh_groups) {
-                pass.set_bind_group(1, &d.object, &[]);
-                pass.set_bind_group(2, &d.method, &[]);
-                pass.set_bind_group(3, cs, &[]);
-                pass.dispatch_workgroups(tg.w.div_ceil(8), tg.h.div_ceil(8), 1);
-            }
-        }
-        Ok(())
     }
 }
 

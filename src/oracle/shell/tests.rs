@@ -1,4 +1,6 @@
 use super::*;
+use crate::mesh::Mesh;
+use glam::DMat4;
 use crate::oracle::{hits_of, planar::Oracle};
 use crate::scene::{shared, Camera, HeightMap, Light};
 
