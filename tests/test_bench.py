@@ -49,22 +49,23 @@ def test_sweep_settings_are_checked_by_field():
             SweepSettings(**kw)
     with pytest.raises(pk.ArgumentTypeError, match="settings: expected a pomkit.bench.SweepSettings"):
         sweep([pk.Exact()], settings=[("size", 32)], progress=False)
-    with pytest.warns(DeprecationWarning, match=r"sweep\(settings=dict\) is now settings=pk.bench.SweepSettings"), \
-            pytest.raises(pk.ArgumentError, match="'sizes'.*size, depth, tiling, spp, frame_spp, flip"):
-        sweep([pk.Exact()], settings=dict(sizes=32), progress=False)
+    with pytest.raises(pk.ArgumentTypeError, match=r"settings: .*write pk.bench.SweepSettings\(\*\*\{'size': 32\}\)"):
+        sweep([pk.Exact()], settings=dict(size=32), progress=False)
+    with pytest.raises(pk.ArgumentError, match="reference: must be 'oracle', 'tessellated' or 'mitsuba', got 'exact'"):
+        sweep([pk.Exact()], reference="exact", progress=False)
+    with pytest.raises(TypeError, match="scenes"):
+        sweep([pk.Exact()], scenes=["bricks"], progress=False)  # type: ignore[call-arg]
     with pytest.raises(pk.ArgumentTypeError, match="methods: .*\\(name, method\\) pairs"):
         sweep(["POM"], progress=False)
     with pytest.raises(pk.ArgumentError, match="name must be a non-empty string"):
         sweep([("", pk.POM())], progress=False)
 
 
-def test_sweep_names_rows_by_pairs_and_takes_a_settings_dict():
-    """A (name, method) pair's name is its rows' method and label; a dict of settings still
-    sweeps, with a DeprecationWarning."""
+def test_sweep_names_rows_by_pairs():
+    """A (name, method) pair's name is its rows' method and label."""
     bevy = pk.presets.bevy_pom()
-    with pytest.warns(DeprecationWarning):
-        rows = sweep([("bevy_pom", bevy), bevy], maps=["pyramids"], angles=[60.0], settings=dict(size=16, flip=False),
-                     repeats=1, progress=False)
+    rows = sweep([("bevy_pom", bevy), bevy], maps=["pyramids"], angles=[60.0], settings=SweepSettings(size=16, flip=False),
+                 repeats=1, progress=False)
     assert [(x["method"], x["label"]) for x in rows] == [("bevy_pom", "bevy_pom"), ("POM", pk.bench.label(bevy))]
     assert rows[0]["size"] == 16 and rows[0]["uv_p95"] == rows[1]["uv_p95"]
 

@@ -227,16 +227,6 @@ def test_the_oracle_fixture_answers_and_the_reference_fixture_refuses_the_oracle
         reference_frame(scene, kind="oracle_hits")
 
 
-def test_the_old_names_of_the_oracle_warn_and_answer_alike():
-    scene = plane_scene(pk.textures.sine(16, 2), size=16)
-    with pytest.warns(DeprecationWarning, match="pk.oracle.hits"):
-        old = pk.exact_uv(scene)
-    np.testing.assert_array_equal(old.uv, pk.oracle.hits(scene).uv)
-    with pytest.warns(DeprecationWarning, match="pk.oracle.image"):
-        old = pk.reference.render_exact(scene, spp=1, cache=False)
-    np.testing.assert_array_equal(old.color, pk.oracle.image(scene, spp=1, cache=False).color)
-
-
 def test_supersampling_takes_the_aliasing_out_of_the_score():
     """Tessellated (the exact geometry) against Mitsuba's box-filtered 256 spp on the plane,
     whose outline is in view. Measured here (bricks 128², 45°): FLIP 0.031 at 1 spp, 0.021 at

@@ -13,7 +13,7 @@ from ._assets import AssetReport, check_asset, load_mesh, load_objects
 from ._files import load_albedo, load_height
 from ._frame import AOV_NAMES, COST_AOVS, AovName, Frame
 from ._methods import ALL_METHODS, NCS, POM, Prism, Bump, ConeStep, Custom, CurvedRelief, DistanceMapping, Exact, Flat, Hybrid, Method, Parallax, Relief, SteepParallax, Tessellated
-from ._render import Renderer, adapters, exact_uv
+from ._render import Renderer, adapters
 from ._info import info
 from ._color import linear_to_srgb, srgb_to_linear
 from ._scene import Camera, DirectionalLight, Material, Mesh, Object, Scene, SphereLight
@@ -22,7 +22,7 @@ from . import metrics, oracle, presets, scenes, textures
 __version__ = _core.__version__
 
 __all__ = [
-    "__version__", "Renderer", "adapters", "exact_uv", "info", "Frame", "AOV_NAMES", "COST_AOVS", "AovName", "load_height", "load_albedo", "load_mesh", "load_objects", "check_asset", "AssetReport", "Scene", "Object", "Mesh", "Material", "Camera",
+    "__version__", "Renderer", "adapters", "info", "Frame", "AOV_NAMES", "COST_AOVS", "AovName", "load_height", "load_albedo", "load_mesh", "load_objects", "check_asset", "AssetReport", "Scene", "Object", "Mesh", "Material", "Camera",
     "DirectionalLight", "SphereLight", "Method", "Flat", "Bump", "POM", "Parallax", "SteepParallax", "Relief", "Exact", "ConeStep", "NCS", "Prism", "Tessellated", "Custom", "CurvedRelief", "DistanceMapping", "Hybrid", "ALL_METHODS", "textures",
     "metrics", "oracle", "presets", "scenes", "bench", "choose", "reference", "testing", "explore", "Error", "ArgumentError", "ArgumentTypeError", "GpuError", "DeviceLostError", "NoAdapterError", "MissingExtraError",
     "ReferenceRendererError", "linear_to_srgb", "srgb_to_linear",

@@ -142,18 +142,13 @@ def _configured(methods: Optional[Sequence[Any]]) -> dict[str, _methods.Method]:
 def explore(scene: Scene, methods: Optional[Sequence[Any]] = None, reference: str = "oracle", size: int = 256) -> Any:
     """A widget that orbits `scene` live with any of `methods` (names of pomkit methods, or
     configured methods such as `pk.POM(min_steps=12)`, listed by their repr; default: every method
-    by name) against `reference` ("oracle" or "tessellated"; "exact" is the old name of "oracle"). The steps slider, when set, replaces
+    by name) against `reference` ("oracle" or "tessellated"). The steps slider, when set, replaces
     the method's main step count (METHOD_STEPS). See the module's doc."""
     import anywidget
     import traitlets as t
 
     configured = _configured(methods)
     names = list(configured)
-    if reference == "exact":
-        import warnings
-        warnings.warn("explore(reference='exact') is now reference='oracle'; the old name goes in the next release",
-                      DeprecationWarning, stacklevel=2)
-        reference = "oracle"
     if reference not in ("oracle", "tessellated"):
         raise ArgumentError(f"reference: 'oracle' or 'tessellated', got {reference!r}")
     if not isinstance(scene, Scene):

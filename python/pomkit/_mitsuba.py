@@ -5,7 +5,7 @@ several-object scenes): its variant, the displaced meshes as Mitsuba shapes, and
   displaced mesh; the hit is shaded with the reference shading of docs/conventions.md (the
   normal from `_core.reference_normals` at the hit's uv and base mesh's basis, Mitsuba's own albedo
   lookup and its emitters' directions and irradiance), and the light and ambient directions are
-  exactly render_exact's sets (`_core.reference_directions`), each traced with Mitsuba's
+  exactly pk.oracle.image's sets (`_core.reference_directions`), each traced with Mitsuba's
   `ray_test`. Deterministic.
 - `direct_render`: Mitsuba's `direct` integrator, Monte Carlo: its own light sampling and its
   interpolated vertex normals, the independent check of conventions with its own noise.
@@ -388,7 +388,7 @@ class _Caster:
         mi = self.mi
         # a tenth of Mitsuba's RayEpsilon (2^-24 * 1500, what its spawn_ray offsets by): shadows
         # on a displaced mesh under a grazing light are that sensitive (terrain at a 19° light:
-        # FLIP 0.0067 from render_exact at Mitsuba's own epsilon, 0.0024 at a tenth, 0.0021 at
+        # FLIP 0.0067 from pk.oracle.image at Mitsuba's own epsilon, 0.0024 at a tenth, 0.0021 at
         # a hundredth)
         eps = 2.0 ** -24 * 150
         side = np.where((ng * d).sum(1) >= 0, 1.0, -1.0)[:, None]
@@ -446,7 +446,7 @@ def _shade(caster: _Caster, scene: Scene, h: dict, q: np.ndarray, n: int, shadow
 def cast_render(scene: Scene, spp: int, variant: str | None, resolution: float | None, shadows: bool = True,
                 rows_per_batch: int | None = None) -> dict:
     """The reference shading on Mitsuba's hits: k x k samples per pixel on the grid of
-    `render(spp=)` (the pixel centres of a k-times finer camera, as render_exact), colour their mean, and pixel-centre uv, depth, mask, object and
+    `render(spp=)` (the pixel centres of a k-times finer camera, as pk.oracle.image), colour their mean, and pixel-centre uv, depth, mask, object and
     visibility. See the module's doc."""
     v = mitsuba_variant(variant)
     if not v.startswith(("llvm", "cuda")):

@@ -18,7 +18,7 @@ from ._frame import AOV_NAMES, AovName, Frame
 from ._methods import NCS, CurvedRelief, Method, Prism
 from ._scene import Material, Scene
 
-__all__ = ["Renderer", "adapters", "exact_uv"]
+__all__ = ["Renderer", "adapters"]
 
 
 def adapters() -> list["_core.AdapterDict"]:
@@ -221,10 +221,3 @@ def _frame(r: "_core.RenderedFrame", method: Method) -> Frame:
     return Frame._of(r.arrays, gpu_ms=r.gpu_ms, wall_ms=r.wall_ms, method=repr(method))
 
 
-def exact_uv(scene: Scene, *, light_bias: float = 0.0) -> Frame:
-    """Deprecated: `pk.oracle.hits(scene, light_bias=...)`, the same frame."""
-    import warnings
-
-    from . import oracle
-    warnings.warn("pk.exact_uv is now pk.oracle.hits; the old name goes in the next release", DeprecationWarning, stacklevel=2)
-    return oracle.hits(scene, light_bias=light_bias)

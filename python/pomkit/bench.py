@@ -10,7 +10,6 @@ from __future__ import annotations
 
 from ._errors import ArgumentError, ArgumentTypeError
 import csv
-import dataclasses
 import math
 import time
 from concurrent.futures import Executor
@@ -155,21 +154,13 @@ class SweepSettings:
 
 
 def _settings(settings) -> SweepSettings:
-    """`sweep`'s settings as a SweepSettings; a dict of its fields is accepted with a
-    DeprecationWarning."""
+    """`sweep`'s settings as a SweepSettings."""
     if settings is None:
         return SweepSettings()
     if isinstance(settings, SweepSettings):
         return settings
     if isinstance(settings, dict):
-        import warnings
-        warnings.warn("sweep(settings=dict) is now settings=pk.bench.SweepSettings(...); the dict goes in the next release",
-                      DeprecationWarning, stacklevel=3)
-        valid = [f.name for f in dataclasses.fields(SweepSettings)]
-        for k in settings:
-            if k not in valid:
-                raise ArgumentError(f"settings: unknown key {k!r}; the settings are {', '.join(valid)}")
-        return SweepSettings(**settings)
+        raise ArgumentTypeError(f"settings: expected a pomkit.bench.SweepSettings; write pk.bench.SweepSettings(**{settings!r})")
     raise ArgumentTypeError(f"settings: expected a pomkit.bench.SweepSettings, got {type(settings).__name__}")
 
 
@@ -287,19 +278,18 @@ TIMING_COLUMNS = ("gpu_ms", "gpu_ms_p25", "gpu_ms_p75", "march_ms", "call_ms", "
 
 def sweep(methods: Iterable[Union[_methods.Method, tuple[str, _methods.Method]]], maps: Iterable = ("bricks",),
           angles: Iterable[float] = (60.0,), settings: Optional[SweepSettings] = None, reference: str = "oracle",
-          repeats: int = 5, csv_path: Optional[str] = None, progress: bool = True, executor: Optional[Executor] = None,
-          scenes: Optional[Iterable] = None) -> list[dict]:
+          repeats: int = 5, csv_path: Optional[str] = None, progress: bool = True, executor: Optional[Executor] = None) -> list[dict]:
     """Render, time and measure every (method, map, angle) on the tilted plane.
 
     methods: Method instances (see `variants`), or (name, method) pairs, whose name stands in
     the rows' method and label columns (the presets by their names: `[(name, fn()) for name,
     fn in pk.presets.ALL_PRESETS.items()]`); maps: texture names from `pk.textures.ALL`,
     "sineF" for a sine of frequency F, or (name, height array) pairs, each on a plane (a (name,
-    Scene) pair is taken as it is); `scenes=` is the old name of `maps=`;
+    Scene) pair is taken as it is);
     settings: a `SweepSettings` (frame size, depth, tiling, Mitsuba's spp, the frames' spp,
     FLIP; None: its defaults);
     reference: "oracle" (`pk.oracle.hits` for the geometry, FLIP against `pk.oracle.image`,
-    noise-free, unshadowed for the methods without shadows; "exact" is its old name),
+    noise-free, unshadowed for the methods without shadows),
     "tessellated" or "mitsuba" (cached on disk);
     repeats: the least number of interleaved timing rounds (see `time_methods`);
     executor: any `concurrent.futures.Executor` (a process pool, Dask's `client.get_executor()`,
@@ -315,15 +305,6 @@ def sweep(methods: Iterable[Union[_methods.Method, tuple[str, _methods.Method]]]
     flip_floor_interior, flip_floor_silhouette (Tessellated(0.5), the exact geometry, against
     Mitsuba at the same frame_spp). Returns the rows, a list of dicts (`pandas.DataFrame(rows)`
     makes a table of them); writes CSV to `csv_path` when given."""
-    import warnings
-    if scenes is not None:
-        warnings.warn("sweep(scenes=...) is now sweep(maps=...); the old name goes in the next release",
-                      DeprecationWarning, stacklevel=2)
-        maps = scenes
-    if reference == "exact":
-        warnings.warn("sweep(reference='exact') is now reference='oracle'; the old name goes in the next release",
-                      DeprecationWarning, stacklevel=2)
-        reference = "oracle"
     if reference not in ("oracle", "tessellated", "mitsuba"):
         raise ArgumentError(f"reference: must be 'oracle', 'tessellated' or 'mitsuba', got {reference!r}")
     cfg = _settings(settings)

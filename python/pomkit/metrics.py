@@ -299,7 +299,7 @@ def compare(frame: Frame, reference: Frame, scene: Scene, *, band: int = 4, visi
     reg = regions(frame, reference, band)
     out = Comparison(mask_iou=mask_iou(frame, reference), interior_px=int(reg["interior"].sum()),
                      silhouette_px=int(reg["silhouette"].sum()))
-    # the reference's own noise: the floor under every FLIP against it (0 for render_exact)
+    # the reference's own noise: the floor under every FLIP against it (0 for pk.oracle.image)
     floor = getattr(reference, "noise_floor", None)
     out["flip_floor"] = float("nan") if floor is None else float(floor)
     if frame.has("color") and reference.has("color"):

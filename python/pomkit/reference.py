@@ -56,16 +56,6 @@ def displaced_mesh(scene: Scene, resolution: float | None = None, object: int | 
     return [one(i) for i in range(len(scene.objects))]
 
 
-def render_exact(scene: Scene, spp: int = 16, shadows: bool = True, cache: bool = True) -> Frame:
-    """Deprecated: `pk.oracle.image(scene, spp, shadows, cache)`, the same frame."""
-    import warnings
-
-    from . import oracle
-    warnings.warn("pk.reference.render_exact is now pk.oracle.image; the old name goes in the next release",
-                  DeprecationWarning, stacklevel=2)
-    return oracle.image(scene, spp=spp, shadows=shadows, cache=cache)
-
-
 def render_mitsuba(scene: Scene, spp: int | None = None, seed: int = 0, variant: str | None = None,
                    resolution: float | None = None, cache: bool = True, integrator: str = "cast",
                    shadows: bool = True) -> Frame:
@@ -77,11 +67,11 @@ def render_mitsuba(scene: Scene, spp: int | None = None, seed: int = 0, variant:
       shading of docs/conventions.md. Every sample's hit is Mitsuba's intersection with the
       mesh; the normal is the definition's at the hit's uv and base mesh's basis; the albedo is
       Mitsuba's lookup of its bitmap; each light's direction and irradiance are its delta
-      emitter's, spread over the light's disk by render_exact's 64 directions, and ambient
-      occlusion traces render_exact's 64 cosine-weighted directions, each ray with Mitsuba's
+      emitter's, spread over the light's disk by pk.oracle.image's 64 directions, and ambient
+      occlusion traces pk.oracle.image's 64 cosine-weighted directions, each ray with Mitsuba's
       `ray_test`. `spp` (default 16, a square) samples per pixel on the grid of `render(spp=)`,
-      as render_exact. Deterministic: `noise_floor` is 0.0, and `seed` must be 0. On curved meshes and several objects, this is the exact
-      reference `render_exact` returns. `shadows=False` traces no light or ambient rays.
+      as pk.oracle.image. Deterministic: `noise_floor` is 0.0, and `seed` must be 0. On curved meshes and several objects, this is the exact
+      reference `pk.oracle.image` returns. `shadows=False` traces no light or ambient rays.
     - `integrator="direct"`: Mitsuba's own `direct` integrator (`spp`, default 64, independent
       samples, box filter) with a Lambert BSDF lit from the shading normal's side whatever side
       the viewer is on (pomkit's rule; Mitsuba's `diffuse` blackens a face whose vertex normal
@@ -101,7 +91,7 @@ def render_mitsuba(scene: Scene, spp: int | None = None, seed: int = 0, variant:
         raise ArgumentError(f"spp: integrator='cast' takes a square number of samples per pixel (1, 4, 9, 16, ...), got {spp}")
     seed = _v.integer("seed", seed, 0, 2 ** 31 - 1, strict=True)
     if integrator == "cast" and seed != 0:
-        raise ArgumentError("seed: integrator='cast' is deterministic (the sample grid of render(spp=) and render_exact's "
+        raise ArgumentError("seed: integrator='cast' is deterministic (the sample grid of render(spp=) and pk.oracle.image's "
                          "direction sets), so it takes seed=0; seeds apply to integrator='direct'")
     resolution = _mitsuba.auto_resolution(scene, resolution)
     shadows = _v.boolean("shadows", shadows)
