@@ -17,7 +17,7 @@ DistanceMapping, Custom) also takes, by keyword:
            fraction of the reference's 64 directions over it, shared among a pixel's samples)
   filtering: "hardware" (the sampler's bilinear filter) | "exact" (four loads, float32 lerp)
   mip_filtering: sample the footprint's mip level (True) or level 0 (False)
-  ao_directions: 0, 4 or 8 horizon directions for ambient occlusion of Scene.ambient; with
+  ao_directions: 0 to 64 horizon directions for ambient occlusion of Scene.ambient; with
            shadows="exact", any value above 0 turns on the exact AO of the reference shading
            (64 cosine-weighted directions by exact traversals, shared among a pixel's samples)
   horizon_samples: samples at 2^k texels, k < horizon_samples, for "horizon" shadows and AO
@@ -387,7 +387,7 @@ class Prism(_PerPixel):
     straight segments less (docs/cost_journal_2026.md, "The tight shell"). `tight=False` is the paper's
     shell, every top at the full depth. `exact=True` marches each segment with the max-mip
     traversal (exact patch intersection) instead of POM's search. Level 0 by default (`mip_filtering=False`, as POM).
-    Shadows: "hard", "soft" (default) or "horizon", and `ao_directions`."""
+    Shadows: "none", "hard", "soft" (default), "horizon" or "exact", and `ao_directions`."""
 
     min_steps: int = 8
     max_steps: int = 50

@@ -1,5 +1,5 @@
-"""Mitsuba 3 for the references (`pk.reference.render_mitsuba`, and `pk.oracle.image` on curved or
-several-object scenes): its variant, the displaced meshes as Mitsuba shapes, and two renders.
+"""Mitsuba 3 for the references (`pk.reference.render_mitsuba`; the oracle, `pk.oracle.image`, is
+pomkit's own and needs no Mitsuba): its variant, the displaced meshes as Mitsuba shapes, and two renders.
 
 - `cast_render`: Mitsuba as the ray caster. Every sample's hit is Mitsuba's intersection with the
   displaced mesh; the hit is shaded with the reference shading of docs/conventions.md (the

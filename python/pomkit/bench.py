@@ -25,7 +25,7 @@ from . import metrics, oracle
 from ._motion import PATHS, camera_path, motion  # noqa: F401 (pk.bench's API)
 from ._methods import label  # noqa: F401 (pk.bench's API)
 
-__all__ = ["sweep", "SweepSettings", "variants", "plane_scene", "time_method", "time_methods", "swimming", "pareto_front", "label",
+__all__ = ["sweep", "SweepSettings", "variants", "plane_scene", "time_methods", "swimming", "pareto_front", "label",
            "method_name", "write_csv", "TIMING_COLUMNS"]
 
 
@@ -92,11 +92,6 @@ def time_methods(r: _render.Renderer, scene: _scene.Scene, methods: list, aovs: 
                         call_ms=float(np.median(calls[i])), repeats=len(times[i]), timing=timing,
                         times=list(times[i])))
     return out
-
-
-def time_method(r: _render.Renderer, scene: _scene.Scene, method, repeats: int = 5) -> dict:
-    """One method's timing (see `time_methods`), with Flat as the baseline."""
-    return time_methods(r, scene, [method], min_repeats=repeats)[0]
 
 
 def variants(cls, **grid) -> list:

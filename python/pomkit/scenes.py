@@ -10,7 +10,7 @@ import numpy as np
 from . import textures
 from ._scene import Camera, DirectionalLight, Material, Mesh, Object, Scene
 
-__all__ = ["translate", "rotate", "scale", "sunk_sphere", "cobbled", "wavy_cylinder", "wavy_sphere"]
+__all__ = ["translate", "rotate", "scale", "sunk_sphere", "cobbled", "wavy_sphere"]
 
 
 def translate(x: float, y: float, z: float) -> np.ndarray:
@@ -41,7 +41,7 @@ def rotate(axis, degrees: float) -> np.ndarray:
 def tilted_plane(height, theta: float = 60.0, size: int = 128, *, depth: float = 0.08, tiling: float = 1.0,
                  fov: float = 40.0, distance: float = 1.6, lights=(), ambient: float = 0.0, albedo=None,
                  extent: float = 1.0) -> Scene:
-    """The test and bench scene: `pk.Mesh.plane(2.0)` under `height`, seen from `distance` at
+    """A plane under a height map, as the bench sweeps it: `pk.Mesh.plane(2.0)` under `height`, seen from `distance` at
     `theta` degrees from its normal, looking at the origin with the image's top towards -z (the
     far side at grazing angles), fov `fov`, `size` x `size` pixels. The one source of every tilted
     plane in the tests, the bench and the tables, each naming what it sets apart from these
@@ -112,32 +112,3 @@ def wavy_sphere(radius: float = 0.8, amplitude: float = 0.1, waves: int = 3, seg
     if (np.einsum("ij,ij->i", fn, nrm[idx_a[:, 0]]) < 0).mean() > 0.5:
         idx_a = idx_a[:, [0, 2, 1]]
     return Mesh.from_arrays(pos, nrm, uv, idx_a.astype(np.uint32))
-
-
-def wavy_cylinder(radius: float = 0.5, amplitude: float = 0.15, waves: float = 1.5, height: float = 1.5,
-                  segments: int = 64, rings: int = 48) -> Mesh:
-    """A surface of revolution about +Y whose profile r(y) = radius + amplitude cos(2 pi waves y /
-    height) changes the sign of its curvature along y: bulges (convex both ways) alternate with
-    necks (saddles, the curvatures along and around of opposite sign). Open at both ends. u runs
-    around (u = angle / 2 pi, from +X toward +Z... as the cylinder's), v along +Y from the bottom
-    (v = 0 at y = -height / 2): a seam at u = 0. The test case for methods that approximate the
-    base surface by a quadric (curved relief mapping fails at saddles). Its open ends are the
-    shell's boundary for Prism, a rim no reference surface has: `wavy_sphere` is closed."""
-    th = np.linspace(0.0, 2.0 * np.pi, segments + 1)
-    y = np.linspace(-0.5 * height, 0.5 * height, rings + 1)
-    T, Y = np.meshgrid(th, y)
-    k = 2.0 * np.pi * waves / height
-    r = radius + amplitude * np.cos(k * Y)
-    dr = -amplitude * k * np.sin(k * Y)
-    pos = np.stack([r * np.cos(T), Y, r * np.sin(T)], -1).reshape(-1, 3)
-    nrm = np.stack([np.cos(T), -dr, np.sin(T)], -1)
-    nrm = (nrm / np.linalg.norm(nrm, axis=-1, keepdims=True)).reshape(-1, 3)
-    uv = np.stack([T / (2.0 * np.pi), (Y + 0.5 * height) / height], -1).reshape(-1, 2)
-    idx = []
-    w = segments + 1
-    for j in range(rings):
-        for i in range(segments):
-            a, b, c, d = j * w + i, j * w + i + 1, (j + 1) * w + i, (j + 1) * w + i + 1
-            # counter-clockwise seen from outside (the outward normal)
-            idx += [a, c, b, b, c, d]
-    return Mesh.from_arrays(pos, nrm, uv, np.asarray(idx, np.uint32))
