@@ -48,7 +48,7 @@ pub struct Capabilities {
     /// Compute writes to a mip level through a single-level storage view land in that level.
     /// Not on wgpu's GL backend (measured: Mesa GL 4.5 left levels >= 1 at zero, so every
     /// mip-filtered march read a flat field). Fallback: each level is reduced into a
-    /// single-level texture and copied into its mip level (src/heightmap/mod.rs).
+    /// single-level texture and copied into its mip level (src/render/mip_builder.rs).
     pub storage_mip_views: bool,
     /// A render pass may leave gaps in its colour attachments (write the geo target without the
     /// colour target). Not on wgpu's GL backend (measured: with only the geo target attached,

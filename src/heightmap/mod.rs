@@ -2,9 +2,9 @@
 //! hierarchical methods), on the CPU (reference, tests) and on the GPU (what renders use, so
 //! that a dynamic height field costs a level-0 upload and a few compute dispatches).
 
-use crate::error::{Error, Result};
-use crate::gpu::{layout, Context};
-use crate::scene::HeightMap;
+pub mod field;
+
+pub use field::HeightMap;
 
 /// Size of mip level `k` of a `w x h` map (wgpu's rule: halve, floor, at least 1).
 pub fn level_size(w: u32, h: u32, k: u32) -> (u32, u32) {
@@ -95,12 +95,12 @@ pub struct GpuHeight {
     pub max_children_view: wgpu::TextureView,
     /// level k >= 1 of the max pyramid is reduced into this (level 1's size) and copied into the
     /// atlas, so that no dispatch reads and writes one texture
-    max_scratch: wgpu::Texture,
+    pub(crate) max_scratch: wgpu::Texture,
     /// Where the adapter cannot write a mip level through a storage view (GL: see
     /// `Capabilities::storage_mip_views`): one single-level texture per level k >= 1, written
     /// by the reduce pass from the previous one and copied into level k. Allocated with the map,
     /// so that `update_height` still allocates nothing.
-    scratch: Vec<wgpu::Texture>,
+    pub(crate) scratch: Vec<wgpu::Texture>,
 }
 
 /// Where the max pyramid's levels 1.. lie in its atlas: level k at x = `offsets[k]`, y = 0
@@ -186,8 +186,6 @@ pub fn top_maxmip_level(w: u32, h: u32) -> u32 {
     l
 }
 
-mod mip_builder;
-pub use mip_builder::{MipBuilder, MIPS_SHADER};
 
 #[cfg(test)]
 mod tests {

@@ -20,6 +20,7 @@
 
 pub mod aovs;
 mod choice;
+pub mod mip_builder;
 mod compute;
 mod limits;
 pub mod pipelines;
@@ -38,7 +39,7 @@ pub use targets::{Aovs, Frame, DEPTH_FORMAT};
 use crate::contract::{BuildInputs, Builders, Filtering, GpuMesh, Resident, Spec};
 use crate::error::{Error, Result};
 use crate::gpu::Context;
-use crate::heightmap::MipBuilder;
+use mip_builder::MipBuilder;
 use crate::methods::Method;
 use crate::scene::{HeightMap, Keyed, Scene};
 use crate::shaders::SceneDefs;

@@ -6,7 +6,8 @@
 use crate::contract::{BuildInputs, Geometry, GpuMesh, MethodResources, Resident};
 use crate::error::Result;
 use crate::gpu::Context;
-use crate::heightmap::{mip_count, pyramid, GpuHeight, MipBuilder};
+use super::mip_builder::MipBuilder;
+use crate::heightmap::{mip_count, pyramid, GpuHeight};
 use crate::scene::{Albedo, HeightMap, Keyed, Object};
 use std::sync::Arc;
 

@@ -200,7 +200,7 @@ fn every_variant_translates_to_every_backend() {
         }
     }
     for (src, file) in [
-        (pomkit::heightmap::MIPS_SHADER, "shaders/mips.wgsl"),
+        (pomkit::render::mip_builder::MIPS_SHADER, "shaders/mips.wgsl"),
         (
             pomkit::methods::cone_step::CONE_MAP_SHADER,
             "src/methods/cone_step/cone_map.wgsl",

@@ -1,7 +1,9 @@
 //! The GPU's pyramids: compute pipelines (shaders/mips.wgsl) that fill a height map's mean mips,
 //! its max-mip levels and the children atlas from level 0.
 
-use super::*;
+use crate::error::{Error, Result};
+use crate::gpu::{layout, Context};
+use crate::heightmap::*;
 use crate::gpu::texels::{read_r32, read_texel_bytes};
 
 /// Compute pipelines that fill the pyramids.
