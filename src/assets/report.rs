@@ -205,7 +205,9 @@ fn find(parent: &mut [u32], mut x: u32) -> u32 {
 }
 
 /// `height`, with the material's `tiling`: the map the report samples across seams and rasterises
-/// the charts into; `depth`, the material's, for the shell's folds.
+/// the charts into; `depth`, the material's, for the shell's folds. One function per phase, each
+/// filling its part of the report: the triangles, the edges and charts, the charts' handedness,
+/// and with a map the seams' heights, the texels the charts cover and the gap between them.
 pub fn check_asset(
     mesh: &Mesh,
     height: Option<&HeightMap>,
@@ -213,28 +215,46 @@ pub fn check_asset(
     depth: Option<f64>,
 ) -> AssetReport {
     let topo = Topology::new(mesh);
-    let ntri = mesh.indices.len() / 3;
     let mut r = AssetReport {
         vertices: mesh.positions.len(),
-        triangles: ntri,
+        triangles: mesh.indices.len() / 3,
         welded_vertices: topo.welded,
         folded_prisms: depth.filter(|d| *d > 0.0).map(|_| 0),
+        uvs_outside_unit_square: mesh.uvs.iter().flatten().any(|&x| !(0.0..=1.0).contains(&x)),
         ..Default::default()
     };
-    let example = |r: &mut AssetReport, what: &str, p: DVec3| {
-        if r.examples.iter().filter(|(w, _)| w == what).count() < EXAMPLES {
-            r.examples
+    let mirrored = triangles(mesh, depth, &mut r);
+    let (chart_of, seam_edges) = edges_and_charts(mesh, &topo, &mirrored, &mut r);
+    chart_handedness(mesh, &chart_of, &mirrored, &mut r);
+    let Some(hm) = height else { return r };
+    let (lo, hi) = hm
+        .data
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x as f64), b.max(x as f64)));
+    r.height_min = Some(lo);
+    r.height_max = Some(hi);
+    r.relief_depth = depth.map(|d| d * (hi - lo));
+    seam_heights(mesh, &topo, &seam_edges, hm, tiling, &mut r);
+    let label = chart_texels(mesh, &chart_of, hm, tiling, &mut r);
+    chart_gap(label, hm, &mut r);
+    r
+}
+
+impl AssetReport {
+    /// An example of `what` at `p`, up to `EXAMPLES` of each finding.
+    fn example(&mut self, what: &str, p: DVec3) {
+        if self.examples.iter().filter(|(w, _)| w == what).count() < EXAMPLES {
+            self.examples
                 .push((what.to_string(), [p.x as f32, p.y as f32, p.z as f32]));
         }
-    };
-    let uv = |i: u32| mesh.uv_f64(i);
-    r.uvs_outside_unit_square = mesh
-        .uvs
-        .iter()
-        .flatten()
-        .any(|&x| !(0.0..=1.0).contains(&x));
+    }
+}
 
-    // triangles: handedness, degeneracy; each triangle's shell on every core (src/parallel.rs)
+/// The triangles: degeneracy, normals against their faces, folds, uv degeneracy and handedness
+/// (each triangle's shell on every core, src/parallel.rs). Returns which triangles are mirrored.
+fn triangles(mesh: &Mesh, depth: Option<f64>, r: &mut AssetReport) -> Vec<bool> {
+    let ntri = mesh.indices.len() / 3;
+    let uv = |i: u32| mesh.uv_f64(i);
     crate::parallel::init();
     let shells: Vec<ShellTriangle> = mesh
         .indices
@@ -252,25 +272,25 @@ pub fn check_asset(
         let ng = e1.cross(e2);
         if ng.length() <= 1e-12 * (e1.length_squared() + e2.length_squared()) {
             r.degenerate_triangles += 1;
-            example(&mut r, "degenerate triangle", c);
+            r.example("degenerate triangle", c);
             continue;
         }
         let shell = &shells[t];
         if shell.flipped {
             r.normals_flipped += 1;
-            example(&mut r, "flipped normal", c);
+            r.example("flipped normal", c);
         } else if shell.off_face {
             r.normals_off_faces += 1;
-            example(&mut r, "normal far from its face", c);
+            r.example("normal far from its face", c);
         }
         if shell.folded {
             *r.folded_prisms.get_or_insert(0) += 1;
-            example(&mut r, "folded shell", c);
+            r.example("folded shell", c);
         }
         match uv_derivatives(e1, e2, uv(tri[1]) - uv(tri[0]), uv(tri[2]) - uv(tri[0])) {
             None => {
                 r.degenerate_uv_triangles += 1;
-                example(&mut r, "degenerate uv triangle", c);
+                r.example("degenerate uv triangle", c);
             }
             Some((dpdu, dpdv)) => {
                 // pomkit's unmirrored handedness is w = -1 (the plane: u along +X, v along +Z)
@@ -282,7 +302,18 @@ pub fn check_asset(
         }
     }
 
-    // edges: seams, borders, hard edges; charts by union over uv-continuous edges
+    mirrored
+}
+
+/// The edges: open borders, non-manifold edges, seams, mirror axes, hard edges; the charts by
+/// union over the uv-continuous edges. Returns each triangle's chart and the seam edges.
+fn edges_and_charts(
+    mesh: &Mesh,
+    topo: &Topology,
+    mirrored: &[bool],
+    r: &mut AssetReport,
+) -> (Vec<u32>, Vec<usize>) {
+    let ntri = mesh.indices.len() / 3;
     let mut parent: Vec<u32> = (0..ntri as u32).collect();
     let mut seam_edges: Vec<usize> = Vec::new();
     for (ei, (_, sides)) in topo.edges.iter().enumerate() {
@@ -293,13 +324,13 @@ pub fn check_asset(
             1 => {
                 r.open_edges += 1;
                 r.open_length += (mesh.position_f64(a0) - mesh.position_f64(b0)).length();
-                example(&mut r, "open border", mid);
+                r.example("open border", mid);
                 continue;
             }
             2 => {}
             _ => {
                 r.nonmanifold_edges += 1;
-                example(&mut r, "non-manifold edge", mid);
+                r.example("non-manifold edge", mid);
             }
         }
         let same_uv = |i: u32, j: u32| mesh.uvs[i as usize] == mesh.uvs[j as usize];
@@ -328,19 +359,19 @@ pub fn check_asset(
         if seam {
             r.seam_edges += 1;
             seam_edges.push(ei);
-            example(&mut r, "seam", mid);
+            r.example("seam", mid);
         }
         if mirror {
             r.mirror_edges += 1;
-            example(&mut r, "mirror axis", mid);
+            r.example("mirror axis", mid);
         }
         if shared {
             r.mirror_shared_edges += 1;
-            example(&mut r, "vertex shared across a mirror axis", mid);
+            r.example("vertex shared across a mirror axis", mid);
         }
         if hard {
             r.hard_edges += 1;
-            example(&mut r, "hard edge", mid);
+            r.example("hard edge", mid);
         }
     }
     let mut chart_of = vec![0u32; ntri];
@@ -351,6 +382,11 @@ pub fn check_asset(
         chart_of[t] = *roots.entry(root).or_insert(n);
     }
     r.charts = roots.len();
+    (chart_of, seam_edges)
+}
+
+/// The charts mapped mirrored (most of their triangles).
+fn chart_handedness(mesh: &Mesh, chart_of: &[u32], mirrored: &[bool], r: &mut AssetReport) {
     let mut votes = vec![(0i64, DVec3::ZERO); r.charts];
     for (t, tri) in mesh.indices.chunks_exact(3).enumerate() {
         votes[chart_of[t] as usize].0 += if mirrored[t] { 1 } else { -1 };
@@ -359,24 +395,27 @@ pub fn check_asset(
     for (v, p) in votes {
         if v > 0 {
             r.mirrored_charts += 1;
-            example(&mut r, "mirrored chart", p);
+            r.example("mirrored chart", p);
         }
     }
 
-    let Some(hm) = height else { return r };
-    let (lo, hi) = hm
-        .data
-        .iter()
-        .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x as f64), b.max(x as f64)));
-    r.height_min = Some(lo);
-    r.height_max = Some(hi);
-    r.relief_depth = depth.map(|d| d * (hi - lo));
-    // seams: the height field on each side, sampled along the edge
+}
+
+/// The height field on each side of every seam, sampled along the edge.
+fn seam_heights(
+    mesh: &Mesh,
+    topo: &Topology,
+    seam_edges: &[usize],
+    hm: &HeightMap,
+    tiling: f64,
+    r: &mut AssetReport,
+) {
+    let uv = |i: u32| mesh.uv_f64(i);
     let (w, h) = (hm.width as f64, hm.height as f64);
     let mut worst = 0.0f64;
     let mut sum = 0.0;
     let mut count = 0usize;
-    for &ei in &seam_edges {
+    for &ei in seam_edges {
         let sides = &topo.edges[ei].1;
         let ends: Vec<(u32, u32)> = sides.iter().map(|&s| topo.side_vertices(mesh, s)).collect();
         let span = |(a, b): (u32, u32)| {
@@ -405,8 +444,7 @@ pub fn check_asset(
         }
         if edge_worst > 1.0 / 255.0 {
             let (a, b) = ends[0];
-            example(
-                &mut r,
+            r.example(
                 "seam heights disagree",
                 (mesh.position_f64(a) + mesh.position_f64(b)) * 0.5,
             );
@@ -417,9 +455,20 @@ pub fn check_asset(
         r.seam_height_mean = Some(sum / count as f64);
     }
 
-    // texels: which chart covers each texel centre (the map repeats)
+}
+
+/// Which chart covers each texel centre (the map repeats), and the texels two charts share.
+/// Returns the texels' charts (EMPTY where none).
+fn chart_texels(
+    mesh: &Mesh,
+    chart_of: &[u32],
+    hm: &HeightMap,
+    tiling: f64,
+    r: &mut AssetReport,
+) -> Vec<u32> {
+    let uv = |i: u32| mesh.uv_f64(i);
+    let (w, h) = (hm.width as f64, hm.height as f64);
     let (wi, hi) = (hm.width as usize, hm.height as usize);
-    const EMPTY: u32 = u32::MAX;
     let mut label = vec![EMPTY; wi * hi];
     let mut overlap = vec![false; wi * hi];
     let mut overlap_at: Option<DVec3> = None;
@@ -461,9 +510,18 @@ pub fn check_asset(
     }
     r.overlapping_texels = Some(overlap.iter().filter(|&&o| o).count());
     if let Some(p) = overlap_at {
-        example(&mut r, "overlapping charts", p);
+        r.example("overlapping charts", p);
     }
-    // the gap between charts: a breadth-first distance (8-connected) from every covered texel
+    label
+}
+
+/// A texel no chart covers.
+const EMPTY: u32 = u32::MAX;
+
+/// The gap between charts: a breadth-first distance (8-connected) from every covered texel, and
+/// the mip levels it leaves clean.
+fn chart_gap(mut label: Vec<u32>, hm: &HeightMap, r: &mut AssetReport) {
+    let (wi, hi) = (hm.width as usize, hm.height as usize);
     let mut dist = vec![u32::MAX; wi * hi];
     let mut queue = VecDeque::new();
     for k in 0..wi * hi {
@@ -506,7 +564,6 @@ pub fn check_asset(
             None
         };
     }
-    r
 }
 
 #[cfg(test)]
