@@ -27,7 +27,7 @@ struct FsOut {
 
 // flags (AOV `flags`): 1 = the march hit its iteration bound, 2 = NCS early termination,
 // 4 = the walk lost the surface away from any silhouette and the base mesh's point covers the
-// pixel (NCS, CurvedRelief: FALLBACK_NDV)
+// pixel (NCS, CurvedRelief: FALLBACK_NDV, FALLBACK_UNDER, FALLBACK_OFF_FACE)
 const FLAG_BOUND: u32 = 1u;
 const FLAG_EARLY: u32 = 2u;
 const FLAG_FALLBACK: u32 = 4u;
@@ -36,6 +36,15 @@ const FLAG_FALLBACK: u32 = 4u;
 // for depth / R up to 0.18), or on its first step (the normal faces away from the viewer on a
 // front face), has lost the surface: the fragment keeps the base mesh's point
 const FALLBACK_NDV: f32 = 0.6;
+// so has a walk that leaves through the top while its straight view ray still lies more than
+// this share of the shell's depth under the plane of the triangle it left from: the mesh's
+// faces did not turn away there, its interpolated normals did (normals averaged across a
+// low-poly mesh's edges)
+const FALLBACK_UNDER: f32 = 0.05;
+// so has one that leaves where the interpolated normal lies more than 25 degrees from its
+// triangle's face normal (its cosine below this): the walk bends with the normals, and there
+// they do not follow the faces (a low-poly box or cylinder whose normals are averaged)
+const FALLBACK_OFF_FACE: f32 = 0.9;
 // the pixel shows a surface (AOV `mask`): channel 3's bit 31
 const HIT_BIT: u32 = 0x80000000u;
 

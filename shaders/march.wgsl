@@ -24,6 +24,8 @@ struct Ray {
     uv: vec2<f32>,
     // world direction of the view ray (unit)
     view: vec3<f32>,
+    // the fragment's point on the base mesh (object space; the view ray starts there)
+    p: vec3<f32>,
     // the view direction in texture space per unit of world length (ds_u, ds_v, dh)
     v_ts: vec3<f32>,
     // the base mesh's basis at the entry

@@ -63,6 +63,7 @@ fn make_ray(in: VertexOut, f: Basis, s0: vec2<f32>, lod: f32, view: vec3<f32>, u
     r.lod = height_lod(lod);
     r.uv = uv;
     r.view = view;
+    r.p = in.world;
     r.f = f;
     r.top = 1.0;
     r.floor = 0.0;

@@ -6,7 +6,10 @@ with height maps baked over their atlas by `pk.textures.bake`.
 - `mirrored_slab`: a gently curved slab whose left half mirrors the right half's uvs about the
   middle (one chart folded onto itself, as symmetric game assets are);
 - `crate`: a box with split normals at its 12 hard edges (24 vertices), an xatlas atlas;
-- `big`: a lumpy icosphere of 20480 triangles, an xatlas atlas.
+- `big`: a lumpy icosphere of 20480 triangles, an xatlas atlas;
+- `smooth_box`: the crate's 12 triangles with one normal a corner, the mean of its three faces'
+  (54.7 degrees from each face at the corners): the default cube of a modelling tool exported
+  smooth-shaded, whose normals curve where its faces do not.
 
 Each returns (mesh, height). The fields baked are 3-D functions of the surface point, so the two
 sides of a seam agree to within the bilinear field's interpolation.
@@ -147,6 +150,15 @@ def crate(size: int = 256):
     p, n, uv, idx = _unwrap(np.asarray(p), np.asarray(n), np.asarray(f), resolution=size)
     mesh = pk.Mesh.from_arrays(p, n, uv, idx, tangents="mikktspace")
     return mesh, pk.textures.bake(mesh, _cells, size)
+
+
+@functools.lru_cache(maxsize=None)
+def smooth_box(size: int = 256):
+    """The crate with each vertex's normal averaged over the faces that meet at its corner."""
+    mesh, h = crate(size)
+    p = np.asarray(mesh.positions, np.float64)
+    n = np.sign(p) / np.sqrt(3.0)
+    return pk.Mesh.from_arrays(p, n, mesh.uvs, mesh.indices, tangents="mikktspace"), h
 
 
 ZOO = {"rock": rock, "terrain": terrain, "mirrored_slab": mirrored_slab, "crate": crate, "big": big}

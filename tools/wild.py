@@ -12,7 +12,7 @@ luminance (stretched to [0, 1]) where it has one, else a field baked over its uv
 model's bounding diagonal. Each file runs in a worker process with a time limit, so that one that
 crashes or hangs is reported as such.
 
-    .venv/bin/python tools/wild.py [--sample] [--every N] [--limit N] [--files-timeout S] [--out docs/tables/wild.md]
+    .venv/bin/python tools/wild.py [--sample] [--every N] [--limit N] [--only NAME,...] [--files-timeout S] [--out docs/tables/wild.md]
 """
 
 from __future__ import annotations
@@ -296,11 +296,15 @@ def main(argv=None) -> None:
     ap.add_argument("--sample", action="store_true")
     ap.add_argument("--limit", type=int, default=0)
     ap.add_argument("--every", type=int, default=1, help="every n-th file of the index (a spread subset)")
+    ap.add_argument("--only", default="", help="comma-separated parts of file ids: measure only the files whose id holds one")
     ap.add_argument("--files-timeout", type=float, default=300.0)
     ap.add_argument("--out", default=str(ROOT / "docs" / "tables" / "wild.md"))
     ap.add_argument("--json", default=str(ROOT / "pomkit-out" / "wild.json"))
     a = ap.parse_args(argv)
     entries = corpus(a.sample)
+    if a.only:
+        parts = [p for p in a.only.split(",") if p]
+        entries = [e for e in entries if any(p in e["id"] for p in parts)]
     entries = entries[:: max(a.every, 1)]
     if a.limit:
         entries = entries[: a.limit]

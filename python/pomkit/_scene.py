@@ -318,16 +318,40 @@ def _transform(t: Any) -> Optional[np.ndarray]:
     return _readonly(m)
 
 
+def _oriented(mesh: Mesh, m: np.ndarray) -> tuple:
+    """(mesh, transform) as the core takes them: unchanged, or for a mirroring transform the
+    mesh reflected through x = 0 under m @ diag(-1, 1, 1, 1) (the same world surface, fronts
+    counter-clockwise)."""
+    if np.linalg.det(m[:3, :3]) > 0.0:
+        return mesh, m
+    flip = np.array([-1.0, 1.0, 1.0], np.float32)
+    r = lambda x: _readonly(np.ascontiguousarray(x))
+    tangents = np.asarray(mesh.tangents, np.float32) * np.array([-1.0, 1.0, 1.0, -1.0], np.float32)
+    tri = np.asarray(mesh.indices).reshape(-1, 3)[:, [0, 2, 1]].reshape(-1)
+    # (the uv grids' triangles are wound for the given mesh, so the reflected one has none)
+    reflected = Mesh(r(np.asarray(mesh.positions, np.float32) * flip), r(np.asarray(mesh.normals, np.float32) * flip),
+                     mesh.uvs, r(tri.astype(np.asarray(mesh.indices).dtype)), r(tangents), mesh.uv_scale,
+                     r(np.zeros((0, 3), np.uint32)), kind=mesh.kind)
+    return reflected, _readonly(m @ np.diag([-1.0, 1.0, 1.0, 1.0]))
+
+
 @dataclass(frozen=True, eq=False)
 class Object:
     """One object of a scene: a base mesh, its material and an object-to-world `transform`.
 
     transform: a 4x4 affine matrix (numpy array; it may rotate, translate and scale,
-    non-uniformly too), or None for the identity. The mesh, its normals and tangent bases and
-    the displacement live in object space: `material.depth` is in object units, along the
-    object-space normal, and the displaced surface is the transform applied to it. Normals
+    non-uniformly too, or mirror), or None for the identity. The mesh, its normals and tangent
+    bases and the displacement live in object space: `material.depth` is in object units, along
+    the object-space normal, and the displaced surface is the transform applied to it. Normals
     transform by the inverse transpose. `transform` reads back as a 4x4 array (the identity
     when None was given).
+
+    A mirroring transform (determinant < 0, as glTF nodes with a negative scale have) turns
+    counter-clockwise fronts clockwise. The object renders it as the same world surface: the
+    core is given the mesh reflected through x = 0 (positions, normals and tangents; the
+    tangents' handedness and the triangles' winding reversed) under the transform times
+    diag(-1, 1, 1), which keeps fronts counter-clockwise. `mesh` and `transform` read back as
+    given.
     """
 
     mesh: Mesh
@@ -341,6 +365,7 @@ class Object:
             raise ArgumentTypeError(f"material: expected a pomkit.Material, got {type(self.material).__name__}")
         m = _transform(self.transform)
         object.__setattr__(self, "transform", _readonly(np.eye(4)) if m is None else m)
+        object.__setattr__(self, "_oriented", _oriented(self.mesh, self.transform))
 
     @property
     def is_identity(self) -> bool:

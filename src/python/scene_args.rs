@@ -132,13 +132,15 @@ fn mesh_handle(ob: &Bound<'_, PyAny>) -> PyResult<Shared<Mesh>> {
     Ok(h.cast_into::<PyMeshData>()?.get().0.clone())
 }
 
-/// One `pomkit.Object`: its mesh's keyed handle, its material (a schema class) and its
-/// transform (a 4x4 array).
+/// One `pomkit.Object`: its mesh's keyed handle and transform (a 4x4 array) as the object
+/// orients them (`_oriented`: never mirroring), and its material (a schema class).
 fn object_from_py(o: &Bound<'_, PyAny>) -> PyResult<Object> {
     let what = "a pomkit.Object";
-    let mesh = mesh_handle(&attr(o, "mesh", what)?)?;
+    let (mesh, t): (Bound<'_, PyAny>, Bound<'_, PyAny>) = attr(o, "_oriented", what)?
+        .extract()
+        .map_err(|_| Error::arg("objects", "expected pomkit.Object instances"))?;
+    let mesh = mesh_handle(&mesh)?;
     let material: Material = read(&attr(o, "material", what)?, "a pomkit.Material")?;
-    let t = attr(o, "transform", what)?;
     let rows: [[f64; 4]; 4] = t
         .extract()
         .or_else(|_| t.call_method0("tolist")?.extract())

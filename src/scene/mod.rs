@@ -226,7 +226,8 @@ impl Light {
 /// shader def) and of Python's `pomkit._core.MAX_LIGHTS`.
 pub const MAX_LIGHTS: usize = 4;
 
-/// An object-to-world transform: an affine 4x4 matrix (it may scale non-uniformly). Positions
+/// An object-to-world transform: an affine 4x4 matrix that keeps orientation (it may scale
+/// non-uniformly; a mirror is refused, and `pomkit.Object` reflects the mesh instead). Positions
 /// map by `m`, directions by its linear part, normals by the inverse transpose. The displacement
 /// `depth` is in object units: the displaced surface is `m` applied to the object-space one.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -265,6 +266,14 @@ impl Transform {
             return Err(Error::arg(
                 arg,
                 "is singular (it flattens the object); give an invertible matrix",
+            ));
+        }
+        if lin.determinant() < 0.0 {
+            // fronts would turn clockwise under it, and every pass culls and builds its bases
+            // for counter-clockwise fronts
+            return Err(Error::arg(
+                arg,
+                "mirrors (its determinant is negative); give the mesh reflected through x = 0 with its winding and tangent handedness reversed, under the transform times diag(-1, 1, 1) (pomkit.Object does this)",
             ));
         }
         Ok(Self { m })
@@ -443,5 +452,25 @@ impl Scene {
             return Err(Error::arg("ambient", "must be finite and >= 0"));
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A transform that mirrors is refused with the remedy; one that keeps orientation (scaled,
+    /// rotated, translated) is taken.
+    #[test]
+    fn a_mirroring_transform_is_refused_with_the_remedy() {
+        let m = DMat4::from_scale(DVec3::new(-1.0, 2.0, 1.0));
+        let e = Transform::new(m, "transform").unwrap_err().to_string();
+        assert!(e.contains("transform") && e.contains("mirrors") && e.contains("diag(-1, 1, 1)"), "{e}");
+        let ok = DMat4::from_scale_rotation_translation(
+            DVec3::new(1.0, 2.0, 3.0),
+            glam::DQuat::from_rotation_y(0.7),
+            DVec3::new(1.0, 0.0, -2.0),
+        );
+        assert!(Transform::new(ok, "transform").is_ok());
     }
 }

@@ -10,16 +10,18 @@
 // triangles (walk.wgsl): across a seam it continues in the neighbouring chart, and a ray that
 // walks out through an open border has left the surface (discarded). A fragment whose
 // interpolated normal faces away from the viewer, or whose ray leaves through the top far from
-// grazing (FALLBACK_NDV), keeps the base mesh's point (flags & 4): never less than the base mesh.
+// grazing (FALLBACK_NDV), where the normals lie far from their face (FALLBACK_OFF_FACE), or
+// while the straight ray still lies under the mesh (FALLBACK_UNDER),
+// keeps the base mesh's point (flags & 4): never less than the base mesh.
 // The hit is shaded in the mesh's basis at the hit.
 #define_import_path pomkit::methods::curved_relief
 
 #import pomkit::object::G
 #import pomkit::march::{Ray, Hit}
-#import pomkit::aov::{FLAG_FALLBACK, FALLBACK_NDV}
+#import pomkit::aov::{FLAG_FALLBACK, FALLBACK_NDV, FALLBACK_UNDER, FALLBACK_OFF_FACE}
 #import pomkit::height::height_at
 #import pomkit::cost::chained
-#import pomkit::walk::{walk_point, walk_move, walk_basis, walk_start}
+#import pomkit::walk::{walk_point, walk_move, walk_basis, walk_start, walk_above, walk_face_normal}
 
 // the ray's height in the shell (1 at the curved base, 0 at the floor) at world distance t
 fn ray_h(q: f32, c: f32, depth: f32, t: f32) -> f32 {
@@ -88,9 +90,12 @@ fn march(r: Ray) -> Hit {
         lo = hi;
         t_lo = t_hi;
     }
-    if (!found && exits && c > FALLBACK_NDV) {
-        // out through the top far from any silhouette: the quadric lost the surface; the base
-        // mesh's point at the fragment covers the pixel (flags & 4)
+    if (!found && exits && (c > FALLBACK_NDV
+        || dot(walk_basis(lo).n, walk_face_normal(lo.tri)) < FALLBACK_OFF_FACE
+        || walk_above(lo.tri, r.p + r.view * t_end) < -FALLBACK_UNDER * depth)) {
+        // out through the top far from any silhouette, where the normals lie far from their
+        // face, or with the straight ray still under the mesh: the quadric lost the surface;
+        // the base mesh's point at the fragment covers the pixel (flags & 4)
         hit.s = r.uv * G.tiling;
         hit.h = 1.0;
         hit.len = 0.0;

@@ -12,18 +12,21 @@
 // A ray that walks out through an open border has left the displaced surface: the pixel is
 // discarded, as the reference mesh ends there. A ray that rises out through the top on its first
 // step (the interpolated normal faces away from the viewer on a front face) or where the view is
-// far from grazing (FALLBACK_NDV) has lost the surface, not found a silhouette: the fragment
-// keeps the base mesh's point (flags & 4), so that NCS never covers less than the base mesh.
+// far from grazing (FALLBACK_NDV), where the interpolated normal lies far from its face
+// (FALLBACK_OFF_FACE), or while the straight view ray still lies under the plane of the
+// triangle it leaves from (FALLBACK_UNDER: the interpolated normals curved the walk, the faces
+// did not), has lost the surface, not found a silhouette: the fragment keeps the base
+// mesh's point (flags & 4), so that NCS never covers less than the base mesh.
 
 #define_import_path pomkit::methods::ncs
 
 #import pomkit::object::G
 #import pomkit::cost::chained
-#import pomkit::aov::{FLAG_EARLY, FLAG_FALLBACK, FALLBACK_NDV}
+#import pomkit::aov::{FLAG_EARLY, FLAG_FALLBACK, FALLBACK_NDV, FALLBACK_UNDER, FALLBACK_OFF_FACE}
 #import pomkit::basis::{Basis, make_basis}
 #import pomkit::height::height_at
 #import pomkit::march::{Ray, Hit, pom_sample_count}
-#import pomkit::walk::{walk_point, walk_move, walk_basis, walk_start}
+#import pomkit::walk::{walk_point, walk_move, walk_basis, walk_start, walk_above, walk_face_normal}
 
 fn ncs_hit(r: Ray, uv: vec2<f32>, h: f32, len: f32, steps: f32, flags: u32, f: Basis) -> Hit {
     var hit: Hit;
@@ -95,9 +98,14 @@ fn march(r: Ray) -> Hit {
         steps = steps + 1.0;
         if (h1 > 1.0 || !w.on) {
             exited = true;
-            // out through the top on the first step, or far from any silhouette (FALLBACK_NDV):
-            // the walk lost the surface; out through an open border: it left it
-            lost = w.on && (i == 0 || -dot(view, r.f.n) > FALLBACK_NDV);
+            // out through the top on the first step, far from any silhouette (FALLBACK_NDV),
+            // where the normals lie far from their face (FALLBACK_OFF_FACE) or with the straight
+            // ray still under the mesh (FALLBACK_UNDER): the walk lost the surface; out through
+            // an open border: it left it
+            lost = w.on && (i == 0 || -dot(view, r.f.n) > FALLBACK_NDV
+                || dot(walk_basis(w).n, walk_face_normal(w.tri)) < FALLBACK_OFF_FACE
+                || min(walk_above(p.tri, r.p + view * (len + st.w)), walk_above(w.tri, r.p + view * (len + st.w)))
+                    < -FALLBACK_UNDER * G.depth);
             break;
         }
         d1 = h1 - height_at(w.uv * tiling, r.lod);

@@ -10,7 +10,9 @@
 //!   that walks out through it has left the surface;
 //! - its corners' bases (normal, tangent with handedness, uv scales), interpolated as the
 //!   rasteriser interpolates them, so that the basis at any point is the one the mesh defines,
-//!   also where mirrored charts share texels.
+//!   also where mirrored charts share texels;
+//! - its plane (unit face normal and offset), so that a march can tell a ray that left the base
+//!   mesh from one whose interpolated normals, not the mesh, turned it out of the shell.
 //!
 //! The triangle a fragment starts in reaches the shader as `Ray::extra.z`: the method draws the
 //! base mesh unindexed, three vertices a triangle, each carrying its triangle's index.
@@ -180,10 +182,15 @@ pub fn records(mesh: &Mesh, walk: &[WalkTriangle]) -> Vec<[f32; 4]> {
     let mut out = Vec::with_capacity(walk.len() * RECORDS_PER_TRIANGLE);
     let row = |a: &Affine, r: usize| [a.l.col(0)[r] as f32, a.l.col(1)[r] as f32, a.o[r] as f32];
     for (t, w) in walk.iter().enumerate() {
+        // the plane n . x = d (zero where the triangle has no area), in the w of records 0, 1,
+        // 3 and 5
+        let c = tri_corners(mesh, t).map(|v| mesh.position_f64(v));
+        let n = (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero();
+        let plane = [n.x as f32, n.y as f32, n.z as f32, n.dot(c[0]) as f32];
         let [a, b, c] = row(&w.to_bary, 0);
-        out.push([a, b, c, 0.0]);
+        out.push([a, b, c, plane[0]]);
         let [a, b, c] = row(&w.to_bary, 1);
-        out.push([a, b, c, 0.0]);
+        out.push([a, b, c, plane[1]]);
         for k in 0..3 {
             let (nb, m) = match &w.across[k] {
                 Some((nb, m)) => (*nb as f32, *m),
@@ -192,7 +199,7 @@ pub fn records(mesh: &Mesh, walk: &[WalkTriangle]) -> Vec<[f32; 4]> {
             let [a, b, c] = row(&m, 0);
             out.push([a, b, c, nb]);
             let [a, b, c] = row(&m, 1);
-            out.push([a, b, c, 0.0]);
+            out.push([a, b, c, if k < 2 { plane[2 + k] } else { 0.0 }]);
         }
         for v in tri_corners(mesh, t) {
             let v = v as usize;

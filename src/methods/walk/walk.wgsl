@@ -17,6 +17,7 @@
 //   0, 1:          uv -> b1 and b2 (rows of an affine map)
 //   2 + 2k, 3 + 2k: side k (corners k, k+1): uv -> the neighbour's uv (rows), neighbour in .w of
 //                   the first row (-1 on an open border)
+//   .w of 0, 1, 3, 5: the triangle's plane n . x = d (n.x, n.y, n.z, d; object space)
 //   8 + 2c, 9 + 2c: corner c's (normal, S_tangent) and (tangent, sign * S_binormal)
 @group(2) @binding(1) var walk_tex: texture_2d<f32>;
 
@@ -119,6 +120,20 @@ fn walk_basis(w: WalkPoint) -> Basis {
     // the handedness is the triangle's (its corners agree in a chart)
     let sign = select(1.0, -1.0, t0.w < 0.0);
     return make_basis(n.xyz, vec4<f32>(t.xyz, sign), vec2<f32>(n.w, abs(t.w)));
+}
+
+// Triangle tri's unit face normal (0 on a triangle without area).
+fn walk_face_normal(tri: u32) -> vec3<f32> {
+    fetched(3u, 48u);
+    return vec3<f32>(walk_rec(tri, 0u).w, walk_rec(tri, 1u).w, walk_rec(tri, 3u).w);
+}
+
+// How far the object-space point x lies above triangle tri's plane (0 on a triangle without
+// area).
+fn walk_above(tri: u32, x: vec3<f32>) -> f32 {
+    fetched(4u, 64u);
+    let n = vec3<f32>(walk_rec(tri, 0u).w, walk_rec(tri, 1u).w, walk_rec(tri, 3u).w);
+    return dot(n, x) - walk_rec(tri, 5u).w;
 }
 
 // The triangle a fragment starts in (the method's geometry carries it in Ray::extra.z).
