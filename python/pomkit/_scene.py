@@ -330,7 +330,7 @@ def _oriented(mesh: Mesh, m: np.ndarray) -> tuple:
     tri = np.asarray(mesh.indices).reshape(-1, 3)[:, [0, 2, 1]].reshape(-1)
     # (the uv grids' triangles are wound for the given mesh, so the reflected one has none)
     reflected = Mesh(r(np.asarray(mesh.positions, np.float32) * flip), r(np.asarray(mesh.normals, np.float32) * flip),
-                     mesh.uvs, r(tri.astype(np.asarray(mesh.indices).dtype)), r(tangents), mesh.uv_scale,
+                     mesh.uvs, r(tri), r(tangents), mesh.uv_scale,
                      r(np.zeros((0, 3), np.uint32)), kind=mesh.kind)
     return reflected, _readonly(m @ np.diag([-1.0, 1.0, 1.0, 1.0]))
 

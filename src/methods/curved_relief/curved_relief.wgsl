@@ -18,10 +18,10 @@
 
 #import pomkit::object::G
 #import pomkit::march::{Ray, Hit}
-#import pomkit::aov::{FLAG_FALLBACK, FALLBACK_NDV, FALLBACK_UNDER, FALLBACK_OFF_FACE}
+#import pomkit::aov::{FLAG_FALLBACK, FALLBACK_NDV}
 #import pomkit::height::height_at
 #import pomkit::cost::chained
-#import pomkit::walk::{walk_point, walk_move, walk_basis, walk_start, walk_above, walk_face_normal}
+#import pomkit::walk::{walk_point, walk_move, walk_basis, walk_start, walk_turned_by_normals}
 
 // the ray's height in the shell (1 at the curved base, 0 at the floor) at world distance t
 fn ray_h(q: f32, c: f32, depth: f32, t: f32) -> f32 {
@@ -90,9 +90,7 @@ fn march(r: Ray) -> Hit {
         lo = hi;
         t_lo = t_hi;
     }
-    if (!found && exits && (c > FALLBACK_NDV
-        || dot(walk_basis(lo).n, walk_face_normal(lo.tri)) < FALLBACK_OFF_FACE
-        || walk_above(lo.tri, r.p + r.view * t_end) < -FALLBACK_UNDER * depth)) {
+    if (!found && exits && (c > FALLBACK_NDV || walk_turned_by_normals(lo, r.p + r.view * t_end, depth))) {
         // out through the top far from any silhouette, where the normals lie far from their
         // face, or with the straight ray still under the mesh: the quadric lost the surface;
         // the base mesh's point at the fragment covers the pixel (flags & 4)

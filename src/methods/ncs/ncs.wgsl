@@ -22,11 +22,11 @@
 
 #import pomkit::object::G
 #import pomkit::cost::chained
-#import pomkit::aov::{FLAG_EARLY, FLAG_FALLBACK, FALLBACK_NDV, FALLBACK_UNDER, FALLBACK_OFF_FACE}
+#import pomkit::aov::{FLAG_EARLY, FLAG_FALLBACK, FALLBACK_NDV, FALLBACK_UNDER}
 #import pomkit::basis::{Basis, make_basis}
 #import pomkit::height::height_at
 #import pomkit::march::{Ray, Hit, pom_sample_count}
-#import pomkit::walk::{walk_point, walk_move, walk_basis, walk_start, walk_above, walk_face_normal}
+#import pomkit::walk::{walk_point, walk_move, walk_basis, walk_start, walk_above, walk_turned_by_normals}
 
 fn ncs_hit(r: Ray, uv: vec2<f32>, h: f32, len: f32, steps: f32, flags: u32, f: Basis) -> Hit {
     var hit: Hit;
@@ -102,10 +102,9 @@ fn march(r: Ray) -> Hit {
             // where the normals lie far from their face (FALLBACK_OFF_FACE) or with the straight
             // ray still under the mesh (FALLBACK_UNDER): the walk lost the surface; out through
             // an open border: it left it
-            lost = w.on && (i == 0 || -dot(view, r.f.n) > FALLBACK_NDV
-                || dot(walk_basis(w).n, walk_face_normal(w.tri)) < FALLBACK_OFF_FACE
-                || min(walk_above(p.tri, r.p + view * (len + st.w)), walk_above(w.tri, r.p + view * (len + st.w)))
-                    < -FALLBACK_UNDER * G.depth);
+            let x = r.p + view * (len + st.w);
+            lost = w.on && (i == 0 || -dot(view, r.f.n) > FALLBACK_NDV || walk_turned_by_normals(w, x, G.depth)
+                || walk_above(p.tri, x) < -FALLBACK_UNDER * G.depth);
             break;
         }
         d1 = h1 - height_at(w.uv * tiling, r.lod);

@@ -9,6 +9,7 @@
 
 #import pomkit::cost::{fetched, chained}
 #import pomkit::basis::{Basis, make_basis}
+#import pomkit::aov::{FALLBACK_UNDER, FALLBACK_OFF_FACE}
 
 // the walk data (group 2, binding 1): 14 texels per triangle, triangle i's at column
 // (i mod per_row) * 14 and row i div per_row, per_row a power of two (mod.rs's `texels`). A
@@ -131,9 +132,17 @@ fn walk_face_normal(tri: u32) -> vec3<f32> {
 // How far the object-space point x lies above triangle tri's plane (0 on a triangle without
 // area).
 fn walk_above(tri: u32, x: vec3<f32>) -> f32 {
-    fetched(4u, 64u);
-    let n = vec3<f32>(walk_rec(tri, 0u).w, walk_rec(tri, 1u).w, walk_rec(tri, 3u).w);
-    return dot(n, x) - walk_rec(tri, 5u).w;
+    fetched(1u, 16u);
+    return dot(walk_face_normal(tri), x) - walk_rec(tri, 5u).w;
+}
+
+// Whether a walk that left the shell's top at w, its straight view ray at x (object space), was
+// turned out by the interpolated normals rather than by the mesh: the normal at w lies far from
+// its face (FALLBACK_OFF_FACE), or x lies under w's triangle (FALLBACK_UNDER, a share of the
+// shell's depth). aov.wgsl gives the reasons.
+fn walk_turned_by_normals(w: WalkPoint, x: vec3<f32>, depth: f32) -> bool {
+    return dot(walk_basis(w).n, walk_face_normal(w.tri)) < FALLBACK_OFF_FACE
+        || walk_above(w.tri, x) < -FALLBACK_UNDER * depth;
 }
 
 // The triangle a fragment starts in (the method's geometry carries it in Ray::extra.z).
