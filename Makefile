@@ -41,7 +41,7 @@ check:
 
 test: setup-test
 	@scripts/stage.sh cargo-test
-	cargo test --release --features test-hooks --lib --tests 2>&1 | tee .cargo-test.log | grep -E "^(test result|running|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
+	scripts/cargo_test.sh --lib --tests 2>&1 | tee .cargo-test.log | grep -E "^(test result|running|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
 	@scripts/stage.sh stubtest-mypy-numpy-floor
 	$(VENV)/python -m mypy.stubtest pomkit._core --mypy-config-file pyproject.toml
 	$(VENV)/python -m mypy
@@ -50,7 +50,7 @@ test: setup-test
 	$(VENV)/python -m pytest tests notebooks --nbmake
 	@scripts/stage.sh gl
 	@echo "== the GL backend (POMKIT_BACKEND=gl): core, method, analytic, differential, shadow and target tests =="
-	POMKIT_BACKEND=gl cargo test --release --features test-hooks --test core_render 2>&1 | grep -E "^(test result|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
+	POMKIT_BACKEND=gl scripts/cargo_test.sh --test core_render 2>&1 | grep -E "^(test result|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
 	POMKIT_BACKEND=gl POMKIT_DIFF_EXAMPLES=3 $(VENV)/python -m pytest $(GL_TESTS) -q
 	@scripts/stage.sh distributions
 	@echo "== the distributions: the manylinux2014 wheel's tag (auditwheel), the sdist built by pip, each rendering a frame =="
