@@ -278,4 +278,23 @@ impl Prism {
     pub(crate) fn inside(b: DVec2, eps: f64) -> bool {
         b.x >= -eps && b.y >= -eps && b.x + b.y <= 1.0 + eps
     }
+
+    /// How far outside, in barycentrics, a point of a side shared with a neighbour may be
+    /// located in this prism at offsets down to `depth`: a shared side's normals agree to 1e-5
+    /// (Geometry's test, which float32 normals of a flat-shaded quad's two halves need), so the
+    /// two walls part by up to 1e-5 of the offset there.
+    pub(crate) fn shared_side_slack(&self, depth: f64) -> f64 {
+        1e-7 + 4e-5 * depth / self.size.max(1e-300)
+    }
+
+    /// `b` moved into the triangle (the nearest weights that are all >= 0, to first order).
+    pub(crate) fn clamp_inside(b: DVec2) -> DVec2 {
+        let b = b.max(DVec2::ZERO);
+        let sum = b.x + b.y;
+        if sum > 1.0 {
+            b / sum
+        } else {
+            b
+        }
+    }
 }

@@ -165,8 +165,14 @@ impl<'a> Object<'a> {
                 b: DVec2::new(wq[1], wq[2]),
                 s: c.at.s,
             };
+            let slack = q.shared_side_slack(self.depth);
             match q.locate(x, guess) {
-                Some(a) if Prism::inside(a.b, 1e-7) => {
+                Some(a) if Prism::inside(a.b, slack) => {
+                    // (onto the side, where the two walls part by the normals' rounding)
+                    let a = Local {
+                        b: Prism::clamp_inside(a.b),
+                        s: a.s,
+                    };
                     if let Some((tri, at)) = self.seam_wall(p, q, ray, (tri, next), (&end, a)) {
                         return Walk::Hit {
                             tri,
