@@ -9,7 +9,7 @@ three views (two from above, one from below) at 96², each method against `pk.or
 IoU, interior holes (pixels inside the oracle's outline, eroded by 3 pixels, that the method
 misses) and interior uv p95 in texels. Heights are each object's own base-colour texture's
 luminance (stretched to [0, 1]) where it has one, else a field baked over its uvs; depth 1% of the
-model's bounding diagonal. Each file runs in a worker process with a time limit, so that one that
+model's bounding diagonal (in world units: each object's depth is divided by its node's scale). Each file runs in a worker process with a time limit, so that one that
 crashes or hangs is reported as such.
 
     .venv/bin/python tools/wild.py [--sample] [--every N] [--limit N] [--only NAME,...] [--files-timeout S] [--out docs/tables/wild.md]
@@ -112,7 +112,11 @@ def scene_objects(glb: str):
         else:
             scale = max(float(np.linalg.norm(np.ptp(o.mesh.positions, 0))), 1e-9) / 4.0
             h = pk.textures.bake(o.mesh, _cells(scale), 128)
-        depth = 0.0 if mat.depth == 0.0 else 0.01 * diag  # load_objects puts primitives without uvs at 0
+        # 1% of the world's diagonal, in the object's units (depth is in object space: a node
+        # scaled 10x would otherwise sink 10% of the diagonal); load_objects puts primitives
+        # without uvs at 0
+        scale = 1.0 if o.transform is None else float(np.abs(np.linalg.det(np.asarray(o.transform, np.float64)[:3, :3]))) ** (1.0 / 3.0)
+        depth = 0.0 if mat.depth == 0.0 else 0.01 * diag / max(scale, 1e-30)
         out.append(dataclasses.replace(o, material=dataclasses.replace(mat, height=h, depth=depth)))
     return out, (lo, hi), [str(w.message) for w in caught]
 
