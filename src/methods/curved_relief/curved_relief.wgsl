@@ -8,7 +8,9 @@
 // top without a hit and the fragment is discarded (the silhouette). A linear search of
 // `linear_steps`, then `binary_steps` bisections. The search's uv walks across the base mesh's
 // triangles (walk.wgsl): across a seam it continues in the neighbouring chart, and a ray that
-// walks out through an open border has left the surface (discarded). A fragment whose
+// walks out through an open border has left the surface (discarded); one that walks out
+// through a crack (an open border that another of the mesh runs along) has lost it, and takes
+// the fallback below. A fragment whose
 // interpolated normal faces away from the viewer, or whose ray leaves through the top far from
 // grazing (FALLBACK_NDV), where the normals lie far from their face (FALLBACK_OFF_FACE), or
 // while the straight ray still lies under the mesh (FALLBACK_UNDER),
@@ -77,6 +79,16 @@ fn march(r: Ray) -> Hit {
         t_hi = dt * f32(i);
         hi = walk_move(lo.tri, lo.uv, lo.dir, dt);
         steps = steps + 1.0;
+        if (!hi.on && hi.crack) {
+            // out through a crack (an open border that another of the mesh runs along): the
+            // surface goes on where the walk cannot follow; the base mesh's point covers it
+            hit.s = r.uv * G.tiling;
+            hit.h = 1.0;
+            hit.len = 0.0;
+            hit.steps = steps;
+            hit.flags = FLAG_FALLBACK;
+            return hit;
+        }
         if (!hi.on) {
             // out through an open border: off the surface
             hit.exited = true;

@@ -10,7 +10,8 @@
 // the basis at each step is the one the mesh interpolates there (the paper's basis maps at full
 // resolution; a texture-space map cannot hold two bases where mirrored charts share texels).
 // A ray that walks out through an open border has left the displaced surface: the pixel is
-// discarded, as the reference mesh ends there. A ray that rises out through the top on its first
+// discarded, as the reference mesh ends there; through a crack (an open border that another
+// one of the mesh runs along) it has lost it, and takes the fallback below. A ray that rises out through the top on its first
 // step (the interpolated normal faces away from the viewer on a front face) or where the view is
 // far from grazing (FALLBACK_NDV), where the interpolated normal lies far from its face
 // (FALLBACK_OFF_FACE), or while the straight view ray still lies under the plane of the
@@ -100,11 +101,12 @@ fn march(r: Ray) -> Hit {
             exited = true;
             // out through the top on the first step, far from any silhouette (FALLBACK_NDV),
             // where the normals lie far from their face (FALLBACK_OFF_FACE) or with the straight
-            // ray still under the mesh (FALLBACK_UNDER): the walk lost the surface; out through
-            // an open border: it left it
+            // ray still under the mesh (FALLBACK_UNDER), or out through a crack (an open border
+            // that another runs along: the surface goes on where the walk cannot follow): the walk
+            // lost the surface; out through an open border: it left it
             let x = r.p + view * (len + st.w);
-            lost = w.on && (i == 0 || -dot(view, r.f.n) > FALLBACK_NDV || walk_turned_by_normals(w, x, G.depth)
-                || walk_above(p.tri, x) < -FALLBACK_UNDER * G.depth);
+            lost = (w.on && (i == 0 || -dot(view, r.f.n) > FALLBACK_NDV || walk_turned_by_normals(w, x, G.depth)
+                || walk_above(p.tri, x) < -FALLBACK_UNDER * G.depth)) || (!w.on && w.crack);
             break;
         }
         d1 = h1 - height_at(w.uv * tiling, r.lod);

@@ -7,7 +7,10 @@
 //!   seam or a mirror axis the map that lays the neighbour beside this triangle as the surface
 //!   unfolds (two points of the edge to their uvs on the other side, the neighbour's far corner,
 //!   unfolded into this triangle's plane, to its uv). An open border has no neighbour: a ray
-//!   that walks out through it has left the surface;
+//!   that walks out through it has left the surface, unless another open border of the mesh
+//!   runs along it (a crack: a T-junction, or an edge whose two sides were not welded, as
+//!   hand-made low-poly models have), where the surface goes on in a triangle the walk cannot
+//!   reach, and the method's fallback covers the pixel;
 //! - its corners' bases (normal, tangent with handedness, uv scales), interpolated as the
 //!   rasteriser interpolates them, so that the basis at any point is the one the mesh defines,
 //!   also where mirrored charts share texels;
@@ -31,6 +34,8 @@ pub const RECORDS_PER_TRIANGLE: usize = 14;
 pub const WALK_BYTES_PER_TRIANGLE: usize = RECORDS_PER_TRIANGLE * 16;
 /// The neighbour index of a side on an open border.
 pub const NO_NEIGHBOUR: f32 = -1.0;
+/// The neighbour index of a side on a crack (an open border that another one runs along).
+pub const CRACK: f32 = -2.0;
 
 /// The walk's library module (`pomkit::walk`), imported by the methods that walk.
 pub fn walk_unit() -> ShaderUnit {
@@ -81,6 +86,8 @@ pub struct WalkTriangle {
     pub to_bary: Affine,
     /// per side k (corners k and k+1): the triangle across it and the map of uvs into it
     pub across: [Option<(u32, Affine)>; 3],
+    /// per side: an open border that another open border of the mesh runs along (`cracks`)
+    pub crack: [bool; 3],
 }
 
 fn tri_corners(mesh: &Mesh, t: usize) -> [u32; 3] {
@@ -146,9 +153,72 @@ fn transfer(mesh: &Mesh, topo: &Topology, a: usize, k: usize, b: usize) -> Affin
     Affine::through([uva[0], uva[1], uvx], uvb).unwrap_or(Affine::IDENTITY)
 }
 
+/// Per triangle and side: whether the side is an open border that another open border of the
+/// mesh runs along, overlapping it by more than 1e-5 of the mesh's size and within that of its
+/// line (a T-junction, or two triangles whose shared edge was not welded). The border edges are
+/// binned in a grid of about one edge a cell, each compared with those of its cells.
+pub fn cracks(mesh: &Mesh, topo: &Topology) -> Vec<[bool; 3]> {
+    let n = mesh.indices.len() / 3;
+    let mut out = vec![[false; 3]; n];
+    let border: Vec<(usize, usize, DVec3, DVec3)> = (0..n)
+        .flat_map(|t| (0..3).map(move |k| (t, k)))
+        .filter(|&(t, k)| topo.edges[topo.tri_edges[t][k] as usize].1.len() == 1)
+        .map(|(t, k)| {
+            let c = tri_corners(mesh, t);
+            (t, k, mesh.position_f64(c[k]), mesh.position_f64(c[(k + 1) % 3]))
+        })
+        .collect();
+    if border.len() < 2 {
+        return out;
+    }
+    let (lo, hi) = mesh.bounds();
+    let extent = (hi - lo).max_element().max(1e-30);
+    let tol = 1e-5 * extent;
+    let cell = extent / (border.len() as f64).cbrt().max(1.0);
+    let dims = ((hi - lo) / cell).floor().as_ivec3() + 1;
+    let at = |x: DVec3| ((x - lo) / cell).floor().as_ivec3().clamp(glam::IVec3::ZERO, dims - 1);
+    let mut grid: std::collections::HashMap<glam::IVec3, Vec<u32>> = Default::default();
+    let cells_of = |a: DVec3, b: DVec3| {
+        let (c0, c1) = (at(a.min(b) - tol), at(a.max(b) + tol));
+        (c0.x..=c1.x).flat_map(move |x| {
+            (c0.y..=c1.y).flat_map(move |y| (c0.z..=c1.z).map(move |z| glam::IVec3::new(x, y, z)))
+        })
+    };
+    for (i, &(_, _, a, b)) in border.iter().enumerate() {
+        for c in cells_of(a, b) {
+            grid.entry(c).or_default().push(i as u32);
+        }
+    }
+    for (i, &(t, k, a, b)) in border.iter().enumerate() {
+        let len = (b - a).length();
+        if !(len > tol) {
+            continue;
+        }
+        let d = (b - a) / len;
+        let off_line = |x: DVec3| {
+            let v = x - a;
+            (v - d * v.dot(d)).length()
+        };
+        let runs_along = |j: u32| {
+            let (_, _, c, e) = border[j as usize];
+            if j as usize == i || off_line(c) > tol || off_line(e) > tol {
+                return false;
+            }
+            let (s0, s1) = {
+                let (u, w) = ((c - a).dot(d), (e - a).dot(d));
+                (u.min(w), u.max(w))
+            };
+            s1.min(len) - s0.max(0.0) > tol
+        };
+        out[t][k] = cells_of(a, b).any(|c| grid.get(&c).is_some_and(|v| v.iter().any(|&j| runs_along(j))));
+    }
+    out
+}
+
 /// Every triangle's walk data.
 pub fn build(mesh: &Mesh) -> Vec<WalkTriangle> {
     let topo = Topology::quantised(mesh);
+    let crack = cracks(mesh, &topo);
     let n = mesh.indices.len() / 3;
     (0..n)
         .map(|t| {
@@ -171,7 +241,11 @@ pub fn build(mesh: &Mesh) -> Vec<WalkTriangle> {
                 let b = other.tri as usize;
                 Some((b as u32, transfer(mesh, &topo, t, k, b)))
             });
-            WalkTriangle { to_bary, across }
+            WalkTriangle {
+                to_bary,
+                across,
+                crack: crack[t],
+            }
         })
         .collect()
 }
@@ -194,6 +268,7 @@ pub fn records(mesh: &Mesh, walk: &[WalkTriangle]) -> Vec<[f32; 4]> {
         for k in 0..3 {
             let (nb, m) = match &w.across[k] {
                 Some((nb, m)) => (*nb as f32, *m),
+                None if w.crack[k] => (CRACK, Affine::IDENTITY),
                 None => (NO_NEIGHBOUR, Affine::IDENTITY),
             };
             let [a, b, c] = row(&m, 0);
@@ -360,6 +435,37 @@ mod tests {
         Mesh::from_arrays(positions, normals, uvs, vec![0, 1, 2, 3, 4, 5], None)
             .unwrap()
             .0
+    }
+
+    #[test]
+    fn a_border_that_another_runs_along_is_a_crack() {
+        // triangle 0's side x = 1 (corners 1, 2) against two triangles whose sides on x = 1
+        // meet at y = 0.5 (a T-junction: no edge is shared); every other side is a border
+        let positions = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [2.0, 0.25, 0.0],
+            [1.0, 0.5, 0.0],
+            [1.0, 0.5, 0.0],
+            [2.0, 0.75, 0.0],
+            [1.0, 1.0, 0.0],
+        ];
+        let uvs: Vec<[f32; 2]> = positions.iter().map(|p| [p[0] / 2.0, p[1]]).collect();
+        let normals = vec![[0.0, 0.0, 1.0]; 9];
+        let (m, _) = Mesh::from_arrays(positions, normals, uvs, (0..9).collect(), None).unwrap();
+        let w = build(&m);
+        assert!(w.iter().all(|t| t.across.iter().all(Option::is_none)));
+        assert_eq!(w[0].crack, [false, true, false]);
+        // the two small triangles' sides on x = 1: corners 2 -> 0 (side 2) of each
+        assert_eq!(w[1].crack, [false, false, true]);
+        assert_eq!(w[2].crack, [false, false, true]);
+        // the records name it apart from a border
+        let r = records(&m, &w);
+        // (triangle 0's records: side k's neighbour in the w of record 2 + 2k)
+        assert_eq!(r[4][3], CRACK);
+        assert_eq!(r[2][3], NO_NEIGHBOUR);
     }
 
     #[test]

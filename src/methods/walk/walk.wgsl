@@ -40,6 +40,9 @@ struct WalkPoint {
     dir: vec2<f32>,
     // false when the walk left the surface through an open border
     on: bool,
+    // (where !on) the border was a crack: another open border runs along it, and the surface
+    // goes on in a triangle the walk cannot reach (walk/mod.rs)
+    crack: bool,
     // (b0, b1, b2) of uv in tri (walk_basis's weights; where on)
     b: vec3<f32>,
 }
@@ -58,12 +61,12 @@ fn walk_bary(tri: u32, uv: vec2<f32>) -> vec3<f32> {
 
 // The walk point at uv in triangle tri (no direction yet).
 fn walk_point(tri: u32, uv: vec2<f32>) -> WalkPoint {
-    return WalkPoint(tri, uv, vec2<f32>(0.0), true, walk_bary(tri, uv));
+    return WalkPoint(tri, uv, vec2<f32>(0.0), true, false, walk_bary(tri, uv));
 }
 
 // Move from (tri, uv) by dir * len (dir in tri's chart).
 fn walk_move(tri_in: u32, uv_in: vec2<f32>, dir: vec2<f32>, len: f32) -> WalkPoint {
-    var w = WalkPoint(tri_in, uv_in, dir, true, vec3<f32>(0.0));
+    var w = WalkPoint(tri_in, uv_in, dir, true, false, vec3<f32>(0.0));
     var rest = dir * len;
     for (var i = 0; i < MAX_CROSSINGS; i = i + 1) {
         let e = w.uv + rest;
@@ -97,6 +100,7 @@ fn walk_move(tri_in: u32, uv_in: vec2<f32>, dir: vec2<f32>, len: f32) -> WalkPoi
         if (r0.w < 0.0) {
             w.uv = x;
             w.on = false;
+            w.crack = r0.w < -1.5;
             return w;
         }
         // the point and the rest of the move, in the neighbour's chart
