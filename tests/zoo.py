@@ -177,6 +177,31 @@ def faceted_sphere(segments: int = 96, size: int = 128):
     return mesh, crate(size)[1]
 
 
+def cracked_plane(size: int = 128):
+    """A 2 x 2 plane (y up) in two halves that meet along x = 0 without sharing an edge: the left
+    half cut into 4 rows, the right into 6, so that the halves' border edges run along each
+    other (T-junctions, as hand-made low-poly models have where parts were modelled apart). The
+    uvs are planar across both halves, so the surface goes on across the crack. Its heights:
+    zoo.crate's bricks."""
+    def grid(x0: float, x1: float, rows: int):
+        xs, zs = np.linspace(x0, x1, 3), np.linspace(-1.0, 1.0, rows + 1)
+        X, Z = np.meshgrid(xs, zs)
+        p = np.stack([X.ravel(), np.zeros(X.size), Z.ravel()], -1)
+        tri = []
+        for j in range(rows):
+            for i in range(2):
+                a, b = j * 3 + i, j * 3 + i + 1
+                c, d = a + 3, b + 3
+                tri += [(a, c, b), (b, c, d)]
+        return p, np.array(tri)
+    (pl, tl), (pr, tr) = grid(-1.0, 0.0, 4), grid(0.0, 1.0, 6)
+    p = np.concatenate([pl, pr])
+    tri = np.concatenate([tl, tr + len(pl)])
+    uv = np.stack([(p[:, 0] + 1.0) / 2.0, (p[:, 2] + 1.0) / 2.0], -1)
+    n = np.tile([0.0, 1.0, 0.0], (len(p), 1))
+    return pk.Mesh.from_arrays(p, n, uv, tri.astype(np.uint32).ravel()), crate(size)[1]
+
+
 ZOO = {"rock": rock, "terrain": terrain, "mirrored_slab": mirrored_slab, "crate": crate, "big": big}
 
 
