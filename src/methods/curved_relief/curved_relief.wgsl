@@ -23,7 +23,7 @@
 #import pomkit::aov::{FLAG_FALLBACK, FALLBACK_NDV}
 #import pomkit::height::height_at
 #import pomkit::cost::chained
-#import pomkit::walk::{walk_point, walk_move, walk_basis, walk_start, walk_turned_by_normals}
+#import pomkit::walk::{walk_point, walk_move, walk_basis, walk_start, walk_turned_by_normals, walk_into_crack}
 
 // the ray's height in the shell (1 at the curved base, 0 at the floor) at world distance t
 fn ray_h(q: f32, c: f32, depth: f32, t: f32) -> f32 {
@@ -79,9 +79,10 @@ fn march(r: Ray) -> Hit {
         t_hi = dt * f32(i);
         hi = walk_move(lo.tri, lo.uv, lo.dir, dt);
         steps = steps + 1.0;
-        if (!hi.on && hi.crack) {
-            // out through a crack (an open border that another of the mesh runs along): the
-            // surface goes on where the walk cannot follow; the base mesh's point covers it
+        if (walk_into_crack(hi, r.p + r.view * t_hi)) {
+            // out through a crack (an open border that another of the mesh runs along), the
+            // straight ray under the plane across it: the surface goes on where the walk cannot
+            // follow; the base mesh's point covers it
             hit.s = r.uv * G.tiling;
             hit.h = 1.0;
             hit.len = 0.0;

@@ -27,7 +27,7 @@
 #import pomkit::basis::{Basis, make_basis}
 #import pomkit::height::height_at
 #import pomkit::march::{Ray, Hit, pom_sample_count}
-#import pomkit::walk::{walk_point, walk_move, walk_basis, walk_start, walk_above, walk_turned_by_normals}
+#import pomkit::walk::{walk_point, walk_move, walk_basis, walk_start, walk_above, walk_turned_by_normals, walk_into_crack}
 
 fn ncs_hit(r: Ray, uv: vec2<f32>, h: f32, len: f32, steps: f32, flags: u32, f: Basis) -> Hit {
     var hit: Hit;
@@ -102,11 +102,12 @@ fn march(r: Ray) -> Hit {
             // out through the top on the first step, far from any silhouette (FALLBACK_NDV),
             // where the normals lie far from their face (FALLBACK_OFF_FACE) or with the straight
             // ray still under the mesh (FALLBACK_UNDER), or out through a crack (an open border
-            // that another runs along: the surface goes on where the walk cannot follow): the walk
-            // lost the surface; out through an open border: it left it
+            // that another runs along) with the straight ray under the plane across it (the
+            // surface goes on where the walk cannot follow): the walk lost the surface; out
+            // through an open border: it left it
             let x = r.p + view * (len + st.w);
             lost = (w.on && (i == 0 || -dot(view, r.f.n) > FALLBACK_NDV || walk_turned_by_normals(w, x, G.depth)
-                || walk_above(p.tri, x) < -FALLBACK_UNDER * G.depth)) || (!w.on && w.crack);
+                || walk_above(p.tri, x) < -FALLBACK_UNDER * G.depth)) || walk_into_crack(w, x);
             break;
         }
         d1 = h1 - height_at(w.uv * tiling, r.lod);

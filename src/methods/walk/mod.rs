@@ -86,8 +86,9 @@ pub struct WalkTriangle {
     pub to_bary: Affine,
     /// per side k (corners k and k+1): the triangle across it and the map of uvs into it
     pub across: [Option<(u32, Affine)>; 3],
-    /// per side: an open border that another open border of the mesh runs along (`cracks`)
-    pub crack: [bool; 3],
+    /// per side: on an open border that another open border of the mesh runs along (`cracks`),
+    /// the plane (unit face normal, offset) of the triangle across the crack
+    pub crack: [Option<[f64; 4]>; 3],
 }
 
 fn tri_corners(mesh: &Mesh, t: usize) -> [u32; 3] {
@@ -153,13 +154,21 @@ fn transfer(mesh: &Mesh, topo: &Topology, a: usize, k: usize, b: usize) -> Affin
     Affine::through([uva[0], uva[1], uvx], uvb).unwrap_or(Affine::IDENTITY)
 }
 
-/// Per triangle and side: whether the side is an open border that another open border of the
+/// A triangle's plane: its unit face normal (by its winding, as the records' own) and offset.
+fn face_plane(mesh: &Mesh, t: usize) -> [f64; 4] {
+    let c = tri_corners(mesh, t).map(|v| mesh.position_f64(v));
+    let n = (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero();
+    [n.x, n.y, n.z, n.dot(c[0])]
+}
+
+/// Per triangle and side: where the side is an open border that another open border of the
 /// mesh runs along, overlapping it by more than 1e-5 of the mesh's size and within that of its
-/// line (a T-junction, or two triangles whose shared edge was not welded). The border edges are
-/// binned in a grid of about one edge a cell, each compared with those of its cells.
-pub fn cracks(mesh: &Mesh, topo: &Topology) -> Vec<[bool; 3]> {
+/// line (a T-junction, or two triangles whose shared edge was not welded), the plane of the
+/// other border's triangle. The border edges are binned in a grid of about one edge a cell,
+/// each compared with those of its cells.
+pub fn cracks(mesh: &Mesh, topo: &Topology) -> Vec<[Option<[f64; 4]>; 3]> {
     let n = mesh.indices.len() / 3;
-    let mut out = vec![[false; 3]; n];
+    let mut out = vec![[None; 3]; n];
     let border: Vec<(usize, usize, DVec3, DVec3)> = (0..n)
         .flat_map(|t| (0..3).map(move |k| (t, k)))
         .filter(|&(t, k)| topo.edges[topo.tri_edges[t][k] as usize].1.len() == 1)
@@ -210,7 +219,9 @@ pub fn cracks(mesh: &Mesh, topo: &Topology) -> Vec<[bool; 3]> {
             };
             s1.min(len) - s0.max(0.0) > tol
         };
-        out[t][k] = cells_of(a, b).any(|c| grid.get(&c).is_some_and(|v| v.iter().any(|&j| runs_along(j))));
+        out[t][k] = cells_of(a, b)
+            .find_map(|c| grid.get(&c).and_then(|v| v.iter().copied().find(|&j| runs_along(j))))
+            .map(|j| face_plane(mesh, border[j as usize].0));
     }
     out
 }
@@ -258,23 +269,33 @@ pub fn records(mesh: &Mesh, walk: &[WalkTriangle]) -> Vec<[f32; 4]> {
     for (t, w) in walk.iter().enumerate() {
         // the plane n . x = d (zero where the triangle has no area), in the w of records 0, 1,
         // 3 and 5
-        let c = tri_corners(mesh, t).map(|v| mesh.position_f64(v));
-        let n = (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero();
-        let plane = [n.x as f32, n.y as f32, n.z as f32, n.dot(c[0]) as f32];
+        let plane = face_plane(mesh, t).map(|x| x as f32);
         let [a, b, c] = row(&w.to_bary, 0);
         out.push([a, b, c, plane[0]]);
         let [a, b, c] = row(&w.to_bary, 1);
         out.push([a, b, c, plane[1]]);
         for k in 0..3 {
-            let (nb, m) = match &w.across[k] {
-                Some((nb, m)) => (*nb as f32, *m),
-                None if w.crack[k] => (CRACK, Affine::IDENTITY),
-                None => (NO_NEIGHBOUR, Affine::IDENTITY),
-            };
-            let [a, b, c] = row(&m, 0);
-            out.push([a, b, c, nb]);
-            let [a, b, c] = row(&m, 1);
-            out.push([a, b, c, if k < 2 { plane[2 + k] } else { 0.0 }]);
+            let own = if k < 2 { plane[2 + k] } else { 0.0 };
+            match (&w.across[k], w.crack[k]) {
+                (Some((nb, m)), _) => {
+                    let [a, b, c] = row(m, 0);
+                    out.push([a, b, c, *nb as f32]);
+                    let [a, b, c] = row(m, 1);
+                    out.push([a, b, c, own]);
+                }
+                // a crack: the plane of the triangle across it in place of the map
+                (None, Some(q)) => {
+                    let q = q.map(|x| x as f32);
+                    out.push([q[0], q[1], q[2], CRACK]);
+                    out.push([q[3], 0.0, 0.0, own]);
+                }
+                (None, None) => {
+                    let [a, b, c] = row(&Affine::IDENTITY, 0);
+                    out.push([a, b, c, NO_NEIGHBOUR]);
+                    let [a, b, c] = row(&Affine::IDENTITY, 1);
+                    out.push([a, b, c, own]);
+                }
+            }
         }
         for v in tri_corners(mesh, t) {
             let v = v as usize;
@@ -457,10 +478,14 @@ mod tests {
         let (m, _) = Mesh::from_arrays(positions, normals, uvs, (0..9).collect(), None).unwrap();
         let w = build(&m);
         assert!(w.iter().all(|t| t.across.iter().all(Option::is_none)));
-        assert_eq!(w[0].crack, [false, true, false]);
+        let cracked = |t: usize| w[t].crack.map(|c| c.is_some());
+        assert_eq!(cracked(0), [false, true, false]);
         // the two small triangles' sides on x = 1: corners 2 -> 0 (side 2) of each
-        assert_eq!(w[1].crack, [false, false, true]);
-        assert_eq!(w[2].crack, [false, false, true]);
+        assert_eq!(cracked(1), [false, false, true]);
+        assert_eq!(cracked(2), [false, false, true]);
+        // the plane across: z = 0 (all three lie in it)
+        let q = w[0].crack[1].unwrap();
+        assert!((q[2].abs() - 1.0).abs() < 1e-12 && q[3].abs() < 1e-12, "{q:?}");
         // the records name it apart from a border
         let r = records(&m, &w);
         // (triangle 0's records: side k's neighbour in the w of record 2 + 2k)

@@ -41,8 +41,10 @@ struct WalkPoint {
     // false when the walk left the surface through an open border
     on: bool,
     // (where !on) the border was a crack: another open border runs along it, and the surface
-    // goes on in a triangle the walk cannot reach (walk/mod.rs)
+    // goes on in a triangle the walk cannot reach (walk/mod.rs), whose plane (unit normal,
+    // offset; object space) is crack_plane
     crack: bool,
+    crack_plane: vec4<f32>,
     // (b0, b1, b2) of uv in tri (walk_basis's weights; where on)
     b: vec3<f32>,
 }
@@ -61,12 +63,12 @@ fn walk_bary(tri: u32, uv: vec2<f32>) -> vec3<f32> {
 
 // The walk point at uv in triangle tri (no direction yet).
 fn walk_point(tri: u32, uv: vec2<f32>) -> WalkPoint {
-    return WalkPoint(tri, uv, vec2<f32>(0.0), true, false, walk_bary(tri, uv));
+    return WalkPoint(tri, uv, vec2<f32>(0.0), true, false, vec4<f32>(0.0), walk_bary(tri, uv));
 }
 
 // Move from (tri, uv) by dir * len (dir in tri's chart).
 fn walk_move(tri_in: u32, uv_in: vec2<f32>, dir: vec2<f32>, len: f32) -> WalkPoint {
-    var w = WalkPoint(tri_in, uv_in, dir, true, false, vec3<f32>(0.0));
+    var w = WalkPoint(tri_in, uv_in, dir, true, false, vec4<f32>(0.0), vec3<f32>(0.0));
     var rest = dir * len;
     for (var i = 0; i < MAX_CROSSINGS; i = i + 1) {
         let e = w.uv + rest;
@@ -101,6 +103,7 @@ fn walk_move(tri_in: u32, uv_in: vec2<f32>, dir: vec2<f32>, len: f32) -> WalkPoi
             w.uv = x;
             w.on = false;
             w.crack = r0.w < -1.5;
+            w.crack_plane = vec4<f32>(r0.xyz, r1.x);
             return w;
         }
         // the point and the rest of the move, in the neighbour's chart
@@ -138,6 +141,14 @@ fn walk_face_normal(tri: u32) -> vec3<f32> {
 fn walk_above(tri: u32, x: vec3<f32>) -> f32 {
     fetched(1u, 16u);
     return dot(walk_face_normal(tri), x) - walk_rec(tri, 5u).w;
+}
+
+// Whether a walk that left through a crack at w, its straight view ray at x (object space),
+// has lost the surface there: x lies under the plane of the triangle across the crack, where
+// the surface goes on (the ray heads into it); above it, the ray has left the surface (a crack
+// on the outline, where two faces meet at a corner without a shared edge).
+fn walk_into_crack(w: WalkPoint, x: vec3<f32>) -> bool {
+    return !w.on && w.crack && dot(w.crack_plane.xyz, x) - w.crack_plane.w < 0.0;
 }
 
 // Whether a walk that left the shell's top at w, its straight view ray at x (object space), was
