@@ -73,6 +73,7 @@ fn march(r: Ray) -> Hit {
     var t_lo = 0.0;
     var t_hi = 0.0;
     var found = false;
+    var lost = false;
     var steps = 0.0;
     let ni = i32(n);
     for (var i = 1; i <= ni; i = i + 1) {
@@ -82,13 +83,9 @@ fn march(r: Ray) -> Hit {
         if (walk_into_crack(hi, r.p + r.view * t_hi)) {
             // out through a crack (an open border that another of the mesh runs along), the
             // straight ray under the plane across it: the surface goes on where the walk cannot
-            // follow; the base mesh's point covers it
-            hit.s = r.uv * G.tiling;
-            hit.h = 1.0;
-            hit.len = 0.0;
-            hit.steps = steps;
-            hit.flags = FLAG_FALLBACK;
-            return hit;
+            // follow (the fallback below)
+            lost = true;
+            break;
         }
         if (!hi.on) {
             // out through an open border: off the surface
@@ -103,10 +100,10 @@ fn march(r: Ray) -> Hit {
         lo = hi;
         t_lo = t_hi;
     }
-    if (!found && exits && (c > FALLBACK_NDV || walk_turned_by_normals(lo, r.p + r.view * t_end, depth))) {
+    if (lost || (!found && exits && (c > FALLBACK_NDV || walk_turned_by_normals(lo, r.p + r.view * t_end, depth)))) {
         // out through the top far from any silhouette, where the normals lie far from their
-        // face, or with the straight ray still under the mesh: the quadric lost the surface;
-        // the base mesh's point at the fragment covers the pixel (flags & 4)
+        // face, or with the straight ray still under the mesh, or into a crack: the quadric
+        // lost the surface; the base mesh's point at the fragment covers the pixel (flags & 4)
         hit.s = r.uv * G.tiling;
         hit.h = 1.0;
         hit.len = 0.0;
