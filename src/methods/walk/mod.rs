@@ -276,26 +276,20 @@ pub fn records(mesh: &Mesh, walk: &[WalkTriangle]) -> Vec<[f32; 4]> {
         out.push([a, b, c, plane[1]]);
         for k in 0..3 {
             let own = if k < 2 { plane[2 + k] } else { 0.0 };
-            match (&w.across[k], w.crack[k]) {
-                (Some((nb, m)), _) => {
-                    let [a, b, c] = row(m, 0);
-                    out.push([a, b, c, *nb as f32]);
-                    let [a, b, c] = row(m, 1);
-                    out.push([a, b, c, own]);
-                }
+            let (r0, r1) = match (&w.across[k], w.crack[k]) {
                 // a crack: the plane of the triangle across it in place of the map
                 (None, Some(q)) => {
                     let q = q.map(|x| x as f32);
-                    out.push([q[0], q[1], q[2], CRACK]);
-                    out.push([q[3], 0.0, 0.0, own]);
+                    ([q[0], q[1], q[2], CRACK], [q[3], 0.0, 0.0, own])
                 }
-                (None, None) => {
-                    let [a, b, c] = row(&Affine::IDENTITY, 0);
-                    out.push([a, b, c, NO_NEIGHBOUR]);
-                    let [a, b, c] = row(&Affine::IDENTITY, 1);
-                    out.push([a, b, c, own]);
+                (across, _) => {
+                    let (nb, m) = across.map_or((NO_NEIGHBOUR, Affine::IDENTITY), |(nb, m)| (nb as f32, m));
+                    let ([a, b, c], [d, e, f]) = (row(&m, 0), row(&m, 1));
+                    ([a, b, c, nb], [d, e, f, own])
                 }
-            }
+            };
+            out.push(r0);
+            out.push(r1);
         }
         for v in tri_corners(mesh, t) {
             let v = v as usize;
