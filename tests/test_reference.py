@@ -289,3 +289,21 @@ def test_the_sweep_reports_the_aliasing_floor_beside_each_score():
     # the exact geometry scores best: every method's FLIP is at or above the floor
     assert 0 < floor <= min(x["flip"] for x in rows)
     assert all(np.isfinite(x["flip_interior"]) and np.isfinite(x["flip_silhouette"]) for x in rows)
+
+
+def test_pyrender_renders_a_textured_object_of_several():
+    """The albedo path (the material's texture as pyrender's base colour) and an object with a
+    transform, against the oracle's outline: the rasteriser agrees but for edge pixels."""
+    pytest.importorskip("pyrender")
+    mesh = pk.Mesh.plane(segments=8)
+    bricks = pk.textures.bricks(32)
+    shift = np.array([[1, 0, 0, 0], [0, 1, 0, 0.3], [0, 0, 1, -1.2], [0, 0, 0, 1]], np.float32)
+    objs = [pk.Object(mesh=mesh, material=pk.Material(bricks, depth=0.05, albedo=pk.textures.brick_albedo(bricks))),
+            pk.Object(mesh=mesh, material=pk.Material(pk.textures.pyramids(32), depth=0.05), transform=shift)]
+    cam = pk.Camera.look_at((0.0, 1.6, 1.4), (0.0, 0.0, -0.4), fov_y=45, width=64, height=64)
+    scene = pk.Scene(objects=objs, camera=cam, lights=[pk.DirectionalLight((-0.4, -1, -0.3), 3.0)])
+    pr = R.render_pyrender(scene, cache=False)
+    ref = pk.oracle.hits(scene)
+    assert metrics.mask_iou(pr, ref) > 0.97
+    lit = pr.color[pr.mask]
+    assert np.isfinite(lit).all() and lit.max() > 0.05

@@ -16,7 +16,9 @@ corner, as a Blender user merges by distance: a seam is then one surface (pomkit
 edge stays split, since Cycles displaces along vertex normals, so its sides part there. The
 geometry AOVs come from a second render of one sample through a 0.01-pixel box filter, whose
 surfaces emit (u, v, distance from the camera); the colour is a Diffuse BSDF lit by sun lights
-and a constant world, with no bounces (direct light only), box-filtered over one pixel.
+and a constant world, with no bounces (direct light only), box-filtered over one pixel. A camera
+ray passes through faces it meets from behind (a transparent BSDF there, camera rays only), as
+pomkit's rasteriser culls them and the oracle sees the surface from the side it enters.
 """
 
 from __future__ import annotations
@@ -125,7 +127,20 @@ def _material(bpy, a):
     nt.links.new(pick.outputs["Value"], mix.inputs["Fac"])
     nt.links.new(bsdf.outputs["BSDF"], mix.inputs[1])
     nt.links.new(em.outputs["Emission"], mix.inputs[2])
-    nt.links.new(mix.outputs["Shader"], out.inputs["Surface"])
+    # a camera ray goes on through a face it meets from behind (pomkit's rule: the rasteriser
+    # culls back faces, the oracle enters the shell through its top); shadow rays do not
+    geom = nt.nodes.new("ShaderNodeNewGeometry")
+    path = nt.nodes.new("ShaderNodeLightPath")
+    both = nt.nodes.new("ShaderNodeMath")
+    both.operation = "MULTIPLY"
+    nt.links.new(geom.outputs["Backfacing"], both.inputs[0])
+    nt.links.new(path.outputs["Is Camera Ray"], both.inputs[1])
+    through = nt.nodes.new("ShaderNodeBsdfTransparent")
+    cull = nt.nodes.new("ShaderNodeMixShader")
+    nt.links.new(both.outputs["Value"], cull.inputs["Fac"])
+    nt.links.new(mix.outputs["Shader"], cull.inputs[1])
+    nt.links.new(through.outputs["BSDF"], cull.inputs[2])
+    nt.links.new(cull.outputs["Shader"], out.inputs["Surface"])
     return nt_mat
 
 
@@ -166,6 +181,8 @@ def _scene(bpy, a):
     sc.cycles.use_denoising = False
     sc.cycles.seed = int(a["seed"])
     sc.cycles.max_bounces = 0
+    # back faces a camera ray passes through (counted apart from max_bounces)
+    sc.cycles.transparent_max_bounces = 16
     sc.cycles.pixel_filter_type = "BOX"
     # the micro-polygon size is the modifier's pixel size times this scene multiplier
     sc.cycles.dicing_rate = 1.0

@@ -141,19 +141,7 @@ def render_pyrender(scene: Scene, resolution: float = 2.0, cache: bool = True) -
         if not hasattr(np, "infty"):
             np.infty = np.inf  # pyrender 0.1.45 uses np.infty, removed in numpy 2
         os.environ.setdefault("PYOPENGL_PLATFORM", "egl")
-        try:
-            import pyrender  # noqa: F401
-            r, pr = _pyrender_render(scene, resolution)
-        except Exception as first:
-            if os.environ.get("PYOPENGL_PLATFORM") == "egl":
-                # retry with OSMesa in a clean interpreter state is not possible once OpenGL is
-                # imported; report both remedies
-                raise ReferenceRendererError(
-                    f"pyrender could not render headless with EGL ({first}). Install "
-                    "`libegl1 libegl-mesa0 libgl1-mesa-dri` (EGL) or `libosmesa6` and set "
-                    "PYOPENGL_PLATFORM=osmesa before importing pomkit.reference") from first
-            raise
-        color, depth = r
+        color, depth = _pyrender_render(scene, resolution)
         mask = depth > 0
         return dict(color=color, depth=np.where(mask, depth, np.nan).astype(np.float32), mask=mask,
                     ms=np.array((time.perf_counter() - t0) * 1e3))
@@ -165,9 +153,9 @@ def render_pyrender(scene: Scene, resolution: float = 2.0, cache: bool = True) -
 
 
 def _pyrender_render(scene: Scene, resolution: float):
-    import pyrender
+    pyrender = _require("pyrender")
     import trimesh
-    from ._color import srgb_to_linear
+    from ._color import linear_to_srgb8, srgb_to_linear
 
     ps = pyrender.Scene(ambient_light=np.array(list(scene.ambient)) if max(scene.ambient) > 0 else np.zeros(3),
                         bg_color=[0, 0, 0, 0])
@@ -176,7 +164,7 @@ def _pyrender_render(scene: Scene, resolution: float):
         m = o.material
         if m.albedo is not None:
             from PIL import Image
-            srgb = np.round(np.clip(_linear_to_srgb(m.albedo), 0, 1) * 255).astype(np.uint8)
+            srgb = linear_to_srgb8(m.albedo)
             # pyrender samples images with v flipped (OpenGL's origin is the bottom row)
             img = Image.fromarray(srgb[::-1])
             uv = np.asarray(tm.visual.uv) * m.tiling
@@ -206,7 +194,16 @@ def _pyrender_render(scene: Scene, resolution: float):
             lp = np.eye(4)
             lp[:3, 3] = l.position
             ps.add(pyrender.PointLight(color=np.ones(3), intensity=float(np.mean(l.power)) * 4 * math.pi), pose=lp)
-    rend = pyrender.OffscreenRenderer(cam.width, cam.height)
+    try:
+        rend = pyrender.OffscreenRenderer(cam.width, cam.height)
+    except Exception as first:
+        if os.environ.get("PYOPENGL_PLATFORM") == "egl":
+            # OSMesa cannot be tried once OpenGL is imported with EGL: report both remedies
+            raise ReferenceRendererError(
+                f"pyrender could not render headless with EGL ({first}). Install "
+                "`libegl1 libegl-mesa0 libgl1-mesa-dri` (EGL) or `libosmesa6` and set "
+                "PYOPENGL_PLATFORM=osmesa before importing pomkit.reference") from first
+        raise
     try:
         flags = pyrender.RenderFlags.SHADOWS_DIRECTIONAL | pyrender.RenderFlags.RGBA
         color, zbuf = rend.render(ps, flags=flags)
@@ -216,12 +213,7 @@ def _pyrender_render(scene: Scene, resolution: float):
     # z-buffer depth -> distance along the ray
     rays = cam.rays()
     dist = np.where(zbuf > 0, zbuf / np.maximum((rays * f).sum(-1), 1e-9), 0.0).astype(np.float32)
-    return (lin, dist), pyrender
-
-
-def _linear_to_srgb(x):
-    from ._scene import linear_to_srgb
-    return linear_to_srgb(x)
+    return lin, dist
 
 
 # ---------------------------------------------------------------- Blender's Cycles
