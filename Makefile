@@ -65,10 +65,13 @@ test-gl: setup-test
 # the corpus of other people's models (scripts/wild_manifest.toml, fetched by scripts/wild.py into
 # ~/.cache/pomkit/wild, about 300 MB): every file loaded and measured against the oracle by
 # tools/wild.py, written to docs/tables/wild.md (the test setup; tests/test_wild.py runs its sample);
-# then issue 73's five cases on its files (tools/wild_cases.py: docs/tables/wild_cases.md)
+# then issue 73's five cases on its files (tools/wild_cases.py: docs/tables/wild_cases.md), and
+# the references (Mitsuba, pyrender, Cycles where set up) against the oracle on a sample of it
+# (tools/wild_refs.py: docs/tables/wild_refs.md)
 wild: setup-test
 	$(VENV)/python tools/wild.py
 	$(VENV)/python tools/wild_cases.py
+	$(VENV)/python tools/wild_refs.py
 
 # one abi3 wheel (CPython 3.10 and later, manylinux2014: glibc 2.17 and later) in target/wheels,
 # and the sdist in target/sdist; setup reuses the wheel while the sources match
@@ -102,6 +105,7 @@ bench: setup-bench
 #   make wild         the corpus of other people's models (about 300 MB fetched once; a few hours here):
 #     tools/wild.py                     wild.md
 #     tools/wild_cases.py               wild_cases.md
+#     tools/wild_refs.py                wild_refs.md
 #   a device run (scripts/gpu_check.sh on a lent GPU, not a make target here):
 #     scripts/gpu_check.py              gpu/NVIDIA-H200-vulkan.md gpu/NVIDIA-H200-vulkan.json
 #   make tables-all   both: the slow ones first, so that cost_refit.md reads the new gpu/ tables

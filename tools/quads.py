@@ -10,6 +10,7 @@ import math
 import numpy as np
 
 from pomkit import _core, _methods, _scene
+from pomkit._displaced import core_transform
 
 #: the pixel block that runs in lock step (a SIMD group: 8 x 4 = 32 lanes, a warp)
 GROUP = (4, 8)
@@ -107,6 +108,7 @@ def triangle_counts(scene: _scene.Scene, method) -> tuple[int, int, float]:
     for i, o in enumerate(scene.objects):
         tr = np.asarray(o.transform, dtype=np.float64)
         if isinstance(method, _methods.Tessellated):
+            tr = core_transform(o)  # the tessellation is of the core's (unmirrored) mesh
             t = _core.tessellate(scene, float(method.texels_per_vertex), i, method.pattern)
             pos, faces = np.asarray(t["positions"], np.float64), np.asarray(t["faces"])
         else:

@@ -30,8 +30,8 @@ def require(module: str):
 def displaced_arrays(scene: Scene, resolution: float = 2.0, object: int = 0) -> dict:
     """positions, normals, uvs, faces of object `object`'s displaced surface in world space (its
     transform applied; normals by the inverse transpose); `resolution` vertices per texel. Also
-    the base mesh's basis each vertex was displaced from, in object space (base_normals, tangents,
-    uv_scale: what `_core.reference_normals` takes)."""
+    the base mesh's basis each vertex was displaced from, in the core's object space
+    (base_normals, tangents, uv_scale: what `_core.reference_normals` takes; `core_transform`)."""
     if not isinstance(scene, Scene):
         raise ArgumentTypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
     resolution = _v.number("resolution", resolution, 1 / 1024, 64)  # vertices per texel
@@ -40,10 +40,23 @@ def displaced_arrays(scene: Scene, resolution: float = 2.0, object: int = 0) -> 
     a: dict[str, np.ndarray] = {k: np.asarray(v) for k, v in t.items()}
     o = scene.objects[int(object)]
     if not o.is_identity:
-        m = o.transform
+        m = core_transform(o)
         a["positions"] = (a["positions"] @ m[:3, :3].T + m[:3, 3]).astype(np.float32)
         n = a["normals"] @ np.linalg.inv(m[:3, :3])  # (M^-T n) as rows
         a["normals"] = (n / np.linalg.norm(n, axis=1, keepdims=True)).astype(np.float32)
-        if np.linalg.det(m[:3, :3]) < 0:
-            a["faces"] = np.ascontiguousarray(a["faces"][:, ::-1])  # a mirror flips the winding
     return a
+
+
+def mirrors_key(scene: Scene) -> dict:
+    """The cache-key entry of a scene with a mirroring object: its displaced mesh is placed by
+    `core_transform` (renders cached before that held the mirror image of the object)."""
+    mirrors = any(np.linalg.det(o.transform[:3, :3]) < 0 for o in scene.objects)
+    return {"mirrors": "core_transform"} if mirrors else {}
+
+
+def core_transform(o) -> np.ndarray:
+    """The transform of the mesh the core holds for object `o`: `o.transform`, or for a mirroring
+    one `o.transform @ diag(-1, 1, 1, 1)` over the mesh reflected through x = 0 (pomkit.Object).
+    Arrays the core returns in object space (`_core.tessellate`, `_core.reference_normals`) take
+    this one to world space; its determinant is positive, so windings stay as the core gives them."""
+    return o._oriented[1]

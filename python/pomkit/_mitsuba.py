@@ -23,7 +23,7 @@ import os
 import numpy as np
 
 from . import _core
-from ._displaced import displaced_arrays, require
+from ._displaced import core_transform, displaced_arrays, require
 from ._scene import DirectionalLight, Material, Scene, SphereLight
 
 _VARIANT = None
@@ -356,7 +356,7 @@ class _Caster:
                                         np.ascontiguousarray(bn[sel]), np.ascontiguousarray(np.c_[tg[sel], ts[sel, 0]]),
                                         np.ascontiguousarray(ts[sel, 1:]))
             if not o.is_identity:
-                n = n @ np.linalg.inv(o.transform[:3, :3])
+                n = n @ np.linalg.inv(core_transform(o)[:3, :3])
                 n /= np.linalg.norm(n, axis=1, keepdims=True)
             normals[sel] = n
         out["n"] = normals
