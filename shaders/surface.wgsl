@@ -27,7 +27,7 @@
 #import pomkit::march::{Ray, Hit}
 #import pomkit::shading::shade
 #import pomkit::cost::count_fragment
-#import pomkit::visibility::{VisibilityOut, visibility_vertex, rasterise, tile_pixel, visibility_tex, store_color, store_geo, store_id, store_cost}
+#import pomkit::visibility::{VisibilityOut, visibility_vertex, rasterise, footprint_point, tile_pixel, visibility_tex, store_color, store_geo, store_id, store_cost}
 #import pomkit::object::{to_world, to_clip, normal_to_world, stretch, clip_depth, shadow_depth, shadow_light_object}
 
 @vertex
@@ -45,9 +45,9 @@ fn vs_shadow(v: VertexIn) -> VertexOut {
 }
 
 #ifdef WINDOW
-// the share of a window's reach within which its nearest floor holds (src/methods/hybrid:
-// NEAR_SHARE)
-const NEAR_SHARE: f32 = 0.0625;
+// the share of a window's reach within which its nearest floor holds (src/contract.rs:
+// WINDOW_NEAR_SHARE_DIV, a def)
+const NEAR_SHARE: f32 = 1.0 / f32(#{WINDOW_NEAR_SHARE_DIV}u);
 #endif
 
 // The ray of a fragment along `view` (object space, unit) in its tangent basis.
@@ -214,7 +214,7 @@ fn surface(in: VertexOut, lod: f32) -> Surfaced {
 fn fs_main(in: VertexOut) -> FsOut {
     count_fragment(in.clip.xy);
     // explicit LOD, from derivatives taken here in uniform control flow
-    let lod = compute_lod(in.uv * G.tiling);
+    let lod = compute_lod(footprint_point(in, G.tiling));
     let sf = surface(in, lod);
     if (!sf.hit) {
         discard;

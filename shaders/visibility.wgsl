@@ -18,7 +18,8 @@
 
 #import pomkit::view::V
 #import pomkit::vertex::{VertexIn, VertexOut, pass_through}
-#import pomkit::object::to_clip
+#import pomkit::object::{G, to_clip}
+#import pomkit::basis::{make_basis, to_texture_space}
 
 @group(3) @binding(0) var<storage, read> mesh_vertices: array<f32>;
 @group(3) @binding(1) var<storage, read> mesh_indices: array<u32>;
@@ -110,6 +111,22 @@ fn uv_at(b: vec3<f32>, x0: VertexIn, x1: VertexIn, x2: VertexIn) -> vec2<f32> {
     return b.x * x0.uv + b.y * x1.uv + b.z * x2.uv;
 }
 
+// The texture point whose footprint sets a fragment's mip level (and so LOD_BLEND's fade to
+// bump mapping): its own; with a window (WINDOW: Hybrid's coarse mesh, drawn at the window's
+// top), where its view ray crosses h = 1, the base mesh's point the method alone is drawn at
+// (on a plane, the same point), so that a coarse face's tilt does not change the level.
+fn footprint_point(v: VertexOut, tiling: f32) -> vec2<f32> {
+    let s = v.uv * tiling;
+#ifdef WINDOW
+    let f = make_basis(v.normal, v.tangent, v.uv_scale);
+    let t = to_texture_space(f, normalize(v.world - G.eye_object));
+    if (t.z < 0.0 && v.extra.w > 0.0) {
+        return s - t.xy / max(-t.z, 1e-6) * (1.0 - v.extra.y);
+    }
+#endif
+    return s;
+}
+
 // The fragment the rasteriser would have made at pixel `px` of a `dims` frame, from the
 // visibility target; `tiling` scales uv into the height map's texture coordinate.
 fn rasterise(px: vec2<u32>, dims: vec2<u32>, tiling: f32) -> Rasterised {
@@ -143,8 +160,13 @@ fn rasterise(px: vec2<u32>, dims: vec2<u32>, tiling: f32) -> Rasterised {
     let b10 = barycentrics(c0, c1, c2, to_ndc(vec2<f32>(q.x + 1.0, centre.y), size));
     let b01 = barycentrics(c0, c1, c2, to_ndc(vec2<f32>(centre.x, q.y), size));
     let b11 = barycentrics(c0, c1, c2, to_ndc(vec2<f32>(centre.x, q.y + 1.0), size));
+#ifdef WINDOW
+    r.ds_dx = footprint_point(lerp3(b10, x0, x1, x2), tiling) - footprint_point(lerp3(b00, x0, x1, x2), tiling);
+    r.ds_dy = footprint_point(lerp3(b11, x0, x1, x2), tiling) - footprint_point(lerp3(b01, x0, x1, x2), tiling);
+#else
     r.ds_dx = (uv_at(b10, x0, x1, x2) - uv_at(b00, x0, x1, x2)) * tiling;
     r.ds_dy = (uv_at(b11, x0, x1, x2) - uv_at(b01, x0, x1, x2)) * tiling;
+#endif
     return r;
 }
 

@@ -13,6 +13,11 @@ use std::sync::{Arc, Mutex};
 /// Loops a shader may run per pixel: more would risk the driver's watchdog.
 pub const MAX_STEPS_LIMIT: u32 = 4096;
 
+/// WINDOW's vertex attribute (src/methods/hybrid writes it, surface.wgsl reads it): the nearest
+/// of its two floors holds for a ray that stays within 1 / WINDOW_NEAR_SHARE_DIV of its reach
+/// (the shader def of that name).
+pub const WINDOW_NEAR_SHARE_DIV: u32 = 16;
+
 pub use crate::fields::{FieldValue, Fields, FromFields};
 
 /// A parameter struct whose fields are read from `Fields` by their names (the dataclass's).

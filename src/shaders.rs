@@ -31,15 +31,15 @@ pub const LIBRARY: &[(&str, &str)] = &[
     ),
     ("shaders/cost.wgsl", include_str!("../shaders/cost.wgsl")),
     (
-        "shaders/visibility.wgsl",
-        include_str!("../shaders/visibility.wgsl"),
-    ),
-    (
         "shaders/max_tables.wgsl",
         include_str!("../shaders/max_tables.wgsl"),
     ),
     ("shaders/aov.wgsl", include_str!("../shaders/aov.wgsl")),
     ("shaders/basis.wgsl", include_str!("../shaders/basis.wgsl")),
+    (
+        "shaders/visibility.wgsl",
+        include_str!("../shaders/visibility.wgsl"),
+    ),
     (
         "shaders/height.wgsl",
         include_str!("../shaders/height.wgsl"),
@@ -172,6 +172,12 @@ pub fn defs(
     }
     for f in &spec.defs {
         d.insert(f.to_string(), ShaderDefValue::Bool(true));
+    }
+    if spec.defs.contains(&"WINDOW") {
+        d.insert(
+            "WINDOW_NEAR_SHARE_DIV".to_string(),
+            ShaderDefValue::UInt(crate::contract::WINDOW_NEAR_SHARE_DIV),
+        );
     }
     d
 }

@@ -7,7 +7,7 @@
 // angles in exchange for fewer artefacts.
 #define_import_path pomkit::methods::relief
 
-#import pomkit::march::{Ray, Hit, Segment, planar_hit, linear_search, segment_h}
+#import pomkit::march::{Ray, Hit, Segment, planar_hit, view_search, segment_h}
 #import pomkit::height::height_at
 #import pomkit::cost::chained
 
@@ -25,7 +25,7 @@ fn march(r: Ray) -> Hit {
     }
     let span = r.top - r.floor;
     let g = Segment(r.s, dsdh * span, r.top, -span);
-    let b = linear_search(g, params.linear_steps, r.lod);
+    let b = view_search(g, params.linear_steps, r.lod);
     var steps = b.steps;
     var hi = segment_h(g, b.t_prev); // ray height above the surface
     var lo = segment_h(g, b.t_cur);  // ray height at or below the surface

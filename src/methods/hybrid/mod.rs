@@ -44,8 +44,8 @@ use std::collections::HashMap;
 const MARGIN: f64 = 1e-3;
 
 /// The nearer of the window's two floors holds for rays that stay within this share of `reach`
-/// of their fragment (surface.wgsl reads the same share: NEAR_SHARE there).
-const NEAR_SHARE: f64 = 0.0625;
+/// of their fragment (the contract's WINDOW_NEAR_SHARE_DIV, which surface.wgsl reads as a def).
+const NEAR_SHARE: f64 = 1.0 / crate::contract::WINDOW_NEAR_SHARE_DIV as f64;
 
 #[derive(Debug)]
 pub struct WindowMesh {
