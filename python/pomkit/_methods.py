@@ -545,9 +545,10 @@ class Hybrid(Method):
     def __post_init__(self):
         if not isinstance(self.coarse, (Tessellated, Flat)):
             raise ArgumentTypeError(f"coarse: expected pk.Tessellated(texels_per_vertex=...) or pk.Flat(), got {type(self.coarse).__name__}")
-        if not isinstance(self.fine, Method) or self.fine._kind not in _core.HYBRID_FINE_KINDS:
-            raise ArgumentError(f"fine: expected one of pk.{', pk.'.join(_core.HYBRID_FINE_KINDS)} (a search that marches a "
-                                f"window of the shell), got {type(self.fine).__name__}")
+        windowed = isinstance(self.fine, Custom) and self.fine.windowed
+        if not isinstance(self.fine, Method) or (self.fine._kind not in _core.HYBRID_FINE_KINDS and not windowed):
+            raise ArgumentError(f"fine: expected one of pk.{', pk.'.join(_core.HYBRID_FINE_KINDS)}, or a pk.Custom with "
+                                f"windowed=True (a search that marches a window of the shell), got {type(self.fine).__name__}")
 
     @property
     def safety(self) -> str:
@@ -574,11 +575,16 @@ class Custom(_PerPixel):
     Follows the displaced surface (docs/conventions.md) but at open borders and seams: it marches
     the fragment's tangent plane, tiled without end, so it goes on past a plane's border and
     does not see the wall that closes a step at a seam whose heights disagree.
+
+    windowed: the march searches the Ray's window, from `r.s` at height `r.top` down to
+    `r.floor` (what `view_segment(r)` spans; alone, [0, 1] from the fragment), so that
+    `pk.Hybrid` can take it as its fine method (docs/custom_methods.md, "Windows").
     """
 
     wgsl: str = ""
     name: str = "custom"
     params: dict = field(default_factory=dict)
+    windowed: bool = False
     _kind = "Custom"
 
     def _validate(self):
@@ -593,9 +599,10 @@ class Custom(_PerPixel):
                 raise ArgumentError(f"params: names must be identifiers that neither start with _ nor end in a digit (WGSL naming rules of the composer), got {k!r}")
             _v.number(f"params[{k!r}]", v)
         _set(self, "params", {k: float(v) for k, v in self.params.items()})
+        _bool_field(self, "windowed")
 
     def __hash__(self):
-        return hash((self.wgsl, self.name, tuple(self.params.items()), self.shadows, self.filtering))
+        return hash((self.wgsl, self.name, tuple(self.params.items()), self.windowed, self.shadows, self.filtering))
 
     @property
     def label(self) -> str:

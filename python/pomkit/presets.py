@@ -113,7 +113,7 @@ def qgis_contact_refinement() -> Custom:
     level at mid-grey is pomkit's h = 1 (the mesh's surface) instead."""
     src = (files("pomkit") / "wgsl" / "contact_refinement.wgsl").read_text()
     return Custom(wgsl=src, name="qgis_contact_refinement", mip_filtering=True,
-                  params={"steps": 15.0, "offset_limiting": 1.0})
+                  params={"steps": 15.0, "offset_limiting": 1.0}, windowed=True)
 
 
 #: name -> factory. Unreal's ParallaxOcclusionMapping material function is not included: its

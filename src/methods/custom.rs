@@ -11,6 +11,9 @@ pub struct Custom {
     pub name: String,
     pub wgsl: String,
     pub params: Vec<(String, f32)>,
+    /// its march searches the Ray's window (from `r.s` at `r.top` down to `r.floor`), so that
+    /// `Hybrid` can take it as its fine method
+    pub windowed: bool,
 }
 
 impl crate::contract::FromFields for Custom {
@@ -19,6 +22,7 @@ impl crate::contract::FromFields for Custom {
             name: f.str("name")?,
             wgsl: f.str("wgsl")?,
             params: f.f32_map("params")?,
+            windowed: f.bool("windowed")?,
         })
     }
 }
@@ -32,7 +36,7 @@ fn is_ident(s: &str) -> bool {
 
 impl Custom {
     /// The fields the core reads, by name.
-    pub const FIELDS: &'static [&'static str] = &["name", "wgsl", "params"];
+    pub const FIELDS: &'static [&'static str] = &["name", "wgsl", "params", "windowed"];
 
     /// The import path: the name plus a hash of everything that shapes the module, so that a
     /// changed source or parameter list is a new module.
@@ -102,6 +106,7 @@ mod tests {
             name: "broken".into(),
             wgsl: "#import pomkit::march::{Ray, Hit}\n\nfn march(r: Ray) -> Hit {\n    let x: f32 = undefined_thing;\n}\n".into(),
             params: vec![],
+            windowed: false,
         };
         let e = lib
             .compose(

@@ -151,7 +151,8 @@ registry! {
     Hybrid(Hybrid) = "Hybrid",
 }
 
-/// The methods whose search honours the Ray's window (`floor`, `top`): `Hybrid`'s fine methods.
+/// The methods whose search honours the Ray's window (`floor`, `top`): `Hybrid`'s fine methods
+/// (and a `Custom` that says its march does: `windowed`).
 pub const WINDOWED: &[&str] = &["POM", "SteepParallax", "Relief", "Exact", "ConeStep"];
 
 /// A coarse mesh displaced at its vertices (hybrid/: Tessellated's lattice) and a per-pixel
@@ -187,10 +188,11 @@ impl FromFields for Hybrid {
             }
         };
         let (fk, ff) = f.object("fine")?;
-        if !WINDOWED.contains(&fk.as_str()) {
+        let windowed_custom = fk == "Custom" && ff.bool("windowed")?;
+        if !WINDOWED.contains(&fk.as_str()) && !windowed_custom {
             return Err(Error::arg(
                 "fine",
-                format!("must be one of {} (a search that marches a window of the shell), got {fk}", WINDOWED.join(", ")),
+                format!("must be one of {}, or a Custom with windowed=True (a search that marches a window of the shell), got {fk}", WINDOWED.join(", ")),
             ));
         }
         let fine = from_fields(&fk, &*ff).expect("a registered kind")?;
