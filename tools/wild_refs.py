@@ -102,12 +102,14 @@ def _f(x, fmt=".4f") -> str:
 
 def table(rows: list[dict], files: int) -> str:
     zero = [r for r in rows if r["depth"] == "0"]
-    bad = [r for r in zero if r["mitsuba_iou"] < BOUND_IOU or not (r["mitsuba_uv_p99"] <= BOUND_UV_P99)]
+    # a view whose interior (eroded by 3 pixels) is empty, a thin part edge-on, has its IoU alone
+    bad = [r for r in zero if r["mitsuba_iou"] < BOUND_IOU or r["mitsuba_uv_p99"] > BOUND_UV_P99]
+    thin = [r for r in zero if not np.isfinite(r["mitsuba_uv_p99"])]
     cyc = [r for r in rows if "cycles_iou" in r]
     pyr = [r for r in rows if "pyrender_iou" in r]
     head = (f"{files} files, {len({r['id'] for r in rows})} measured, {len(rows)} views. Mitsuba's default reference at "
             f"depth 0 within issue 73's bounds (IoU >= {BOUND_IOU}, interior uv p99 <= {BOUND_UV_P99} texel) on "
-            f"{len(zero) - len(bad)} of {len(zero)} views"
+            f"{len(zero) - len(bad)} of {len(zero)} views ({len(thin)} of them without interior pixels: IoU alone)"
             + (f"; worst IoU {min(r['mitsuba_iou'] for r in zero):.4f}, worst uv p99 "
                f"{max(r['mitsuba_uv_p99'] for r in zero if np.isfinite(r['mitsuba_uv_p99'])):.4f}" if zero else "")
             + (f". pyrender IoU min {min(r['pyrender_iou'] for r in pyr):.4f} over {len(pyr)} views" if pyr else "")
