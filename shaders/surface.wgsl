@@ -86,8 +86,8 @@ fn make_ray(in: VertexOut, f: Basis, s0: vec2<f32>, lod: f32, view: vec3<f32>, u
         fl = in.extra.x;
     }
     if (!descends && in.extra.w > 0.0) {
-        // a coarse face seen where the base normal turns away (past the base mesh's outline):
-        // the ray does not descend in the base's basis, and the surface is taken at the entry
+        // a coarse face seen where the base normal turns away: `surface` draws nothing there;
+        // a shadow ray (fs_shadow) takes the surface at the entry
         r.top = top;
         r.floor = top;
     } else if (near || in.extra.w <= 0.0) {
@@ -184,6 +184,17 @@ fn surface(in: VertexOut, lod: f32) -> Surfaced {
     w_bump = lod_bump_weight(lod);
 #endif
     var c_march = vec3<f32>(0.0);
+#ifdef WINDOW
+    // a coarse face seen where the base normal turns away (past the base mesh's outline, or
+    // where a thin part's averaged normals face away from its face): the ray does not enter the
+    // shell in the base's basis, so the displaced surface is not there; what lies behind shows
+    // (taking the coarse face's entry drew thin wings' parts in front of the surface the oracle
+    // hits: Erwin.ac 129 texels uv p95 at 4 texels a vertex, now 4.4-5.7 as Tessellated's fold)
+    if (in.extra.w > 0.0 && to_texture_space(f, view).z >= 0.0) {
+        out.hit = false;
+        return out;
+    }
+#endif
     if (w_bump < 1.0) {
         let hit = method::march(make_ray(in, f, s0, lod, view, in.uv));
         if (hit.exited) {
