@@ -50,8 +50,8 @@ def time_methods(r: _render.Renderer, scene: _scene.Scene, methods: list, aovs: 
     machine's drift falls on all of them alike). After `min_repeats` rounds, rounds continue
     until no method's median moves by more than `rel_tol` between rounds, or `max_repeats`.
 
-    Returns per method: median, p25, p75 (ms; GPU timestamps where the adapter has them, else
-    wall time), `call_ms` (median wall time of the Python call), `march_ms` (median cost above
+    Returns per method: `ms` (the median), `ms_p25`, `ms_p75` (GPU timestamps where the adapter
+    has them, else wall time), `call_ms` (median wall time of the Python call), `march_ms` (median cost above
     Flat timed in the same rounds; `baseline=False` skips Flat), `over_first` (the median of
     per-round ratios to the first method: steadier than a ratio of medians on a noisy machine),
     `repeats`, `timing` and `times` (the ms of each round, for ratios of one's own).
