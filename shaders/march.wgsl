@@ -150,15 +150,22 @@ fn linear_search_from(g: Segment, n: f32, lod: f32, d0: f32, steps0: f32) -> Bra
     return b;
 }
 
-// The linear search of a window narrower than the shell (Hybrid's fine method: WINDOW), on
-// the lattice of heights 1 - k d anchored at h = 1, d = 1 / (n 2^j) with the largest j that
-// keeps the window's span within n steps: the segment's start (the window's top), every lattice
-// height strictly inside the window, and its end (the floor). Its samples are those of the
-// search over [0, 1] in n steps that lie in the window, and for every halving of the span, the
-// points halfway between them: a window that holds the field never finds its first sample below
-// the surface farther along the ray than the shell's search would, and a narrower one samples a
-// superset of a wider one's lattice (issue 74: never worse, and no worse as the window shrinks).
-// At most n + 2 samples; over [0, 1] with a whole n, `linear_search`'s.
+// The shell's lattice in a window from `top` down `span` (heights), for a search that takes `n`
+// steps over [0, 1] alone: heights 1 - k d, with d = 1 / (n m) and m = floor(1 / span) (so that
+// the window holds at most n of them), and the first k whose height lies strictly below `top`.
+// Its heights are the search alone's that fall in the window, and the ones between them a
+// narrower window adds. Returns (d, k).
+fn window_lattice(top: f32, span: f32, n: f32) -> vec2<f32> {
+    let d = 1.0 / (max(n, 1.0) * max(floor(1.0 / max(span, 1e-6)), 1.0));
+    return vec2<f32>(d, floor((1.0 - top) / d) + 1.0);
+}
+
+// The linear search of a window narrower than the shell (Hybrid's fine method: WINDOW) on the
+// shell's lattice (`window_lattice`): the segment's start (the window's top), every lattice
+// height strictly inside the window, and its end (the floor). A window that holds the field
+// then never finds its first sample below the surface farther along the ray than the search
+// alone would (issue 74: never worse). At most n + 2 samples; over [0, 1] with a whole n,
+// `linear_search`'s.
 fn window_search(g: Segment, n: f32, lod: f32) -> Bracket {
     var b: Bracket;
     b.steps = 1.0;
@@ -172,16 +179,14 @@ fn window_search(g: Segment, n: f32, lod: f32) -> Bracket {
     }
     let top = g.h;
     let bottom = g.h + g.dh;
-    let parts = max(floor(1.0 / span), 1.0);
-    let d = 1.0 / (max(n, 1.0) * parts);
-    // the first lattice height strictly below the top
-    var k = floor((1.0 - top) / d) + 1.0;
+    let lattice = window_lattice(top, span, n);
+    var k = lattice.y;
     let ni = i32(ceil(max(n, 1.0))) + 2;
     var done = false;
     for (var i = 0; i < ni && b.d_cur > 0.0 && !done; i = i + 1) {
         b.t_prev = b.t_cur;
         b.d_prev = b.d_cur;
-        let h = 1.0 - k * d;
+        let h = 1.0 - k * lattice.x;
         done = h <= bottom;
         b.t_cur = select((top - h) / span, 1.0, done);
         b.d_cur = segment_h(g, b.t_cur) - height_at(segment_s(g, b.t_cur), lod);

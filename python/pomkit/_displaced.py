@@ -50,7 +50,7 @@ def displaced_arrays(scene: Scene, resolution: float = 2.0, object: int = 0) -> 
 def mirrors_key(scene: Scene) -> dict:
     """The cache-key entry of a scene with a mirroring object: its displaced mesh is placed by
     `core_transform` (renders cached before that held the mirror image of the object)."""
-    mirrors = any(np.linalg.det(o.transform[:3, :3]) < 0 for o in scene.objects)
+    mirrors = any(core_transform(o) is not o.transform for o in scene.objects)
     return {"mirrors": "core_transform"} if mirrors else {}
 
 

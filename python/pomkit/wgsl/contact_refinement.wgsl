@@ -15,15 +15,13 @@
 // Parameters: params.steps (QGIS: 15), params.offset_limiting.
 //
 // Windowed (pk.Custom(windowed=True)): the search spans the Ray's window, from r.s at r.top
-// down to r.floor, so that pk.Hybrid can take it as its fine method. In a window (WINDOW) its
-// coarse taps lie on the shell's lattice, as the built-in searches' (march.wgsl,
-// `window_search`): heights 1 - k / ((steps + 1) m), m = floor(1 / the window's depth), those
-// the search alone taps in the window and the ones between; then the floor. The window's top is
-// tapped too (alone the entry is taken to lie on the field). The interval that
-// holds the crossing is walked in as many taps as the search alone would have left at its
-// height. Alone, the taps are the ones above. With offset limiting the search leaves the view ray, so that a window
-// that holds the field along the ray need not hold it along the search (docs/hybrid.md).
-#import pomkit::march::{Ray, Hit, planar_hit}
+// down to r.floor, so that pk.Hybrid can take it as its fine method. In a window (WINDOW) the
+// window's top is tapped (alone the entry is taken to lie on the field), the coarse taps lie on
+// the shell's lattice (march.wgsl, `window_lattice`, for steps + 1 intervals) and then the floor,
+// and the interval that holds the crossing is walked in as many taps as the search alone would
+// have left at its height. With offset limiting the search leaves the view ray, so that a
+// window that holds the field along the ray need not hold it along the search (docs/hybrid.md).
+#import pomkit::march::{Ray, Hit, planar_hit, window_lattice}
 #import pomkit::height::height_at
 #import pomkit::cost::chained
 
@@ -36,10 +34,9 @@ fn march(r: Ray) -> Hit {
         let c = clamp(r.ndotv, 0.0, 1.0);
         slide = r.dsdh * c * (2.0 - c);
     }
-    let span = slide * depth;
     // from the view ray's entry into the window (r.s at r.top): offset limiting bends the
     // search off the view ray from there, by less the narrower the window
-    let s_top = r.s;
+    let span = slide * depth;
     let n = max(round(params.steps), 1.0);
     var left = n;
     var dt = 1.0 / (n + 1.0);
@@ -55,22 +52,22 @@ fn march(r: Ray) -> Hit {
 #ifdef WINDOW
     // the window's top is tapped: the field lies below it, where alone the search takes it to
     // stand at the top of the shell, the base surface
-    d_above = r.top - height_at(s_top, r.lod);
+    d_above = r.top - height_at(r.s, r.lod);
     steps = steps + 1.0;
     // the window's top, its lattice taps and its floor, then the refinement
     most = most + 2;
-    let lattice = 1.0 / ((n + 1.0) * max(floor(1.0 / max(depth, 1e-6)), 1.0));
-    var k = floor((1.0 - r.top) / lattice) + 1.0;
+    let lattice = window_lattice(r.top, depth, n + 1.0);
+    var k = lattice.y;
 #endif
     for (var i = 0; i < most && left > 0.0; i = i + 1) {
         var t = t_above + dt;
 #ifdef WINDOW
         if (!refine) {
-            t = min((r.top - (1.0 - k * lattice)) / max(depth, 1e-6), 1.0);
+            t = min((r.top - (1.0 - k * lattice.x)) / max(depth, 1e-6), 1.0);
             k = k + 1.0;
         }
 #endif
-        let d = (r.top - depth * t) - height_at(s_top + span * t, r.lod);
+        let d = (r.top - depth * t) - height_at(r.s + span * t, r.lod);
         steps = steps + 1.0;
         if (d <= 0.0) {
             t_below = t;
@@ -104,7 +101,7 @@ fn march(r: Ray) -> Hit {
 #endif
     }
     if (!found) {
-        d_below = r.floor - height_at(s_top + span, r.lod);
+        d_below = r.floor - height_at(r.s + span, r.lod);
         steps = steps + 1.0;
     }
     var t_hit = t_below;
@@ -112,5 +109,5 @@ fn march(r: Ray) -> Hit {
     if (denom > 1e-12) {
         t_hit = t_above + (t_below - t_above) * (d_above / denom);
     }
-    return planar_hit(r, s_top + span * t_hit, clamp(r.top - depth * t_hit, 0.0, 1.0), steps, 0u);
+    return planar_hit(r, r.s + span * t_hit, clamp(r.top - depth * t_hit, 0.0, 1.0), steps, 0u);
 }
