@@ -47,11 +47,11 @@ test: setup-test
 	$(VENV)/python -m mypy
 	scripts/numpy_floor.sh
 	@scripts/stage.sh pytest
-	$(VENV)/python -m pytest tests notebooks --nbmake
+	$(VENV)/python -m pytest tests notebooks --nbmake -n 2 --dist loadfile
 	@scripts/stage.sh gl
 	@echo "== the GL backend (POMKIT_BACKEND=gl): core, method, analytic, differential, shadow and target tests =="
 	POMKIT_BACKEND=gl scripts/cargo_test.sh --test core_render 2>&1 | grep -E "^(test result|error|failures|---- )|panicked" ; test $${PIPESTATUS[0]} -eq 0
-	POMKIT_BACKEND=gl POMKIT_DIFF_EXAMPLES=3 $(VENV)/python -m pytest $(GL_TESTS) -q
+	POMKIT_BACKEND=gl POMKIT_DIFF_EXAMPLES=3 $(VENV)/python -m pytest $(GL_TESTS) -q -n 2 --dist loadfile
 	@scripts/stage.sh distributions
 	@echo "== the distributions: the manylinux2014 wheel's tag (auditwheel), the sdist built by pip, each rendering a frame =="
 	scripts/check_dist.sh

@@ -307,6 +307,11 @@ pub trait MethodGeometry: std::fmt::Debug + Send + Sync {
     fn shadow_cull_back(&self) -> bool {
         false
     }
+    /// Build from the object with its contacts found (the other objects' open borders that
+    /// meet its own: `Object::contacts`); they are part of the key.
+    fn uses_contacts(&self) -> bool {
+        false
+    }
 }
 
 /// The mesh the pass rasterises.

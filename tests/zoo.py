@@ -202,6 +202,29 @@ def cracked_plane(size: int = 128):
     return pk.Mesh.from_arrays(p, n, uv, tri.astype(np.uint32).ravel()), crate(size)[1]
 
 
+def split_plane(size: int = 128, depth: float = 0.1):
+    """cracked_plane's two halves as two objects, as a model split into primitives by material
+    is: the left half as it stands, the right half modelled 3 units to the right at twice the
+    size and placed back by its transform (a scale of 0.5, its depth halved with it). The crack
+    runs between the objects, so that no mesh of its own shows it."""
+    mesh, h = cracked_plane(size)
+    p, uv = mesh.positions, mesh.uvs
+    tri = np.asarray(mesh.indices, np.int64).reshape(-1, 3)
+    objs = []
+    for right in (False, True):
+        keep = tri[(p[tri].mean(1)[:, 0] > 0.0) == right]
+        used, idx = np.unique(keep, return_inverse=True)
+        q = p[used].copy()
+        m = np.eye(4)
+        if right:
+            q = (q + [3.0, 0.0, 0.0]) * 2.0
+            m = np.diag([0.5, 0.5, 0.5, 1.0]) @ np.array([[1, 0, 0, -6.0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])
+        n = np.tile([0.0, 1.0, 0.0], (len(q), 1))
+        half = pk.Mesh.from_arrays(q, n, uv[used], idx.astype(np.uint32).ravel())
+        objs.append(pk.Object(half, pk.Material(h, depth=depth * (2.0 if right else 1.0)), transform=m))
+    return objs
+
+
 ZOO = {"rock": rock, "terrain": terrain, "mirrored_slab": mirrored_slab, "crate": crate, "big": big}
 
 

@@ -147,7 +147,8 @@ def cached(kind: str, key: str, compute: Callable[[], dict], use_cache: bool = T
     if use_cache:
         buf = io.BytesIO()
         np.savez_compressed(buf, __digest__=np.array(_digest(arrays)), **arrays)
-        tmp = path.with_suffix(".tmp")
+        # a name of this process's own: test workers may compute the same key at once
+        tmp = path.with_suffix(f".{os.getpid()}.tmp")
         tmp.write_bytes(buf.getvalue())
         tmp.replace(path)
     return arrays

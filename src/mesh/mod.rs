@@ -9,6 +9,7 @@ pub mod mikktspace;
 pub mod normals;
 pub mod quadrics;
 pub mod topology;
+pub mod borders;
 
 use crate::error::{Error, Result};
 use glam::{DVec2, DVec3};

@@ -155,6 +155,7 @@ fn object_from_py(o: &Bound<'_, PyAny>) -> PyResult<Object> {
         mesh,
         material,
         transform,
+        contacts: Default::default(),
     })
 }
 

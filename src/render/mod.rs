@@ -36,7 +36,7 @@ pub use crate::heightmap::top_maxmip_level;
 pub use supersample::SPP_TILE_SAMPLES;
 pub use targets::{Aovs, Frame, DEPTH_FORMAT};
 
-use crate::contract::{BuildInputs, Builders, Filtering, GpuMesh, Resident, Spec};
+use crate::contract::{BuildInputs, Builders, Filtering, Geometry, GpuMesh, Resident, Spec};
 use crate::error::{Error, Result};
 use crate::gpu::Context;
 use mip_builder::MipBuilder;
@@ -426,7 +426,24 @@ impl Renderer {
             Ok((params, binds))
         })?;
         let mut draws = Vec::with_capacity(scene.objects.len());
+        let contacts = match &spec.geometry {
+            Geometry::Own(g) if g.uses_contacts() && scene.objects.len() > 1 => {
+                Some(self.resources.lock().map_err(poisoned)?.contacts(&scene.objects)?)
+            }
+            _ => None,
+        };
         for (id, obj) in scene.objects.iter().enumerate() {
+            let with_contacts;
+            let obj = match &contacts {
+                Some(c) => {
+                    with_contacts = crate::scene::Object {
+                        contacts: c[id].clone(),
+                        ..obj.clone()
+                    };
+                    &with_contacts
+                }
+                None => obj,
+            };
             let (height, albedo, mesh, own) = {
                 let mut res = self.resources.lock().map_err(poisoned)?;
                 let albedo = res.albedo(ctx, obj.material.albedo.as_deref())?;

@@ -8,6 +8,8 @@ use crate::error::Result;
 use crate::gpu::Context;
 use super::mip_builder::MipBuilder;
 use crate::heightmap::{mip_count, pyramid, GpuHeight};
+use crate::mesh::borders::{contacts, open_borders, Border, Contacts, Part};
+use crate::mesh::topology::Topology;
 use crate::scene::{Albedo, HeightMap, Keyed, Object};
 use std::sync::Arc;
 
@@ -66,6 +68,8 @@ pub struct Resources {
     pub meshes: Cached<GpuMesh>,
     /// methods' own resources, keyed as each method says
     pub method: Cached<Vec<Resident>>,
+    /// meshes' open borders (by mesh key), for the objects' contacts
+    pub borders: Cached<Vec<Border>>,
 }
 
 impl Resources {
@@ -75,7 +79,24 @@ impl Resources {
             albedos: Cached::new(8),
             meshes: Cached::new(8),
             method: Cached::new(8),
+            borders: Cached::new(64),
         }
+    }
+
+    /// Each object's contacts (`mesh::borders::contacts`), its mesh's borders found once.
+    pub fn contacts(&mut self, objects: &[Object]) -> Result<Vec<Contacts>> {
+        let mut parts = Vec::with_capacity(objects.len());
+        for o in objects {
+            let borders = self.borders.get_or(o.mesh.key, || {
+                Ok(open_borders(&o.mesh, &Topology::quantised(&o.mesh)))
+            })?;
+            parts.push(Part {
+                borders,
+                bounds: o.mesh.bounds(),
+                to_world: o.transform.m,
+            });
+        }
+        Ok(contacts(&parts))
     }
 
     pub fn height(

@@ -312,6 +312,10 @@ pub struct Object {
     pub mesh: Shared<Mesh>,
     pub material: Material,
     pub transform: Transform,
+    /// the other objects' open borders that meet this one's (`mesh::borders::contacts`):
+    /// empty as a scene is read; the renderer finds them for a geometry that asks
+    /// (`MethodGeometry::uses_contacts`)
+    pub contacts: crate::mesh::borders::Contacts,
 }
 
 impl Object {
@@ -382,6 +386,7 @@ impl Scene {
                 mesh,
                 material,
                 transform: Transform::default(),
+                contacts: Default::default(),
             }],
             camera,
             lights,

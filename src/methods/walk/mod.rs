@@ -23,6 +23,7 @@
 use crate::contract::{GeometryData, GpuMesh, MethodGeometry, Resident, ResourceKind, ShaderUnit};
 use crate::error::{Error, Result};
 use crate::gpu::Context;
+use crate::mesh::borders::{open_borders, ForeignBorder, TOLERANCE};
 use crate::mesh::topology::Topology;
 use crate::mesh::{Mesh, Vertex};
 use crate::scene::{hash_bytes, Object};
@@ -161,28 +162,32 @@ fn face_plane(mesh: &Mesh, t: usize) -> [f64; 4] {
     [n.x, n.y, n.z, n.dot(c[0])]
 }
 
-/// Per triangle and side: where the side is an open border that another open border of the
-/// mesh runs along, overlapping it by more than 1e-5 of the mesh's size and within that of its
-/// line (a T-junction, or two triangles whose shared edge was not welded), the plane of the
-/// other border's triangle. The border edges are binned in a grid of about one edge a cell,
-/// each compared with those of its cells.
-pub fn cracks(mesh: &Mesh, topo: &Topology) -> Vec<[Option<[f64; 4]>; 3]> {
+/// Per triangle and side: where the side is an open border that another open border runs
+/// along, overlapping it by more than `borders::TOLERANCE` of the mesh's size and within that
+/// of its line (a T-junction, two triangles whose shared edge was not welded, or another
+/// object's border in `foreign`, in this mesh's space), the plane of the other border's
+/// triangle. The border edges are binned in a grid of about one edge a cell, each compared with
+/// those of its cells.
+pub fn cracks(
+    mesh: &Mesh,
+    topo: &Topology,
+    foreign: &[ForeignBorder],
+) -> Vec<[Option<[f64; 4]>; 3]> {
     let n = mesh.indices.len() / 3;
     let mut out = vec![[None; 3]; n];
-    let border: Vec<(usize, usize, DVec3, DVec3)> = (0..n)
-        .flat_map(|t| (0..3).map(move |k| (t, k)))
-        .filter(|&(t, k)| topo.edges[topo.tri_edges[t][k] as usize].1.len() == 1)
-        .map(|(t, k)| {
-            let c = tri_corners(mesh, t);
-            (t, k, mesh.position_f64(c[k]), mesh.position_f64(c[(k + 1) % 3]))
-        })
+    let own = open_borders(mesh, topo);
+    // own borders first (their index is their place in `own`), then the other objects'
+    let border: Vec<ForeignBorder> = own
+        .iter()
+        .map(|b| b.segment())
+        .chain(foreign.iter().copied())
         .collect();
-    if border.len() < 2 {
+    if border.len() < 2 || own.is_empty() {
         return out;
     }
     let (lo, hi) = mesh.bounds();
     let extent = (hi - lo).max_element().max(1e-30);
-    let tol = 1e-5 * extent;
+    let tol = TOLERANCE * extent;
     let cell = extent / (border.len() as f64).cbrt().max(1.0);
     let dims = ((hi - lo) / cell).floor().as_ivec3() + 1;
     let at = |x: DVec3| ((x - lo) / cell).floor().as_ivec3().clamp(glam::IVec3::ZERO, dims - 1);
@@ -193,12 +198,13 @@ pub fn cracks(mesh: &Mesh, topo: &Topology) -> Vec<[Option<[f64; 4]>; 3]> {
             (c0.y..=c1.y).flat_map(move |y| (c0.z..=c1.z).map(move |z| glam::IVec3::new(x, y, z)))
         })
     };
-    for (i, &(_, _, a, b)) in border.iter().enumerate() {
-        for c in cells_of(a, b) {
+    for (i, f) in border.iter().enumerate() {
+        for c in cells_of(f.a, f.b) {
             grid.entry(c).or_default().push(i as u32);
         }
     }
-    for (i, &(t, k, a, b)) in border.iter().enumerate() {
+    for (i, o) in own.iter().enumerate() {
+        let (a, b) = (o.a, o.b);
         let len = (b - a).length();
         if !(len > tol) {
             continue;
@@ -209,27 +215,28 @@ pub fn cracks(mesh: &Mesh, topo: &Topology) -> Vec<[Option<[f64; 4]>; 3]> {
             (v - d * v.dot(d)).length()
         };
         let runs_along = |j: u32| {
-            let (_, _, c, e) = border[j as usize];
-            if j as usize == i || off_line(c) > tol || off_line(e) > tol {
+            let f = &border[j as usize];
+            if j as usize == i || off_line(f.a) > tol || off_line(f.b) > tol {
                 return false;
             }
             let (s0, s1) = {
-                let (u, w) = ((c - a).dot(d), (e - a).dot(d));
+                let (u, w) = ((f.a - a).dot(d), (f.b - a).dot(d));
                 (u.min(w), u.max(w))
             };
             s1.min(len) - s0.max(0.0) > tol
         };
-        out[t][k] = cells_of(a, b)
+        out[o.tri as usize][o.side as usize] = cells_of(a, b)
             .find_map(|c| grid.get(&c).and_then(|v| v.iter().copied().find(|&j| runs_along(j))))
-            .map(|j| face_plane(mesh, border[j as usize].0));
+            .map(|j| border[j as usize].plane);
     }
     out
 }
 
-/// Every triangle's walk data.
-pub fn build(mesh: &Mesh) -> Vec<WalkTriangle> {
+/// Every triangle's walk data, with the open borders of other objects that meet this mesh
+/// (`mesh::borders::contacts`, in its space).
+pub fn build(mesh: &Mesh, foreign: &[ForeignBorder]) -> Vec<WalkTriangle> {
     let topo = Topology::quantised(mesh);
-    let crack = cracks(mesh, &topo);
+    let crack = cracks(mesh, &topo, foreign);
     let n = mesh.indices.len() / 3;
     (0..n)
         .map(|t| {
@@ -345,6 +352,7 @@ impl MethodGeometry for WalkMesh {
             b"walk mesh",
             &object.mesh.key.to_le_bytes(),
             &[self.quadrics as u8],
+            &object.contacts.key.to_le_bytes(),
         ])
     }
     fn build(&self, ctx: &Context, object: &Object) -> Result<GpuMesh> {
@@ -374,7 +382,7 @@ impl MethodGeometry for WalkMesh {
                 }
             })
             .collect();
-        let data = records(mesh, &build(mesh));
+        let data = records(mesh, &build(mesh, &object.contacts.borders));
         let max_dim = ctx.limits.max_texture_dimension_2d;
         let (texels, size) = texels(&data, max_dim).map_err(|most| {
             Error::limit(
@@ -401,6 +409,9 @@ impl MethodGeometry for WalkMesh {
                 extra: vec![Resident::Texture(tex.create_view(&Default::default()))],
             })
         })
+    }
+    fn uses_contacts(&self) -> bool {
+        true
     }
     fn vertex_layout(&self) -> wgpu::VertexBufferLayout<'static> {
         wgpu::VertexBufferLayout {
@@ -470,7 +481,7 @@ mod tests {
         let uvs: Vec<[f32; 2]> = positions.iter().map(|p| [p[0] / 2.0, p[1]]).collect();
         let normals = vec![[0.0, 0.0, 1.0]; 9];
         let (m, _) = Mesh::from_arrays(positions, normals, uvs, (0..9).collect(), None).unwrap();
-        let w = build(&m);
+        let w = build(&m, &[]);
         assert!(w.iter().all(|t| t.across.iter().all(Option::is_none)));
         let cracked = |t: usize| w[t].crack.map(|c| c.is_some());
         assert_eq!(cracked(0), [false, true, false]);
@@ -490,7 +501,7 @@ mod tests {
     #[test]
     fn inside_a_chart_the_walk_keeps_the_uvs() {
         let m = quad([[0.5, 0.0], [0.5, 0.5]]);
-        let w = build(&m);
+        let w = build(&m, &[]);
         let (nb, a) = w[0].across[1].unwrap();
         assert_eq!(nb, 1);
         assert_eq!(a, Affine::IDENTITY);
@@ -504,7 +515,7 @@ mod tests {
     fn across_a_seam_the_walk_continues_in_the_other_chart() {
         // the right triangle's chart elsewhere in the atlas and at another scale
         let m = quad([[0.9, 0.2], [0.9, 0.45]]);
-        let w = build(&m);
+        let w = build(&m, &[]);
         let (nb, a) = w[0].across[1].unwrap();
         assert_eq!(nb, 1);
         // the side's ends land on the other chart's uvs
@@ -533,7 +544,7 @@ mod tests {
         // the right triangle's uvs fold back onto the left one's: a mirrored chart
         let mut m = quad([[0.5, 0.0], [0.5, 0.5]]);
         m.uvs[4] = [0.0, 0.25];
-        let w = build(&m);
+        let w = build(&m, &[]);
         let (_, a) = w[0].across[1].unwrap();
         // the axis stays, the far side reflects
         assert!((a.apply(DVec2::new(0.5, 0.3)) - DVec2::new(0.5, 0.3)).length() < 1e-6);
@@ -545,7 +556,7 @@ mod tests {
         assert!(include_str!("walk.wgsl")
             .contains(&format!("const RECORDS: u32 = {RECORDS_PER_TRIANGLE}u;")));
         let m = Mesh::plane(1.0, 3).unwrap();
-        let r = records(&m, &build(&m));
+        let r = records(&m, &build(&m, &[]));
         let n = m.indices.len() / 3;
         assert_eq!(r.len(), n * RECORDS_PER_TRIANGLE);
         // at most 4 triangles a row: 18 triangles in 5 rows
@@ -560,5 +571,54 @@ mod tests {
         }
         // rows beyond the limit: an error naming how many fit
         assert_eq!(texels(&r, RECORDS_PER_TRIANGLE as u32), Err(14));
+    }
+
+    mod contacts {
+        use crate::mesh::borders::{contacts, open_borders, Part};
+        use crate::mesh::topology::Topology;
+        use crate::mesh::Mesh;
+        use crate::methods::walk::cracks;
+        use glam::{DMat4, DVec3};
+        use std::sync::Arc;
+
+        fn part(p: [[f32; 3]; 3], to_world: DMat4) -> (Mesh, Part) {
+            let uvs = p.iter().map(|q| [q[0], q[1]]).collect();
+            let (m, _) =
+                Mesh::from_arrays(p.to_vec(), vec![[0.0, 0.0, 1.0]; 3], uvs, vec![0, 1, 2], None)
+                    .unwrap();
+            let part = Part {
+                borders: Arc::new(open_borders(&m, &Topology::quantised(&m))),
+                bounds: m.bounds(),
+                to_world,
+            };
+            (m, part)
+        }
+
+        #[test]
+        fn two_objects_that_split_a_square_meet_at_its_diagonal() {
+            // the unit square's two halves as two objects: the second modelled 4 to the right
+            // at twice the size, placed back by its transform; a third far away touches neither
+            let (ma, a) = part([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]], DMat4::IDENTITY);
+            let (mb, b) = part(
+                [[4.0, 0.0, 0.0], [6.0, 2.0, 0.0], [4.0, 2.0, 0.0]],
+                DMat4::from_scale(DVec3::splat(0.5))
+                    * DMat4::from_translation(DVec3::new(-4.0, 0.0, 0.0)),
+            );
+            let (_, far) = part([[5.0, 5.0, 0.0], [6.0, 5.0, 0.0], [5.0, 6.0, 0.0]], DMat4::IDENTITY);
+            let c = contacts(&[a, b, far]);
+            assert!(c[2].borders.is_empty() && c[2].key == 0);
+            let sides = |m: &Mesh, i: usize| cracks(m, &Topology::quantised(m), &c[i].borders)[0];
+            // a's diagonal is its side 2 (corner 2 -> 0), b's its side 0 (corner 0 -> 1)
+            let (sa, sb) = (sides(&ma, 0), sides(&mb, 1));
+            assert_eq!(sa.map(|s| s.is_some()), [false, false, true]);
+            assert_eq!(sb.map(|s| s.is_some()), [true, false, false]);
+            // the plane across, in each object's own space: z = 0, facing +z as both do
+            for q in [sa[2].unwrap(), sb[0].unwrap()] {
+                assert!((q[2] - 1.0).abs() < 1e-12 && q[3].abs() < 1e-12, "{q:?}");
+            }
+            // alone, neither has a crack
+            assert!(cracks(&ma, &Topology::quantised(&ma), &[]).iter().flatten().all(Option::is_none));
+            assert_ne!(c[0].key, c[1].key);
+        }
     }
 }
