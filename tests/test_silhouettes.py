@@ -260,6 +260,25 @@ def test_the_oracle_follows_a_sphere_whose_every_edge_is_hard(renderer):
             assert missed == 0 and iou >= 0.998, (m.name, missed, iou)
 
 
+def _walkers_cover_the_crack(renderer, scene_args):
+    """NCS and CurvedRelief on a plane with a crack at x = 0, at three views: no more interior
+    holes than POM's, IoU at least POM's, at least 20 fallback pixels from the side."""
+    import zoo
+    for eye in [(2.2, 1.2, 0.3), (-2.2, 1.0, -0.5), (0.4, 1.4, 2.0)]:
+        cam = pk.Camera.look_at(eye, (0, 0, 0), fov_y=40, width=96, height=96)
+        scene = pk.Scene(**scene_args, camera=cam)
+        ref = pk.oracle.hits(scene)
+        pom = renderer.render(scene, pk.POM(), aovs=("mask",))
+        base_holes, base_iou = zoo.interior_holes(pom.mask, ref.mask), pk.metrics.mask_iou(pom, ref)
+        for m in (pk.NCS(), pk.CurvedRelief()):
+            f = renderer.render(scene, m, aovs=("mask", "flags"))
+            fallback = int(((np.asarray(f.flags).astype(np.int64) & 4) > 0).sum())
+            holes, iou = zoo.interior_holes(f.mask, ref.mask), pk.metrics.mask_iou(f, ref)
+            assert holes <= base_holes and iou >= base_iou, (m.name, eye, holes, base_holes, iou, base_iou)
+            if eye[2] < 1.0:
+                assert fallback >= 20, (m.name, eye, fallback)
+
+
 def test_the_walking_methods_cover_a_crack_with_their_fallback(renderer):
     """zoo.cracked_plane: two halves of a plane that meet along x = 0 in T-junctions (4 rows
     against 6, no edge shared), with uvs that go on across. A march that walks out of one half
@@ -271,19 +290,7 @@ def test_the_walking_methods_cover_a_crack_with_their_fallback(renderer):
     the side."""
     import zoo
     mesh, h = zoo.cracked_plane()
-    for eye in [(2.2, 1.2, 0.3), (-2.2, 1.0, -0.5), (0.4, 1.4, 2.0)]:
-        cam = pk.Camera.look_at(eye, (0, 0, 0), fov_y=40, width=96, height=96)
-        scene = pk.Scene(mesh=mesh, material=pk.Material(h, depth=0.1), camera=cam)
-        ref = pk.oracle.hits(scene)
-        pom = renderer.render(scene, pk.POM(), aovs=("mask",))
-        base_holes, base_iou = zoo.interior_holes(pom.mask, ref.mask), pk.metrics.mask_iou(pom, ref)
-        for m in (pk.NCS(), pk.CurvedRelief()):
-            f = renderer.render(scene, m, aovs=("mask", "flags"))
-            fallback = int(((np.asarray(f.flags).astype(np.int64) & 4) > 0).sum())
-            holes, iou = zoo.interior_holes(f.mask, ref.mask), pk.metrics.mask_iou(f, ref)
-            assert holes <= base_holes and iou >= base_iou, (m.name, eye, holes, base_holes, iou, base_iou)
-            if eye[2] < 1.0:
-                assert fallback >= 20, (m.name, eye, fallback)
+    _walkers_cover_the_crack(renderer, dict(objects=[pk.Object(mesh, pk.Material(h, depth=0.1))]))
 
 
 def test_the_walking_methods_cover_a_crack_between_objects_with_their_fallback(renderer):
@@ -295,16 +302,4 @@ def test_the_walking_methods_cover_a_crack_between_objects_with_their_fallback(r
     contacts: 125-132 interior holes from the side and 27-28 along the crack for NCS and CurvedRelief; with them 0-1, as POM, and 134-142 and 29-30 fallback pixels)."""
     import zoo
     objs = zoo.split_plane()
-    for eye in [(2.2, 1.2, 0.3), (-2.2, 1.0, -0.5), (0.4, 1.4, 2.0)]:
-        cam = pk.Camera.look_at(eye, (0, 0, 0), fov_y=40, width=96, height=96)
-        scene = pk.Scene(objects=objs, camera=cam)
-        ref = pk.oracle.hits(scene)
-        pom = renderer.render(scene, pk.POM(), aovs=("mask",))
-        base_holes, base_iou = zoo.interior_holes(pom.mask, ref.mask), pk.metrics.mask_iou(pom, ref)
-        for m in (pk.NCS(), pk.CurvedRelief()):
-            f = renderer.render(scene, m, aovs=("mask", "flags"))
-            fallback = int(((np.asarray(f.flags).astype(np.int64) & 4) > 0).sum())
-            holes, iou = zoo.interior_holes(f.mask, ref.mask), pk.metrics.mask_iou(f, ref)
-            assert holes <= base_holes and iou >= base_iou, (m.name, eye, holes, base_holes, iou, base_iou)
-            if eye[2] < 1.0:
-                assert fallback >= 20, (m.name, eye, fallback)
+    _walkers_cover_the_crack(renderer, dict(objects=objs))
