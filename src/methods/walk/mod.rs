@@ -23,7 +23,7 @@
 use crate::contract::{GeometryData, GpuMesh, MethodGeometry, Resident, ResourceKind, ShaderUnit};
 use crate::error::{Error, Result};
 use crate::gpu::Context;
-use crate::mesh::borders::{open_borders, ForeignBorder, TOLERANCE};
+use crate::mesh::borders::{open_borders, plane_through, ForeignBorder, TOLERANCE};
 use crate::mesh::topology::Topology;
 use crate::mesh::{Mesh, Vertex};
 use crate::scene::{hash_bytes, Object};
@@ -157,9 +157,7 @@ fn transfer(mesh: &Mesh, topo: &Topology, a: usize, k: usize, b: usize) -> Affin
 
 /// A triangle's plane: its unit face normal (by its winding, as the records' own) and offset.
 fn face_plane(mesh: &Mesh, t: usize) -> [f64; 4] {
-    let c = tri_corners(mesh, t).map(|v| mesh.position_f64(v));
-    let n = (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero();
-    [n.x, n.y, n.z, n.dot(c[0])]
+    plane_through(tri_corners(mesh, t).map(|v| mesh.position_f64(v)))
 }
 
 /// Per triangle and side: where the side is an open border that another open border runs
