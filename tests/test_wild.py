@@ -30,8 +30,6 @@ KNOWN_HOLES = {
        for m in ("Prism", "Prism(exact)")},
 }
 KNOWN_BELOW_POM = {
-    ("PilatusB4.ac", "Prism"): "IoU 0.777-0.895 against POM's 0.922-0.960: the glider's wings are thinner than the shell's depth",
-    ("PilatusB4.ac", "Prism(exact)"): "as Prism",
     ("boats_boat.obj", "CurvedRelief"): "0.847 against 0.879",
 }
 

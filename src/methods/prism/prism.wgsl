@@ -6,11 +6,11 @@
 // marched with a constant texture gradient (march.wgsl's segment search and POM's refinement, or
 // the max-mip traversal with `exact`), and a ray leaving through a side enters the prism across
 // it (adjacency from geometry::prisms). Leaving through the top (or an unshared side) leaves the
-// shell: no hit, discard; a later entry of the same ray is a fragment of its own. Open borders:
-// the displaced surface ends at the mesh's open border (as the reference mesh does), so a ray
-// entering the shell through a wall there below the height field passes under the surface and
-// is no hit; at a crease (a side two prisms with other normals do not share) the wall stands for
-// the strip that joins the two sides, and a ray entering it below the field hits it. Prisms whose
+// shell: no hit, discard; a later entry of the same ray is a fragment of its own. Walls (a
+// side no neighbouring prism shares: an open border, or a crease where two prisms with other
+// normals meet): the displaced surface ends at the mesh's open border (as the reference mesh
+// does), so a ray entering the shell through a wall below the height field passes under the
+// surface and is no hit, at a crease as at a border, as `pk.oracle.hits` does. Prisms whose
 // highest height lies below the ray's lowest point in them are crossed without a march.
 //
 // Parameterisation: a point of a prism is (b1, b2, h): barycentrics of the base triangle and
@@ -40,9 +40,8 @@
 #import pomkit::object::{is_transformed, to_world, to_clip, normal_to_world, stretch, clip_depth, shadow_depth, shadow_light_object}
 
 const NONE: u32 = 0xffffffffu;
-// the bit of a boundary face's prism index that marks a wall on an open border of the surface
-// (prisms.rs's OPEN_WALL)
-const OPEN_WALL: u32 = 0x80000000u;
+// the bit of a boundary face's prism index that marks a wall (prisms.rs's WALL)
+const WALL: u32 = 0x80000000u;
 // (prisms.rs's BOTTOM: a prism's bottom face)
 const BOTTOM: u32 = 0x40000000u;
 // the most prisms one ray walks through (a grazing ray crosses a handful)
@@ -96,7 +95,7 @@ fn prism_across(adj: vec3<f32>, side: u32) -> u32 {
 // face's centre; the faces are drawn unindexed, three vertices each, so `vi % 3` is the
 // corner's place in its face.
 fn prism_vertex(v: VertexIn, vi: u32, prism: u32, centre: vec3<f32>, clip_from_world: mat4x4<f32>) -> VertexOut {
-    // (the prism's index with OPEN_WALL where the face is a wall on an open border)
+    // (the prism's index with WALL where the face is a wall)
     var o = pass_through(v, to_clip(v.position, clip_from_world));
     o.prism = prism;
     let c = vi % 3u;
@@ -340,8 +339,8 @@ struct PrismHit {
 }
 
 fn prism_walk(face_prism: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> PrismHit {
-    let first = face_prism & ~(OPEN_WALL | BOTTOM);
-    let open_wall = (face_prism & OPEN_WALL) != 0u;
+    let first = face_prism & ~(WALL | BOTTOM);
+    let wall = (face_prism & WALL) != 0u;
     var out: PrismHit;
     out.ok = false;
     out.flags = 0u;
@@ -443,9 +442,10 @@ fn prism_walk(face_prism: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> Prism
         let s_x = uvs[1] * tiling;
         let dh_seg = h_x - h_e;
         var hit = -1.0;
-        if (open_wall && k == 1u) {
-            // entered through a wall on an open border: the displaced surface ends at the border,
-            // so a ray that enters below the height field passes under it (no hit here)
+        if (wall && k == 1u) {
+            // entered through a wall: the displaced surface ends at an open border, and a crease's
+            // wall is passed under as the oracle passes it, so a ray that enters below the height
+            // field passes under the surface (no hit here)
             if (h_e - height_at(s_e, hl) <= 0.0) {
                 break;
             }

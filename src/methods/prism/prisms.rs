@@ -282,11 +282,6 @@ pub fn build(
     }
     // a closed shell is entered only through its top from outside: its bottoms (the inner
     // surface) are drawn only where the shell is open (an edge, a crease), where a ray can reach them
-    // the sides on an open border of the surface (one triangle on the edge, welded by position),
-    // unlike creases, where two triangles meet with other normals: the displaced surface ends at
-    // an open border, and prism.wgsl lets a ray through an open wall only above the height field
-    let topo = crate::mesh::topology::Topology::quantised(mesh);
-    let border = |t: usize, k: usize| topo.edges[topo.tri_edges[t][k] as usize].1.len() == 1;
     let open = adj
         .iter()
         .zip(&degenerate)
@@ -349,12 +344,9 @@ pub fn build(
             if adj[t][k] != NONE || degenerate[t] {
                 continue;
             }
-            let open_side = border(t, k);
             let wall = |c: usize, on_top: bool| {
                 let mut v = corner(c, on_top);
-                if open_side {
-                    v.prism |= OPEN_WALL;
-                }
+                v.prism |= WALL;
                 v
             };
             if flip {
@@ -394,8 +386,11 @@ pub fn build(
     Prisms { vertices, data }
 }
 
-/// The bit of `PrismVertex::prism` that marks a face on an open border of the surface.
-pub const OPEN_WALL: u32 = 1 << 31;
+/// The bit of `PrismVertex::prism` that marks a wall: a side no neighbouring prism shares (an
+/// open border of the surface, or a crease, where two prisms with other normals meet). A view
+/// ray that enters the shell there below the height field passes under the surface (no hit),
+/// as `pk.oracle.hits` does (docs/conventions.md, "Open borders"): prism.wgsl reads it.
+pub const WALL: u32 = 1 << 31;
 
 /// The bit of `PrismVertex::prism` that marks a prism's bottom. A view ray that enters the shell
 /// there comes from behind the surface (below the field), which shows nothing from that side
