@@ -29,9 +29,7 @@ KNOWN_HOLES = {
     **{("SphereWithLightUvScaling4X.ac", m): "1 pixel at the first view (of about 2000), which the oracle and Tessellated(1) cover; it showed once the oracle stopped losing rays across flat-shaded quads' diagonals (Prism::shared_side_slack), not yet explained"
        for m in ("Prism", "Prism(exact)")},
 }
-KNOWN_BELOW_POM = {
-    ("boats_boat.obj", "CurvedRelief"): "0.847 against 0.879",
-}
+KNOWN_BELOW_POM: dict[tuple[str, str], str] = {}
 
 
 @pytest.fixture(scope="module")

@@ -1,7 +1,10 @@
 //! Per-vertex quadrics of the base mesh (Oliveira & Policarpo 2005): near each vertex the surface
 //! is taken as z = a x² + b y² in the vertex's basis (x along the tangent, y along the bitangent,
-//! z along the normal, world units), fitted by least squares to the vertex's neighbours (the
-//! other corners of the triangles around it, welded across uv seams by position).
+//! z along the normal, world units), fitted by least squares to the vertex's neighbours: the
+//! other corners of the triangles around it on its side of any hard edge (welded across uv seams
+//! by position, where the corners' normals agree). Across a hard edge the other side is not the
+//! vertex's surface (each side is displaced along its own normals, docs/conventions.md), so a
+//! flat face of a hard-edged box gets no curvature from the faces beside it.
 
 use crate::mesh::Mesh;
 use glam::DVec3;
@@ -28,7 +31,9 @@ pub fn fit(mesh: &Mesh) -> Vec<[f32; 2]> {
             *group.entry(quant(p(i))).or_insert(n)
         })
         .collect();
-    let mut ring: Vec<Vec<DVec3>> = vec![Vec::new(); group.len()];
+    let normal = |i: usize| DVec3::from(mesh.normals[i].map(f64::from)).normalize_or_zero();
+    // the corners at each welded position: (the vertex, its triangle's other two vertices)
+    let mut corners: Vec<Vec<(usize, [usize; 2])>> = vec![Vec::new(); group.len()];
     for t in mesh.indices.chunks_exact(3) {
         for k in 0..3 {
             let (a, b, c) = (
@@ -36,25 +41,39 @@ pub fn fit(mesh: &Mesh) -> Vec<[f32; 2]> {
                 t[(k + 1) % 3] as usize,
                 t[(k + 2) % 3] as usize,
             );
-            for o in [b, c] {
-                let q = p(o);
-                let r = &mut ring[ids[a]];
-                if !r.iter().any(|x| (*x - q).length_squared() < 1e-18) {
-                    r.push(q);
-                }
-            }
+            corners[ids[a]].push((a, [b, c]));
         }
     }
+    // a vertex's ring: the other corners of the triangles whose corner at its position has its
+    // normal (a smooth side: split normals that agree to float32's rounding count as one)
+    let ring: Vec<Vec<DVec3>> = (0..mesh.positions.len())
+        .map(|i| {
+            let ni = normal(i);
+            let mut r: Vec<DVec3> = Vec::new();
+            for &(v, others) in &corners[ids[i]] {
+                if normal(v).dot(ni) < 1.0 - 1e-6 {
+                    continue;
+                }
+                for o in others {
+                    let q = p(o);
+                    if !r.iter().any(|x| (*x - q).length_squared() < 1e-18) {
+                        r.push(q);
+                    }
+                }
+            }
+            r
+        })
+        .collect();
     (0..mesh.positions.len())
         .map(|i| {
-            let n = DVec3::from(mesh.normals[i].map(f64::from)).normalize_or_zero();
+            let n = normal(i);
             let t4 = mesh.tangents[i];
             let mut t = DVec3::new(t4[0] as f64, t4[1] as f64, t4[2] as f64);
             t = (t - n * t.dot(n)).normalize_or_zero();
             let b = n.cross(t) * if t4[3] < 0.0 { -1.0 } else { 1.0 };
             // least squares of z = a x² + b y²: the 2x2 normal equations
             let (mut sxx, mut sxy, mut syy, mut sxz, mut syz) = (0.0, 0.0, 0.0, 0.0, 0.0);
-            for q in &ring[ids[i]] {
+            for q in &ring[i] {
                 let d = *q - p(i);
                 let (x2, y2, z) = (d.dot(t).powi(2), d.dot(b).powi(2), d.dot(n));
                 sxx += x2 * x2;
@@ -99,5 +118,10 @@ mod tests {
         assert!(fit(&p)
             .iter()
             .all(|c| c[0].abs() < 1e-9 && c[1].abs() < 1e-9));
+        // a cube of split normals (every edge hard): each face is flat on its side, zero
+        let c = Mesh::cube(1.0, 2).unwrap();
+        assert!(fit(&c)
+            .iter()
+            .all(|q| q[0].abs() < 1e-9 && q[1].abs() < 1e-9));
     }
 }
