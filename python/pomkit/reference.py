@@ -98,7 +98,7 @@ def render_mitsuba(scene: Scene, spp: int | None = None, seed: int = 0, variant:
     # `direct` shades with pomkit_lambert (lit from the shading normal's side whatever the viewer's)
     bsdf = "pomkit_lambert" if integrator == "direct" else "diffuse"
     key = scene_hash(scene, kind="mitsuba", spp=spp, seed=seed, variant=variant, resolution=resolution,
-                     integrator=integrator, shadows=shadows, mesh=_displaced.MESH, bsdf=bsdf,
+                     integrator=integrator, shadows=shadows, mesh=_displaced.MESH, winding=_displaced.WINDING, bsdf=bsdf,
                      faces=_mitsuba.CAST_FACES if integrator == "cast" else "both",
                      **_displaced.mirrors_key(scene)) if cache else ""
 
@@ -135,7 +135,8 @@ def render_pyrender(scene: Scene, resolution: float = 2.0, cache: bool = True) -
     become point lights. Texture v-flip and numpy 2's missing `np.infty` are handled here.
     uv comes from the displaced mesh by barycentric lookup of pyrender's depth (not provided):
     this Frame carries colour, depth and mask."""
-    key = scene_hash(scene, kind="pyrender", resolution=resolution, mesh=_displaced.MESH, **_displaced.mirrors_key(scene))
+    key = scene_hash(scene, kind="pyrender", resolution=resolution, mesh=_displaced.MESH, winding=_displaced.WINDING,
+                     **_displaced.mirrors_key(scene))
 
     def compute():
         t0 = time.perf_counter()

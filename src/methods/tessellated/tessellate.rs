@@ -198,21 +198,22 @@ fn tessellate_with(
                 }
             }
         }
+        // wind counter-clockwise about the base normal, like the base mesh (a generated chart's
+        // normals are smooth: none turns against its face)
+        for tri in out.indices.chunks_exact_mut(3) {
+            let p = |i: u32| v3(out.positions[i as usize]);
+            let g = (p(tri[1]) - p(tri[0])).cross(p(tri[2]) - p(tri[0]));
+            let nb = v3(out.base_normals[tri[0] as usize])
+                + v3(out.base_normals[tri[1] as usize])
+                + v3(out.base_normals[tri[2] as usize]);
+            if g.dot(nb) < 0.0 {
+                tri.swap(1, 2);
+            }
+        }
     } else {
         super::welded::arrays_mesh(
             mesh, tpv, tiling, hm.width, hm.height, &mut out, &push, &check,
         )?;
-    }
-    // wind counter-clockwise about the base normal, like the base mesh
-    for tri in out.indices.chunks_exact_mut(3) {
-        let p = |i: u32| v3(out.positions[i as usize]);
-        let g = (p(tri[1]) - p(tri[0])).cross(p(tri[2]) - p(tri[0]));
-        let nb = v3(out.base_normals[tri[0] as usize])
-            + v3(out.base_normals[tri[1] as usize])
-            + v3(out.base_normals[tri[2] as usize]);
-        if g.dot(nb) < 0.0 {
-            tri.swap(1, 2);
-        }
     }
     Ok(out)
 }

@@ -168,10 +168,26 @@ pub(super) fn arrays_mesh(
                 Some(s)
             })
             .collect();
+        // every sub-triangle is wound as its base triangle, and that one counter-clockwise about
+        // the sum of its corners' normals (the oracle's rule, `Mesh::orient_outward`'s): not
+        // each sub-triangle about its own interpolated normals, which turn against the face
+        // where a corner's normal does (openarena's fan.md3: a cap's centre normal opposite to
+        // its face flipped the sub-triangles around it, and the rasteriser culled them)
+        let pos = |i: usize| DVec3::from(mesh.positions[i].map(f64::from));
+        let g = (pos(corner[1]) - pos(corner[0])).cross(pos(corner[2]) - pos(corner[0]));
+        let ns = corner
+            .iter()
+            .fold(DVec3::ZERO, |acc, &i| acc + DVec3::from(mesh.normals[i].map(f64::from)));
+        let flip = g.dot(ns) < 0.0;
         let mut emit = |p: usize, q: usize, r: usize| {
             let (p, q, r) = (local[p], local[q], local[r]);
             if p != q && q != r && r != p {
-                out.indices.extend_from_slice(&[p, r, q]);
+                // (p, r, q): the lattice's order, the base triangle's winding
+                if flip {
+                    out.indices.extend_from_slice(&[p, q, r]);
+                } else {
+                    out.indices.extend_from_slice(&[p, r, q]);
+                }
             }
         };
         let n = n as usize;
