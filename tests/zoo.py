@@ -7,6 +7,9 @@ with height maps baked over their atlas by `pk.textures.bake`.
   middle (one chart folded onto itself, as symmetric game assets are);
 - `crate`: a box with split normals at its 12 hard edges (24 vertices), an xatlas atlas;
 - `big`: a lumpy icosphere of 20480 triangles, an xatlas atlas;
+- `thin_wing`, `post`, `flipped_cap`: kinds of the corpus of other people's models the zoo
+  lacked (docs/assets.md, "Assets from the wild"): a flat-shaded wing thinner than the shell near
+  its trailing edge, a flat-shaded thin box, a disc whose centre normal points against its face;
 - `smooth_box`: the crate's 12 triangles with one normal a corner, the mean of its three faces'
   (54.7 degrees from each face at the corners): the default cube of a modelling tool exported
   smooth-shaded, whose normals curve where its faces do not.
@@ -223,6 +226,60 @@ def split_plane(size: int = 128, depth: float = 0.1):
         half = pk.Mesh.from_arrays(q, n, uv[used], idx.astype(np.uint32).ravel())
         objs.append(pk.Object(half, pk.Material(h, depth=depth * (2.0 if right else 1.0)), transform=m))
     return objs
+
+
+def _faceted(p, faces, size: int = 128):
+    """A flat-shaded mesh of `faces` (polygons of indices into `p`, counter-clockwise seen from
+    outside): each face its own corners and its face's normal, so that every edge is hard;
+    triangulated as fans, unwrapped by xatlas, with zoo.crate's cells baked over the atlas."""
+    p = np.asarray(p, np.float64)
+    q, n, f = [], [], []
+    for poly in faces:
+        c = p[list(poly)]
+        nn = np.cross(c[1] - c[0], c[2] - c[0])
+        nn /= np.linalg.norm(nn)
+        base = len(q)
+        q += list(c)
+        n += [nn] * len(c)
+        f += [[base, base + k, base + k + 1] for k in range(1, len(c) - 1)]
+    q, n, uv, idx = _unwrap(np.asarray(q), np.asarray(n), np.asarray(f), resolution=size)
+    mesh = pk.Mesh.from_arrays(q, n, uv, idx, tangents="mikktspace")
+    return mesh, pk.textures.bake(mesh, _cells, size)
+
+
+@functools.lru_cache(maxsize=None)
+def thin_wing(size: int = 128):
+    """A wing of chord 1 and span 2, flat-shaded (every edge hard), 0.08 thick at its blunt
+    leading edge and tapering to a 4.6-degree trailing edge: from midchord back it is thinner
+    than a shell 0.04 deep, so a wall down one side's normal at the trailing edge comes out of
+    the other side (crrcsim's gliders, Fireworks_C.ac)."""
+    p = [(0, 0.04, -1), (0, -0.04, -1), (1, 0, -1), (0, 0.04, 1), (0, -0.04, 1), (1, 0, 1)]
+    faces = [(0, 3, 5, 2), (1, 2, 5, 4), (0, 1, 4, 3), (0, 2, 1), (3, 4, 5)]
+    return _faceted(p, faces, size)
+
+
+@functools.lru_cache(maxsize=None)
+def post(size: int = 128):
+    """A box post 0.15 x 1.2 x 0.15, flat-shaded (minetest's fence gates: boxes whose corners
+    bent CurvedRelief's quadric on their flat faces)."""
+    x, y, z = 0.075, 0.6, 0.075
+    p = [(-x, -y, -z), (x, -y, -z), (x, y, -z), (-x, y, -z), (-x, -y, z), (x, -y, z), (x, y, z), (-x, y, z)]
+    faces = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (3, 7, 6, 2), (0, 4, 7, 3), (1, 2, 6, 5)]
+    return _faceted(p, faces, size)
+
+
+def flipped_cap(segments: int = 16):
+    """A flat disc of radius 1 in y = 0 (normal +Y), a fan of `segments` triangles about its
+    centre, whose centre vertex carries the normal -Y, against its face, and its rim +Y (the
+    sum agrees with the face), as openarena's fan.md3 has its hub's caps."""
+    a = np.linspace(0.0, 2.0 * np.pi, segments, endpoint=False)
+    rim = np.c_[np.cos(a), np.zeros(segments), -np.sin(a)]
+    p = np.vstack([[0.0, 0.0, 0.0], rim])
+    n = np.tile([0.0, 1.0, 0.0], (segments + 1, 1))
+    n[0] = (0.0, -1.0, 0.0)
+    uv = 0.5 + 0.45 * p[:, [0, 2]]
+    idx = np.array([[0, 1 + k, 1 + (k + 1) % segments] for k in range(segments)], np.uint32)
+    return pk.Mesh.from_arrays(p.astype(np.float32), n.astype(np.float32), uv.astype(np.float32), idx.ravel())
 
 
 ZOO = {"rock": rock, "terrain": terrain, "mirrored_slab": mirrored_slab, "crate": crate, "big": big}
