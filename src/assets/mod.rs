@@ -89,7 +89,11 @@ pub struct AssetFile {
 fn gltf_err(path: &Path, e: impl std::fmt::Display) -> Error {
     Error::arg(
         "path",
-        format!("{}: not a readable glTF 2.0 file ({e})", path.display()),
+        format!(
+            "{}: not a readable glTF 2.0 file ({e}); a valid one comes from re-exporting it \
+             (Blender's glTF exporter, or `assimp export <file> out.glb -f glb2`)",
+            path.display()
+        ),
     )
 }
 
