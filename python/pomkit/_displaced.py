@@ -18,9 +18,10 @@ _EXTRA = "pip install pomkit[reference]"
 #: dataclass's default): part of their cache keys, so that a render of an older mesh (the
 #: two-triangle grid) is not read back as this one's
 MESH: Final = _methods.Tessellated.pattern
-#: how the displaced mesh winds its triangles: each as its base triangle (part of the references'
-#: cache keys, with MESH: renders of a mesh wound otherwise are not read back)
-WINDING: Final = "as the base triangle"
+#: how the displaced mesh winds its triangles: at depth 0 each as its base triangle, with depth
+#: about its own interpolated normals (part of the references' cache keys, with MESH: renders
+#: of a mesh wound otherwise are not read back)
+WINDING: Final = "base triangle at depth 0, own normals with depth"
 
 
 def require(module: str):

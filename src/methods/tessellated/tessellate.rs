@@ -198,8 +198,18 @@ fn tessellate_with(
                 }
             }
         }
-        // wind counter-clockwise about the base normal, like the base mesh (a generated chart's
-        // normals are smooth: none turns against its face)
+    } else {
+        super::welded::arrays_mesh(
+            mesh, tpv, tiling, hm.width, hm.height, &mut out, &push, &check,
+        )?;
+    }
+    // The winding. At depth 0 the displaced mesh is the base mesh: each sub-triangle is wound as
+    // its base triangle (arrays_mesh emits them so; a chart's lattice is wound below, its normals
+    // smooth). With depth, each is wound counter-clockwise about its own interpolated base
+    // normals: S = P + depth (h - 1) N is met from above where a ray crosses it against N (the
+    // oracle's rule), and N turns against the face inside a triangle where a corner's normal
+    // does (normals averaged across a thin wing)
+    if mat.depth > 0.0 || !mesh.charts.is_empty() {
         for tri in out.indices.chunks_exact_mut(3) {
             let p = |i: u32| v3(out.positions[i as usize]);
             let g = (p(tri[1]) - p(tri[0])).cross(p(tri[2]) - p(tri[0]));
@@ -210,10 +220,6 @@ fn tessellate_with(
                 tri.swap(1, 2);
             }
         }
-    } else {
-        super::welded::arrays_mesh(
-            mesh, tpv, tiling, hm.width, hm.height, &mut out, &push, &check,
-        )?;
     }
     Ok(out)
 }

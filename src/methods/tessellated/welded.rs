@@ -169,10 +169,11 @@ pub(super) fn arrays_mesh(
             })
             .collect();
         // every sub-triangle is wound as its base triangle, and that one counter-clockwise about
-        // the sum of its corners' normals (the oracle's rule, `Mesh::orient_outward`'s): not
-        // each sub-triangle about its own interpolated normals, which turn against the face
-        // where a corner's normal does (openarena's fan.md3: a cap's centre normal opposite to
-        // its face flipped the sub-triangles around it, and the rasteriser culled them)
+        // the sum of its corners' normals (the oracle's rule at depth 0, `Mesh::orient_outward`'s;
+        // tessellate.rs rewinds them with depth): at depth 0, not about its own interpolated
+        // normals, which turn against the face where a corner's normal does (openarena's
+        // fan.md3: a cap's centre normal opposite to its face flipped the sub-triangles around
+        // it, and the rasteriser culled them)
         let pos = |i: usize| DVec3::from(mesh.positions[i].map(f64::from));
         let g = (pos(corner[1]) - pos(corner[0])).cross(pos(corner[2]) - pos(corner[0]));
         let ns = corner
