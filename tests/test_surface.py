@@ -411,7 +411,7 @@ def test_curved_relief_keeps_a_flat_faced_post_whole(renderer):
 
 
 def test_the_displaced_mesh_keeps_a_disc_whose_centre_normal_opposes_it(renderer):
-    """Every sub-triangle of the displaced mesh is wound as its base triangle: a disc whose
+    """At depth 0 every sub-triangle of the displaced mesh is wound as its base triangle: a disc whose
     centre vertex's normal points against its face, seen from its front at depth 0, is drawn
     whole by Tessellated, as by Flat and the oracle (openarena's fan.md3 from below: 17 pixels of
     its hub lost while each sub-triangle was wound about its own interpolated normals)."""
