@@ -364,22 +364,10 @@ def test_mitsuba_passes_through_back_faces_as_the_oracle_does(tmp_path, monkeypa
 
 # --- kinds of the corpus the zoo lacked (docs/assets.md, "Assets from the wild") ---------------
 
-def _views_around(mesh, elevations, size=96, fov=35.0):
-    lo, hi = np.asarray(mesh.positions).min(0), np.asarray(mesh.positions).max(0)
-    c = 0.5 * (lo + hi)
-    d = 0.5 * float(np.linalg.norm(hi - lo)) / np.sin(np.radians(fov) / 2.0) * 1.05
-    out = []
-    for k, e in enumerate(np.radians(elevations)):
-        a = 0.4 + 2.0 * np.pi * k / len(elevations)
-        eye = c + d * np.array([np.cos(e) * np.cos(a), np.sin(e), np.cos(e) * np.sin(a)])
-        out.append(pk.Camera.look_at(tuple(eye), tuple(c), fov_y=fov, width=size, height=size))
-    return out
-
-
 def _scenes(mesh, h, depth, elevations):
     return [pk.Scene(mesh=mesh, material=pk.Material(h, depth=depth), camera=cam,
                      lights=[pk.DirectionalLight((-0.4, -1.0, -0.3), 3.0)], ambient=0.1)
-            for cam in _views_around(mesh, elevations)]
+            for cam in zoo.views(mesh, elevations=elevations)]
 
 
 def test_prism_passes_under_a_crease_wall_on_a_thin_wing(renderer):

@@ -285,8 +285,11 @@ def flipped_cap(segments: int = 16):
 ZOO = {"rock": rock, "terrain": terrain, "mirrored_slab": mirrored_slab, "crate": crate, "big": big}
 
 
-def views(mesh, n: int = 3, size: int = 96, fov: float = 35.0):
-    """`n` cameras around the mesh's bounding sphere, from above the equator."""
+def views(mesh, n: int = 3, size: int = 96, fov: float = 35.0, elevations=None):
+    """`n` cameras around the mesh's bounding sphere, from 35 degrees above the equator, or one
+    from each of `elevations` (degrees)."""
+    elevations = (35.0,) * n if elevations is None else tuple(elevations)
+    n = len(elevations)
     lo, hi = mesh.positions.min(0), mesh.positions.max(0)
     c = 0.5 * (lo + hi)
     r = 0.5 * float(np.linalg.norm(hi - lo))
@@ -294,7 +297,7 @@ def views(mesh, n: int = 3, size: int = 96, fov: float = 35.0):
     out = []
     for k in range(n):
         a = 2.0 * np.pi * k / n + 0.4
-        e = np.radians(35.0)
+        e = np.radians(elevations[k])
         eye = c + d * np.array([np.cos(e) * np.cos(a), np.sin(e), np.cos(e) * np.sin(a)])
         out.append(pk.Camera.look_at(tuple(eye), tuple(c), fov_y=fov, width=size, height=size))
     return out

@@ -386,22 +386,22 @@ impl Mesh {
         m
     }
 
+    /// Whether triangle `t`'s winding disagrees with its vertex normals: its counter-clockwise
+    /// geometric normal points away from the sum of its corners' normals.
+    pub fn wound_against_normals(&self, t: usize) -> bool {
+        let c = [0, 1, 2].map(|k| self.indices[3 * t + k]);
+        let geo = (self.position_f64(c[1]) - self.position_f64(c[0]))
+            .cross(self.position_f64(c[2]) - self.position_f64(c[0]));
+        let ns = c.iter().fold(DVec3::ZERO, |acc, &i| acc + self.normal_f64(i));
+        geo.dot(ns) < 0.0
+    }
+
     /// Flip triangle winding where it disagrees with the vertex normals (counter-clockwise
     /// seen from the side the normals point to).
     pub fn orient_outward(&mut self) {
-        for tri in self.indices.chunks_exact_mut(3) {
-            let p = |i: u32| {
-                let a = self.positions[i as usize];
-                DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64)
-            };
-            let geo = (p(tri[1]) - p(tri[0])).cross(p(tri[2]) - p(tri[0]));
-            let mut ns = DVec3::ZERO;
-            for &i in tri.iter() {
-                let a = self.normals[i as usize];
-                ns += DVec3::new(a[0] as f64, a[1] as f64, a[2] as f64);
-            }
-            if geo.dot(ns) < 0.0 {
-                tri.swap(1, 2);
+        for t in 0..self.indices.len() / 3 {
+            if self.wound_against_normals(t) {
+                self.indices.swap(3 * t + 1, 3 * t + 2);
             }
         }
     }

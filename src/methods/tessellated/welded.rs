@@ -169,17 +169,12 @@ pub(super) fn arrays_mesh(
             })
             .collect();
         // every sub-triangle is wound as its base triangle, and that one counter-clockwise about
-        // the sum of its corners' normals (the oracle's rule at depth 0, `Mesh::orient_outward`'s;
+        // the sum of its corners' normals (the oracle's rule at depth 0, `Mesh::wound_against_normals`;
         // tessellate.rs rewinds them with depth): at depth 0, not about its own interpolated
         // normals, which turn against the face where a corner's normal does (openarena's
         // fan.md3: a cap's centre normal opposite to its face flipped the sub-triangles around
         // it, and the rasteriser culled them)
-        let pos = |i: usize| DVec3::from(mesh.positions[i].map(f64::from));
-        let g = (pos(corner[1]) - pos(corner[0])).cross(pos(corner[2]) - pos(corner[0]));
-        let ns = corner
-            .iter()
-            .fold(DVec3::ZERO, |acc, &i| acc + DVec3::from(mesh.normals[i].map(f64::from)));
-        let flip = g.dot(ns) < 0.0;
+        let flip = mesh.wound_against_normals(t);
         let mut emit = |p: usize, q: usize, r: usize| {
             let (p, q, r) = (local[p], local[q], local[r]);
             if p != q && q != r && r != p {
