@@ -412,3 +412,19 @@ def test_the_displaced_mesh_keeps_a_disc_whose_centre_normal_opposes_it(renderer
         assert ref.mask.sum() > 1500
         for method in (pk.Flat(), pk.Tessellated(texels_per_vertex=1)):
             assert pk.metrics.mask_iou(renderer.render(s, method, aovs=("mask",)), ref) >= 0.998, (method, eye)
+
+
+def test_prism_at_depth_0_is_the_base_mesh_on_a_cloud_of_cards(renderer):
+    """At depth 0 a top fragment of Prism's shell is its own hit and a wall none (the shell is
+    FLAT_SHELL thick there, prisms.rs): on zoo.cards, 120 separate quads whose 480 open borders
+    each carry a wall, Prism and exact Prism cover exactly Flat's pixels from above, beside and
+    below (before, a ray that met a wall hit at once: 2-3 pixels a view here; openarena's
+    kamwave.md3 and assimp's ConcavePolygon.dae at 96², 1-6 pixels past the oracle's outline)."""
+    mesh = zoo.cards()
+    for cam in zoo.views(mesh, size=128, elevations=(35.0, 5.0, -30.0)):
+        s = pk.Scene(mesh=mesh, material=pk.Material(pk.textures.bricks(64), depth=0.0), camera=cam)
+        flat = renderer.render(s, pk.Flat(), aovs=("mask",)).mask
+        assert flat.sum() > 1000
+        for method in (pk.Prism(), pk.Prism(exact=True)):
+            f = renderer.render(s, method, aovs=("mask",))
+            assert int((f.mask != flat).sum()) == 0, (method, cam.eye, int((f.mask != flat).sum()))

@@ -7,9 +7,10 @@ with height maps baked over their atlas by `pk.textures.bake`.
   middle (one chart folded onto itself, as symmetric game assets are);
 - `crate`: a box with split normals at its 12 hard edges (24 vertices), an xatlas atlas;
 - `big`: a lumpy icosphere of 20480 triangles, an xatlas atlas;
-- `thin_wing`, `post`, `flipped_cap`: kinds of the corpus of other people's models the zoo
-  lacked (docs/assets.md, "Assets from the wild"): a flat-shaded wing thinner than the shell near
-  its trailing edge, a flat-shaded thin box, a disc whose centre normal points against its face;
+- `thin_wing`, `post`, `flipped_cap`, `cards`: kinds of the corpus of other people's models the
+  zoo lacked (docs/assets.md, "Assets from the wild"): a flat-shaded wing thinner than the shell
+  near its trailing edge, a flat-shaded thin box, a disc whose centre normal points against its
+  face, a cloud of separate quads (open borders everywhere, some seen from behind);
 - `smooth_box`: the crate's 12 triangles with one normal a corner, the mean of its three faces'
   (54.7 degrees from each face at the corners): the default cube of a modelling tool exported
   smooth-shaded, whose normals curve where its faces do not.
@@ -280,6 +281,28 @@ def flipped_cap(segments: int = 16):
     uv = 0.5 + 0.45 * p[:, [0, 2]]
     idx = np.array([[0, 1 + k, 1 + (k + 1) % segments] for k in range(segments)], np.uint32)
     return pk.Mesh.from_arrays(p.astype(np.float32), n.astype(np.float32), uv.astype(np.float32), idx.ravel())
+
+
+def cards(n: int = 120, seed: int = 3):
+    """`n` separate square quads (0.16-0.4 across, at random places and orientations in the cube
+    [-1, 1]^3), each its own [0, 1]^2 chart, as effect and foliage models are built (openarena's
+    kamwave.md3: stacks of sprite cards): 4n open border sides, and from any view some quads face
+    away."""
+    rng = np.random.default_rng(seed)
+    p, nrm, uv, idx = [], [], [], []
+    for k in range(n):
+        c = rng.uniform(-1.0, 1.0, 3)
+        a = rng.normal(size=3)
+        a /= np.linalg.norm(a)
+        b = np.cross(a, rng.normal(size=3))
+        b /= np.linalg.norm(b)
+        s = rng.uniform(0.08, 0.2)
+        p += [c - s * a - s * b, c + s * a - s * b, c + s * a + s * b, c - s * a + s * b]
+        nrm += [np.cross(a, b)] * 4
+        uv += [(0, 0), (1, 0), (1, 1), (0, 1)]
+        idx += [4 * k, 4 * k + 1, 4 * k + 2, 4 * k, 4 * k + 2, 4 * k + 3]
+    return pk.Mesh.from_arrays(np.array(p, np.float32), np.array(nrm, np.float32), np.array(uv, np.float32),
+                               np.array(idx, np.uint32))
 
 
 ZOO = {"rock": rock, "terrain": terrain, "mirrored_slab": mirrored_slab, "crate": crate, "big": big}

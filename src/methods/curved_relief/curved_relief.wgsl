@@ -13,7 +13,8 @@
 // the fallback below. A fragment whose
 // interpolated normal faces away from the viewer, or whose ray leaves through the top far from
 // grazing (FALLBACK_NDV), where the normals lie far from their face (FALLBACK_OFF_FACE), or
-// while the straight ray still lies under the mesh (FALLBACK_UNDER),
+// while the straight ray still lies under the mesh (FALLBACK_UNDER, or at all within the plane
+// of the face it entered),
 // keeps the base mesh's point (flags & 4): never less than the base mesh.
 // The hit is shaded in the mesh's basis at the hit.
 #define_import_path pomkit::methods::curved_relief
@@ -100,7 +101,7 @@ fn march(r: Ray) -> Hit {
         lo = hi;
         t_lo = t_hi;
     }
-    if (lost || (!found && exits && (c > FALLBACK_NDV || walk_turned_by_normals(lo, r.p + r.view * t_end, depth)))) {
+    if (lost || (!found && exits && (c > FALLBACK_NDV || walk_turned_by_normals(lo, r.p + r.view * t_end, depth, walk_start(r.extra))))) {
         // out through the top far from any silhouette, where the normals lie far from their
         // face, or with the straight ray still under the mesh, or into a crack: the quadric
         // lost the surface; the base mesh's point at the fragment covers the pixel (flags & 4)

@@ -106,7 +106,7 @@ fn march(r: Ray) -> Hit {
             // surface goes on where the walk cannot follow): the walk lost the surface; out
             // through an open border: it left it
             let x = r.p + view * (len + st.w);
-            lost = (w.on && (i == 0 || -dot(view, r.f.n) > FALLBACK_NDV || walk_turned_by_normals(w, x, G.depth)
+            lost = (w.on && (i == 0 || -dot(view, r.f.n) > FALLBACK_NDV || walk_turned_by_normals(w, x, G.depth, walk_start(r.extra))
                 || walk_above(p.tri, x) < -FALLBACK_UNDER * G.depth)) || walk_into_crack(w, x);
             break;
         }

@@ -512,7 +512,7 @@ fn prism_walk(face_prism: u32, o: vec3<f32>, view: vec3<f32>, lod: f32) -> Prism
 }
 
 @fragment
-fn fs_prism(in: VertexOut) -> FsOut {
+fn fs_prism(in: VertexOut, @builtin(front_facing) front: bool) -> FsOut {
     count_fragment(in.clip.xy);
     if ((in.prism & BOTTOM) != 0u) {
         // the ray enters the shell from behind the surface: nothing shows from that side, and a
@@ -526,7 +526,29 @@ fn fs_prism(in: VertexOut) -> FsOut {
     let view = to_p / max(length(to_p), 1e-20);
     let px = in.clip.xy;
     let start = walk_origin(in);
-    let ph = prism_walk(in.prism, start, view, lod);
+    var ph: PrismHit;
+    if (G.depth <= 0.0) {
+        // depth 0: the displaced surface is the base mesh, the shell's top (prisms.rs's
+        // FLAT_SHELL): a top fragment seen from above is its own hit, as Flat draws it, and a
+        // wall lies under it
+        if ((in.prism & WALL) != 0u || !front) {
+            discard;
+        }
+        ph.ok = true;
+        ph.t = 0.0;
+        ph.s = in.uv * tiling;
+        ph.h = 1.0;
+        ph.f = make_basis(in.normal, in.tangent, in.uv_scale);
+#ifdef PRISM_EXACT
+        ph.hl = 0.0;
+#else
+        ph.hl = height_lod(lod);
+#endif
+        ph.steps = 0.0;
+        ph.flags = 0u;
+    } else {
+        ph = prism_walk(in.prism, start, view, lod);
+    }
     if (!ph.ok) {
         discard;
     }

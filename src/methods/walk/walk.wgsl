@@ -151,13 +151,27 @@ fn walk_into_crack(w: WalkPoint, x: vec3<f32>) -> bool {
     return !w.on && w.crack && dot(w.crack_plane.xyz, x) - w.crack_plane.w < 0.0;
 }
 
-// Whether a walk that left the shell's top at w, its straight view ray at x (object space), was
-// turned out by the interpolated normals rather than by the mesh: the normal at w lies far from
-// its face (FALLBACK_OFF_FACE), or x lies under w's triangle (FALLBACK_UNDER, a share of the
-// shell's depth). aov.wgsl gives the reasons.
-fn walk_turned_by_normals(w: WalkPoint, x: vec3<f32>, depth: f32) -> bool {
+// Whether triangles a and b lie in one plane (within a hundredth of the shell's depth).
+fn walk_coplanar(a: u32, b: u32, depth: f32) -> bool {
+    if (a == b) {
+        return true;
+    }
+    fetched(2u, 32u);
+    return dot(walk_face_normal(a), walk_face_normal(b)) > 1.0 - 1e-6
+        && abs(walk_rec(a, 5u).w - walk_rec(b, 5u).w) < 0.01 * depth;
+}
+
+// Whether a walk from triangle `start` that left the shell's top at w, its straight view ray at
+// x (object space), was turned out by the interpolated normals rather than by the mesh: the
+// normal at w lies far from its face (FALLBACK_OFF_FACE), x lies under w's triangle
+// (FALLBACK_UNDER, a share of the shell's depth), or at all under it where w's triangle lies in
+// the start's plane (the faces did not turn between the entry and the exit: a box's flat face
+// under averaged normals). aov.wgsl gives the reasons.
+fn walk_turned_by_normals(w: WalkPoint, x: vec3<f32>, depth: f32, start: u32) -> bool {
+    let under = walk_above(w.tri, x);
     return dot(walk_basis(w).n, walk_face_normal(w.tri)) < FALLBACK_OFF_FACE
-        || walk_above(w.tri, x) < -FALLBACK_UNDER * depth;
+        || under < -FALLBACK_UNDER * depth
+        || (under < 0.0 && walk_coplanar(start, w.tri, depth));
 }
 
 // The triangle a fragment starts in (the method's geometry carries it in Ray::extra.z).
