@@ -14,7 +14,7 @@ struct Ray {
     // entry point on the base surface (h = 1), in tiled texture units (uv * tiling)
     s: vec2<f32>,
     // texture units travelled per unit of height descended: the ray meets the floor (h = 0) at
-    // s + dsdh
+    // s + dsdh (0 where the ray does not descend: does_not_descend)
     dsdh: vec2<f32>,
     // cosine between the view ray and the base normal (1 head-on, 0 grazing)
     ndotv: f32,
@@ -64,10 +64,12 @@ struct Hit {
 
 // A ray that does not descend into the shell in its fragment's basis (v_ts.z >= -GRAZING: on
 // a curved mesh, a silhouette fragment whose interpolated normal faces away from the view): no
-// walk can find the field along it (its slope, dsdh, is clamped to 1e6 texture units per
-// height), so the traversals (Exact, ConeStep) end at the entry, as Flat shows it, instead of
-// walking to their iteration bound (measured on a torus: 48 pixels at 4096 iterations held a
-// 256² frame at 43 ms against POM's 5).
+// walk can find the field along it, so its dsdh is 0 (make_ray): the linear searches (Parallax,
+// SteepParallax, POM, Relief) fall straight down at the entry, where a slope clamped to 1e6
+// texture units per height sampled texels anywhere in the map (POM's uv p95 48 million texels
+// on a box with averaged normals, TexturedCube_ImageGlob_248.blend), and the traversals (Exact,
+// ConeStep) end at the entry, as Flat shows it, instead of walking to their iteration bound
+// (measured on a torus: 48 pixels at 4096 iterations held a 256² frame at 43 ms against POM's 5).
 const GRAZING: f32 = 0.0;
 
 fn does_not_descend(r: Ray) -> bool {

@@ -24,7 +24,7 @@
 #import pomkit::aov::{FsOut, Packed, pack_aovs, write_aovs}
 #import pomkit::basis::{Basis, make_basis, to_texture_space}
 #import pomkit::height::{height_normal, height_lod, compute_lod, footprint_lod}
-#import pomkit::march::{Ray, Hit}
+#import pomkit::march::{Ray, Hit, does_not_descend}
 #import pomkit::shading::shade
 #import pomkit::cost::count_fragment
 #import pomkit::visibility::{VisibilityOut, visibility_vertex, rasterise, footprint_point, tile_pixel, visibility_tex, store_color, store_geo, store_id, store_cost}
@@ -59,6 +59,10 @@ fn make_ray(in: VertexOut, f: Basis, s0: vec2<f32>, lod: f32, view: vec3<f32>, u
     r.v_ts = to_texture_space(f, view);
     r.s = s0;
     r.dsdh = r.v_ts.xy / max(-r.v_ts.z, 1e-6);
+    if (does_not_descend(r)) {
+        // no descent along the ray: the searches fall straight down at the entry (march.wgsl)
+        r.dsdh = vec2<f32>(0.0);
+    }
     r.ndotv = -dot(view, f.n);
     r.lod = height_lod(lod);
     r.uv = uv;
