@@ -20,7 +20,9 @@ from ._scene import Scene
 
 __all__ = ["hits", "image"]
 
-
+#: the shells (prisms, bounding volumes) the oracle keeps between calls in this process: the
+#: latest four by mesh content and depth, so that a sweep over one asset builds its shell once
+SHELLS = _core.Shells()
 
 #: the rule of the walk the cached images were made by (part of the cache key: images made by an
 #: earlier rule are not served): a camera ray's stretch ends below the field's lowest texel, 0 too
@@ -47,7 +49,7 @@ def hits(scene: Scene, *, light_bias: float = 0.0) -> Frame:
     blocker grazes the ray within that tolerance."""
     if not isinstance(scene, Scene):
         raise ArgumentTypeError(f"scene: expected a pomkit.Scene, got {type(scene).__name__}")
-    d = _core.oracle_hits(scene, float(light_bias))
+    d = _core.oracle_hits(scene, float(light_bias), SHELLS)
     vis = d["visibility"].astype(np.float32)
     return Frame(uv=d["uv"], depth=d["depth"], mask=d["mask"], steps=d["cells"], visibility=vis, object=d["object"],
                  method="oracle.hits")
@@ -81,7 +83,7 @@ def image(scene: Scene, spp: int = 16, shadows: bool = True, cache: bool = True)
 
     def compute():
         t0 = time.perf_counter()
-        d = _core.oracle_image(scene, spp, bool(shadows))  # with the pixel centres' hits
+        d = _core.oracle_image(scene, spp, bool(shadows), SHELLS)  # with the pixel centres' hits
         return dict(color=d["color"], coverage=d["coverage"], uv=d["uv"].astype(np.float32),
                     depth=d["depth"].astype(np.float32), mask=d["mask"], visibility=d["visibility"].astype(np.float32),
                     object=d["object"], ms=np.array(1e3 * (time.perf_counter() - t0)))

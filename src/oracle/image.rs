@@ -114,8 +114,14 @@ pub fn sample_directions_of(
 
 /// The exact image of a scene at `spp` samples per pixel (a square, 1 to 256).
 /// `shadows` false leaves out the light and ambient rays (every light fully visible, ao = 1):
-/// the colour of the displacement alone, for methods measured without shadows.
-pub fn render(scene: &Scene, spp: u32, shadows: bool) -> Result<OracleImage> {
+/// the colour of the displacement alone, for methods measured without shadows. `shells` keeps
+/// the objects' shells for later calls.
+pub fn render(
+    scene: &Scene,
+    spp: u32,
+    shadows: bool,
+    shells: &super::Shells,
+) -> Result<OracleImage> {
     let k = (spp as f64).sqrt().round() as u32;
     if spp == 0 || k * k != spp || k > 16 {
         return Err(Error::arg(
@@ -123,7 +129,7 @@ pub fn render(scene: &Scene, spp: u32, shadows: bool) -> Result<OracleImage> {
             format!("must be a square number of samples per pixel from 1 to 256, got {spp}"),
         ));
     }
-    let out = image(scene, &super::tracer(scene)?, k, shadows);
+    let out = image(scene, &super::tracer(scene, shells)?, k, shadows);
     interrupted()?;
     Ok(out)
 }

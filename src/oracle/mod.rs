@@ -26,6 +26,7 @@ mod rows;
 pub(crate) mod trace;
 
 pub use field::{light_ray_free, march_height_field, Field, MAX_CELLS};
+pub use shell::Shells;
 pub use trace::OracleHits;
 use rows::interrupted;
 use trace::hits_of;
@@ -34,22 +35,24 @@ use crate::error::{Error, Result};
 use crate::scene::Scene;
 
 /// The exact tracer of a scene: the shell walk, on every mesh (planes included: the surface
-/// ends at their open border, docs/conventions.md, "The displaced surface").
-pub(crate) fn tracer(scene: &Scene) -> Result<shell::Shell<'_>> {
+/// ends at their open border, docs/conventions.md, "The displaced surface"), its objects'
+/// geometry from the caller's `shells`.
+pub(crate) fn tracer<'a>(scene: &'a Scene, shells: &Shells) -> Result<shell::Shell<'a>> {
     scene.validate()?;
-    shell::Shell::new(scene)
+    shell::Shell::new(scene, shells)
 }
 
 /// The oracle's frame. `light_bias` (shell depths, >= 0) raises the light rays: a blocker must
 /// rise more than it above the ray (0: the exact field; the GPU's exact shadows use 1e-4).
-pub fn hits(scene: &Scene, light_bias: f64) -> Result<OracleHits> {
+/// `shells` keeps the objects' shells for later calls on the same meshes and depths.
+pub fn hits(scene: &Scene, light_bias: f64, shells: &Shells) -> Result<OracleHits> {
     if !(0.0..0.5).contains(&light_bias) {
         return Err(Error::arg(
             "light_bias",
             format!("must lie in [0, 0.5) shell depths, got {light_bias}"),
         ));
     }
-    let out = hits_of(scene, &tracer(scene)?, light_bias);
+    let out = hits_of(scene, &tracer(scene, shells)?, light_bias);
     interrupted()?;
     Ok(out)
 }

@@ -101,6 +101,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<frame::PyRenderedFrame>()?;
     m.add_class::<PyHeightData>()?;
     m.add_class::<PyAlbedoData>()?;
+    m.add_class::<oracle_arrays::PyShells>()?;
     m.add_function(wrap_pyfunction!(renderer::adapters, m)?)?;
     m.add_function(wrap_pyfunction!(oracle_arrays::oracle_hits, m)?)?;
     m.add_function(wrap_pyfunction!(oracle_arrays::oracle_image, m)?)?;

@@ -1,25 +1,56 @@
 //! The CPU oracle across the boundary: its frame (`oracle_hits`) and its image
-//! (`oracle_image`), as dicts of numpy arrays; the reference shading's normals and sample
-//! directions for `pk.reference`.
+//! (`oracle_image`), as dicts of numpy arrays, with the shells it keeps between calls
+//! (`Shells`, owned by the caller); the reference shading's normals and sample directions for
+//! `pk.reference`.
 
 use super::arrays::nd_array;
 use super::scene_args::scene_from_py;
 use crate::error::Error;
+use crate::oracle::Shells;
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+/// The shells the oracle keeps between calls (its objects' prisms and bounding volumes, the
+/// latest four by mesh content and depth). pk.oracle holds one for the process.
+#[pyclass(name = "Shells", frozen)]
+#[derive(Default)]
+pub struct PyShells(Shells);
+
+#[pymethods]
+impl PyShells {
+    #[new]
+    fn new() -> Self {
+        Self::default()
+    }
+
+    /// How many shells are kept.
+    fn __len__(&self) -> usize {
+        self.0.len()
+    }
+}
+
+/// The caller's shells, or a fresh set that keeps nothing past the call.
+fn shells_or<'a>(shells: Option<&'a Bound<'_, PyShells>>, fresh: &'a Shells) -> &'a Shells {
+    shells.map_or(fresh, |s| &s.get().0)
+}
+
 /// The CPU float64 oracle: dict with uv (H, W, 2) f64, depth (H, W) f64, mask, cells, and the
-/// first directional light's visibility (H, W) f64.
+/// first directional light's visibility (H, W) f64. `shells` keeps the objects' shells for later
+/// calls (None: built for this call only).
 #[pyfunction]
-#[pyo3(signature = (scene, light_bias=0.0))]
+#[pyo3(signature = (scene, light_bias=0.0, shells=None))]
 pub fn oracle_hits<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyAny>,
     light_bias: f64,
+    shells: Option<&Bound<'py, PyShells>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene_from_py(scene)?;
-    let o = super::errors::interruptible(py, move || crate::oracle::hits(&scene, light_bias))?;
+    let fresh = Shells::default();
+    let shells = shells_or(shells, &fresh);
+    let o =
+        super::errors::interruptible(py, move || crate::oracle::hits(&scene, light_bias, shells))?;
     let d = PyDict::new(py);
     hits_into(&d, o)?;
     Ok(d)
@@ -41,17 +72,21 @@ fn hits_into(d: &Bound<'_, PyDict>, o: crate::oracle::OracleHits) -> PyResult<()
 /// The oracle's image (`oracle/image.rs`): dict with color (H, W, 3) f32 and coverage (H, W) f32
 /// from k x k exact samples per pixel shaded with the reference shading, and the oracle's frame
 /// at the pixel centres (as `oracle_hits` at light bias 0: uv, depth, mask, cells, visibility).
+/// `shells` as for `oracle_hits`.
 #[pyfunction]
-#[pyo3(signature = (scene, spp, shadows=true))]
+#[pyo3(signature = (scene, spp, shadows=true, shells=None))]
 pub fn oracle_image<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyAny>,
     spp: u32,
     shadows: bool,
+    shells: Option<&Bound<'py, PyShells>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene_from_py(scene)?;
+    let fresh = Shells::default();
+    let shells = shells_or(shells, &fresh);
     let o = super::errors::interruptible(py, move || {
-        crate::oracle::image::render(&scene, spp, shadows)
+        crate::oracle::image::render(&scene, spp, shadows, shells)
     })?;
     let (h, w) = (o.height as usize, o.width as usize);
     let d = PyDict::new(py);
@@ -104,9 +139,8 @@ pub fn reference_normals<'py>(
         columns::<4>(&tangents, "tangents", n)?,
         columns::<2>(&uv_scale, "uv_scale", n)?,
     );
-    let normals = py.detach(|| {
-        crate::oracle::shading::shading_normals(&obj.material, &uv, &bn, &tg, &sc)
-    });
+    let normals =
+        py.detach(|| crate::oracle::shading::shading_normals(&obj.material, &uv, &bn, &tg, &sc));
     let out: Vec<f64> = normals.iter().flat_map(|v| v.to_array()).collect();
     nd_array(py, (n, 3), out)
 }
@@ -135,9 +169,8 @@ pub fn reference_directions<'py>(
         return Err(Error::arg("n", "must be at least 1").into());
     }
     let (tr, qs): (Vec<f64>, Vec<u32>) = (tr.to_vec(), qs.to_vec());
-    let (dirs, owner) = py.detach(|| {
-        crate::oracle::image::sample_directions_of(&ax, &tr, &qs, n as usize)
-    });
+    let (dirs, owner) =
+        py.detach(|| crate::oracle::image::sample_directions_of(&ax, &tr, &qs, n as usize));
     let dirs: Vec<f64> = dirs.iter().flat_map(|v| v.to_array()).collect();
     let m = owner.len();
     Ok((nd_array(py, (m, 3), dirs)?, nd_array(py, m, owner)?))

@@ -64,7 +64,7 @@ fn pom_matches_the_oracle_on_a_constant_height() {
         PerPixel::off(),
     );
     let f = r.render(&s, &m).unwrap();
-    let o = hits(&s, 0.0).unwrap();
+    let o = hits(&s, 0.0, &pomkit::oracle::Shells::default()).unwrap();
     let mut n = 0;
     let (mask, uv) = (f.mask(), f.f32s("uv"));
     for i in 0..(64 * 64) {

@@ -3,8 +3,8 @@
 //! one walk of the cone's axis, its chords' boxes widened by as far as the rays part, shows
 //! that none of them meets the surface before it leaves the shell.
 
-use super::*;
 use super::bundle_shows::Bundle;
+use super::*;
 
 /// The allowance on what the axis shows of every ray's path: on the deviations from chords
 /// (a path's higher terms, the rays' paths beside the axis's) and on how far the rays part
@@ -42,19 +42,12 @@ impl Object<'_> {
 
 impl Object<'_> {
     /// Whether every ray from the hit (object-space `o`) whose direction differs from `da` by
-    /// at most `part` meets the surface: the axis's walk from (triangle, lam, point) (the hit,
-    /// or as far as the bundle cleared the way) meets it, and a quarter to two texels past
+    /// at most `part` meets the surface: the axis's walk from `start` (the hit, or as far as the
+    /// bundle cleared the way) meets it, and a quarter to two texels past
     /// that its point lies below the field's lowest within how far the rays part there, by
     /// more than they part in height. A ray that began on the surface and is under it has met
     /// it; the object must be closed (no wall), and the point's triangle free of uv seams.
-    fn all_blocked(
-        &self,
-        (tri, lam0, at): (u32, f64, Local),
-        o: DVec3,
-        da: DVec3,
-        part: f64,
-        lift: f64,
-    ) -> bool {
+    fn all_blocked(&self, start: Place, o: DVec3, da: DVec3, part: f64, lift: f64) -> bool {
         if !self.closed {
             return false;
         }
@@ -70,7 +63,7 @@ impl Object<'_> {
             lam,
             at: ah,
             ..
-        } = self.walk(&ray, tri, lam0, at)
+        } = self.walk(&ray, start.tri, start.lam, start.at)
         else {
             return false;
         };
@@ -176,10 +169,16 @@ impl Shell<'_> {
         self.bundle_left(hit, da, ds, part, lift, &mut cleared)
             .map(Bundle::Left)
             .or_else(|| {
-                ob.all_blocked(cleared.unwrap_or((tri, 0.0, at)), o, da, part, lift)
-                    .then_some(Bundle::Blocked)
+                ob.all_blocked(
+                    cleared.unwrap_or(Place { tri, lam: 0.0, at }),
+                    o,
+                    da,
+                    part,
+                    lift,
+                )
+                .then_some(Bundle::Blocked)
             })
-            .or(cleared.map(|(tri, lam, at)| Bundle::Cleared { tri, lam, at }))
+            .or(cleared.map(Bundle::Cleared))
     }
 
     /// `bundle`'s answer where every ray leaves: whether the object must still be searched.
@@ -190,7 +189,7 @@ impl Shell<'_> {
         ds: &[DVec3],
         part: f64,
         lift: f64,
-        cleared: &mut Option<(u32, f64, Local)>,
+        cleared: &mut Option<Place>,
     ) -> Option<bool> {
         let ob = &self.objects[hit.object];
         let (tri, at, o) = (hit.at.tri, hit.at.at, hit.at.x);
@@ -296,7 +295,7 @@ impl Shell<'_> {
                 Some(near(t) || near(tri))
             }
             Walk::Hit { tri, lam, at, .. } => {
-                *cleared = Some((tri, lam, at));
+                *cleared = Some(Place { tri, lam, at });
                 None
             }
             _ => None,

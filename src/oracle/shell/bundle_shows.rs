@@ -1,6 +1,6 @@
 //! What one walk of a light's disk as a bundle (bundle.rs) shows of its rays.
 
-use super::prism::Local;
+use super::prism::Place;
 
 /// What a bundle shows of its rays.
 pub(super) enum Bundle {
@@ -10,6 +10,6 @@ pub(super) enum Bundle {
     /// must still be searched there (anything of it lies above the triangles the bundle left
     /// by or began in, or their neighbours)
     Left(bool),
-    /// no ray meets the surface before `lam`, where the axis is at `at` in prism `tri`
-    Cleared { tri: u32, lam: f64, at: Local },
+    /// no ray meets the surface before the axis's place
+    Cleared(Place),
 }

@@ -30,10 +30,11 @@ use super::field::walk_cells;
 use super::trace::{Hit, Tracer};
 use crate::error::{Error, Result};
 use crate::scene::{Material, Scene};
-use glam::{DVec2, DVec3};
 use bundle_shows::Bundle;
+use glam::{DVec2, DVec3};
+pub use object::Shells;
 use object::{Object, Sample};
-use prism::{Crossing, Local, Prism};
+use prism::{Crossing, Local, Place, Prism};
 
 /// The largest deviation, in texels, of a walked chord from the ray's path in texture space
 /// (the hit it finds is then moved onto the path itself).
@@ -45,6 +46,22 @@ pub(crate) struct ShellAt {
     tri: u32,
     at: Local,
     x: DVec3,
+}
+
+/// A search's nearest hit: the object and the ray's place in its shell, and the cells its walks
+/// took (every walk the search began, the ones that missed too).
+#[derive(Clone, Copy, Debug)]
+struct Found {
+    object: usize,
+    place: Place,
+    cells: u32,
+}
+
+/// A triangle of one of the scene's objects.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct TriangleOf {
+    object: usize,
+    tri: u32,
 }
 
 /// A ray's walk through one object's shell: a hit, or where it left.
@@ -106,7 +123,8 @@ pub(crate) struct Shell<'a> {
 }
 
 impl<'a> Shell<'a> {
-    pub(crate) fn new(scene: &'a Scene) -> Result<Shell<'a>> {
+    /// The scene's shell, its objects' geometry taken from `shells` or built and kept there.
+    pub(crate) fn new(scene: &'a Scene, shells: &Shells) -> Result<Shell<'a>> {
         scene.validate()?;
         let mut objects = Vec::new();
         for o in &scene.objects {
@@ -115,6 +133,7 @@ impl<'a> Shell<'a> {
                 &o.material,
                 o.mesh.key,
                 o.transform.m,
+                shells,
             )?);
         }
         if objects.is_empty() {
@@ -135,7 +154,7 @@ impl<'a> Shell<'a> {
     }
 
     /// The first hit of the ray eye + lam dir over lam > lam_min with any object's displaced
-    /// surface (with `any`, the first found): object, triangle, lam, point, cells walked. Each
+    /// surface (with `any`, the first found). Each
     /// start of a walk (where the ray enters a shell) is walked as the camera's tile or the
     /// bounding volumes give it, nearer first; a hit bounds the rest of the search.
     fn first(
@@ -145,7 +164,7 @@ impl<'a> Shell<'a> {
         lam_min: f64,
         any: bool,
         skip: Option<usize>,
-    ) -> Option<(usize, u32, f64, Local, u32)> {
+    ) -> Option<Found> {
         if !any && lam_min == 0.0 && skip.is_none() {
             if let Some(tile) = self.grid.candidates(eye, dir) {
                 return self.first_of(tile, eye, dir);
@@ -154,8 +173,7 @@ impl<'a> Shell<'a> {
         self.search(eye, dir, lam_min, any, skip, None)
     }
 
-    /// `first` through the bounding volumes; `from` (object, triangle): the triangle the ray
-    /// starts in or left by, whose boxes up to the root hold its start or lie about it
+    /// `first` through the bounding volumes; `from`: the triangle the ray starts in or left by, whose boxes up to the root hold its start or lie about it
     /// (bvh.rs: `visit_from`; any triangle gives the same answer, this one the fewest boxes to
     /// test).
     fn search(
@@ -165,9 +183,9 @@ impl<'a> Shell<'a> {
         lam_min: f64,
         any: bool,
         skip: Option<usize>,
-        from: Option<(usize, u32)>,
-    ) -> Option<(usize, u32, f64, Local, u32)> {
-        let mut best: Best = None;
+        from: Option<TriangleOf>,
+    ) -> Option<Found> {
+        let mut best: Option<Found> = None;
         let mut cells = 0u32;
         let mut bound = f64::INFINITY;
         for (oi, ob) in self.objects.iter().enumerate() {
@@ -188,9 +206,9 @@ impl<'a> Shell<'a> {
                     want: if any { Want::Any } else { Want::Exact },
                     part: 0.0,
                 };
-                let hit = ob.walk_start(oi, &ray, (t, lam, at), &mut best, &mut cells);
-                if let Some((_, _, l, _)) = best {
-                    *bound = bound.min(l);
+                let hit = ob.walk_start(oi, &ray, Place { tri: t, lam, at }, &mut best, &mut cells);
+                if let Some(b) = best {
+                    *bound = bound.min(b.place.lam);
                 }
                 !(any && hit)
             };
@@ -200,29 +218,24 @@ impl<'a> Shell<'a> {
                 go_on
             };
             match from {
-                Some((fo, t)) if fo == oi => ob.bvh.visit_from(t, o, d, lam_min, bound, each),
+                Some(f) if f.object == oi => ob.bvh.visit_from(f.tri, o, d, lam_min, bound, each),
                 _ => ob.bvh.visit(o, d, lam_min, bound, each),
             }
             if let Some(b) = best {
-                bound = bound.min(b.2);
+                bound = bound.min(b.place.lam);
             }
             if !go_on {
                 break;
             }
         }
-        best.map(|(oi, tri, lam, at)| (oi, tri, lam, at, cells))
+        best.map(|b| Found { cells, ..b })
     }
 }
 
 impl Shell<'_> {
     /// A camera ray's first hit among the starts of the triangles `candidates`, walked nearer
     /// first until a hit bounds the rest.
-    fn first_of(
-        &self,
-        candidates: &[(u32, u32)],
-        eye: DVec3,
-        dir: DVec3,
-    ) -> Option<(usize, u32, f64, Local, u32)> {
+    fn first_of(&self, candidates: &[(u32, u32)], eye: DVec3, dir: DVec3) -> Option<Found> {
         let mut starts: smallvec::SmallVec<[(f64, u32, u32, Local); 8]> = smallvec::SmallVec::new();
         for &(oi, t) in candidates {
             let ob = &self.objects[oi as usize];
@@ -238,9 +251,9 @@ impl Shell<'_> {
             });
         }
         starts.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-        let (mut best, mut cells): (Best, u32) = (None, 0);
+        let (mut best, mut cells): (Option<Found>, u32) = (None, 0);
         for (lam, oi, t, at) in starts {
-            if best.is_some_and(|(_, _, b, _)| lam >= b) {
+            if best.is_some_and(|b| lam >= b.place.lam) {
                 break;
             }
             let ob = &self.objects[oi as usize];
@@ -251,27 +264,30 @@ impl Shell<'_> {
                 want: Want::Exact,
                 part: 0.0,
             };
-            ob.walk_start(oi as usize, &ray, (t, lam, at), &mut best, &mut cells);
+            ob.walk_start(
+                oi as usize,
+                &ray,
+                Place { tri: t, lam, at },
+                &mut best,
+                &mut cells,
+            );
         }
-        best.map(|(oi, tri, lam, at)| (oi, tri, lam, at, cells))
+        best.map(|b| Found { cells, ..b })
     }
 }
 
-/// A search's nearest hit: object, triangle, lam, point.
-type Best = Option<(usize, u32, f64, Local)>;
-
 impl Object<'_> {
-    /// The walk of object `oi`'s `ray` from a start (triangle, lam, point): its hit kept in
-    /// `best` where nearer, its cells added; whether it hit.
+    /// The walk of object `oi`'s `ray` from a start: its hit kept in `best` where nearer, its
+    /// cells added; whether it hit.
     fn walk_start(
         &self,
         oi: usize,
         ray: &Ray,
-        (t, lam, at): (u32, f64, Local),
-        best: &mut Best,
+        start: Place,
+        best: &mut Option<Found>,
         cells: &mut u32,
     ) -> bool {
-        match self.walk(ray, t, lam, at) {
+        match self.walk(ray, start.tri, start.lam, start.at) {
             Walk::Hit {
                 tri,
                 lam,
@@ -279,8 +295,12 @@ impl Object<'_> {
                 cells: c,
             } => {
                 *cells += c;
-                if best.is_none_or(|(_, _, b, _)| lam < b) {
-                    *best = Some((oi, tri, lam, at));
+                if best.is_none_or(|b| lam < b.place.lam) {
+                    *best = Some(Found {
+                        object: oi,
+                        place: Place { tri, lam, at },
+                        cells: 0,
+                    });
                 }
                 true
             }
@@ -335,7 +355,11 @@ impl Tracer for Shell<'_> {
     type At = ShellAt;
 
     fn trace(&self, eye: DVec3, dir: DVec3) -> Option<Hit<ShellAt>> {
-        let (oi, tri, lam, at, cells) = self.first(eye, dir, 0.0, false, None)?;
+        let Found {
+            object: oi,
+            place: Place { tri, lam, at },
+            cells,
+        } = self.first(eye, dir, 0.0, false, None)?;
         let ob = &self.objects[oi];
         let p = ob.prisms[tri as usize].as_ref().expect("a hit's prism");
         let uv = p.uv(at.b);
@@ -370,10 +394,10 @@ impl Tracer for Shell<'_> {
             None => return dirs.iter().filter(|l| self.reaches(hit, **l, bias)).count(),
             Some(Bundle::Blocked) => return 0,
             Some(Bundle::Left(search)) => search,
-            Some(Bundle::Cleared { tri, lam, at }) => {
+            Some(Bundle::Cleared(place)) => {
                 return dirs
                     .iter()
-                    .filter(|l| self.reaches_from(hit, **l, bias, Some((tri, lam, at))))
+                    .filter(|l| self.reaches_from(hit, **l, bias, Some(place)))
                     .count()
             }
         };
@@ -385,7 +409,10 @@ impl Tracer for Shell<'_> {
         }
         let eye = self.objects[hit.object].to_world.transform_point3(hit.at.x);
         let skip = (!search_own).then_some(hit.object);
-        let from = Some((hit.object, hit.at.tri));
+        let from = Some(TriangleOf {
+            object: hit.object,
+            tri: hit.at.tri,
+        });
         dirs.iter()
             .filter(|l| self.search(eye, **l, 1e-9, true, skip, from).is_none())
             .count()
@@ -424,17 +451,11 @@ impl Tracer for Shell<'_> {
 }
 
 impl Shell<'_> {
-    /// `reaches`, its walk begun at `from` (triangle, lam, the axis's point there) where given:
+    /// `reaches`, its walk begun at `from` (the bundle's axis's place) where given:
     /// a bundle showed that no ray meets the surface before that lam. The ray's own point is
     /// located there; where it lies outside the prism (beside the triangle, or above its top,
     /// where the ray may have left the shell on the way), the walk begins at the hit.
-    fn reaches_from(
-        &self,
-        hit: &Hit<ShellAt>,
-        l: DVec3,
-        bias: f64,
-        from: Option<(u32, f64, Local)>,
-    ) -> bool {
+    fn reaches_from(&self, hit: &Hit<ShellAt>, l: DVec3, bias: f64, from: Option<Place>) -> bool {
         let ob = &self.objects[hit.object];
         let d = ob.to_obj.transform_vector3(l);
         let lift = bias.max(1e-9);
@@ -446,13 +467,17 @@ impl Shell<'_> {
             part: 0.0,
         };
         let start = from
-            .and_then(|(t, lam, guess)| {
-                let p = ob.prisms[t as usize].as_ref()?;
-                let at = p.locate(ray.o + d * lam, guess)?;
-                (Prism::inside(at.b, 0.0) && at.s <= 0.0).then_some((t, lam, at))
+            .and_then(|f| {
+                let p = ob.prisms[f.tri as usize].as_ref()?;
+                let at = p.locate(ray.o + d * f.lam, f.at)?;
+                (Prism::inside(at.b, 0.0) && at.s <= 0.0).then_some(Place { at, ..f })
             })
-            .unwrap_or((hit.at.tri, 0.0, hit.at.at));
-        match ob.walk(&ray, start.0, start.1, start.2) {
+            .unwrap_or(Place {
+                tri: hit.at.tri,
+                lam: 0.0,
+                at: hit.at.at,
+            });
+        match ob.walk(&ray, start.tri, start.lam, start.at) {
             Walk::Hit { .. } => false,
             Walk::Left { lam, top, .. } => {
                 // where it left, in the world: the rest of the ray meets no shell again (this
@@ -463,7 +488,10 @@ impl Shell<'_> {
                 }
                 let eye = ob.to_world.transform_point3(hit.at.x);
                 let eps = 1e-9 * (1.0 + lam.abs());
-                let from = top.map(|t| (hit.object, t));
+                let from = top.map(|tri| TriangleOf {
+                    object: hit.object,
+                    tri,
+                });
                 self.search(eye, l, lam + eps, true, clear.then_some(hit.object), from)
                     .is_none()
             }

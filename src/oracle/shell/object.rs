@@ -1,6 +1,6 @@
 //! One object of the shell: its mesh and material with the geometry its mesh and depth make
-//! (prisms, adjacency, bounding volumes), built once per (mesh content, depth) and kept, and the
-//! queries a ray's walk asks of it.
+//! (prisms, adjacency, bounding volumes), built once per (mesh content, depth) and kept in the
+//! caller's `Shells`, and the queries a ray's walk asks of it.
 
 use super::bvh::Bvh;
 use super::prism::{Local, Prism};
@@ -53,7 +53,8 @@ impl std::ops::Deref for Object<'_> {
 }
 
 /// An object's shell as its mesh and depth make it: prisms, adjacency, bounding volumes. Kept in
-/// `GEOMETRY` by (mesh content, depth), so that later calls on the same asset pay per pixel only.
+/// the caller's `Shells` by (mesh content, depth), so that later calls on the same asset pay per
+/// pixel only.
 pub(super) struct Geometry {
     pub(super) prisms: Vec<Option<Prism>>,
     /// per triangle and side k (corners k, k+1): the triangle across it where the two shells
@@ -81,31 +82,60 @@ pub(super) struct Geometry {
     pub(super) extent: f64,
 }
 
-/// The shells built lately, by (mesh key, depth bits): the most recent `KEPT` of them.
-static GEOMETRY: Mutex<Vec<((u64, u64), Arc<Geometry>)>> = Mutex::new(Vec::new());
+/// The shells built lately, by (mesh key, depth bits): the most recent `KEPT` of them. Owned by
+/// the oracle's caller (pk.oracle holds one for the process; a test, its own), so that what is
+/// kept, and for how long, is the caller's to say.
+#[derive(Default)]
+pub struct Shells {
+    kept: Mutex<Vec<((u64, u64), Arc<Geometry>)>>,
+}
+
+/// How many shells `Shells` keeps.
 const KEPT: usize = 4;
 
-impl<'a> Object<'a> {
-    pub(super) fn new(mesh: &'a Mesh, mat: &'a Material, key: u64, m: DMat4) -> Result<Object<'a>> {
-        let depth = mat.depth as f64;
+impl Shells {
+    /// The shell of (mesh, depth), built where it is not kept.
+    fn get(&self, mesh: &Mesh, key: u64, depth: f64) -> Result<Arc<Geometry>> {
         let id = (key, depth.to_bits());
-        let kept = GEOMETRY
+        let kept = self
+            .kept
             .lock()
             .ok()
             .and_then(|g| g.iter().find(|(k, _)| *k == id).map(|(_, v)| v.clone()));
-        let geo = match kept {
-            Some(g) => g,
-            None => {
-                let g = Arc::new(Geometry::new(mesh, depth)?);
-                if let Ok(mut kept) = GEOMETRY.lock() {
-                    kept.retain(|(k, _)| *k != id);
-                    kept.push((id, g.clone()));
-                    let over = kept.len().saturating_sub(KEPT);
-                    kept.drain(..over);
-                }
-                g
-            }
-        };
+        if let Some(g) = kept {
+            return Ok(g);
+        }
+        let g = Arc::new(Geometry::new(mesh, depth)?);
+        if let Ok(mut kept) = self.kept.lock() {
+            kept.retain(|(k, _)| *k != id);
+            kept.push((id, g.clone()));
+            let over = kept.len().saturating_sub(KEPT);
+            kept.drain(..over);
+        }
+        Ok(g)
+    }
+
+    /// How many shells are kept.
+    pub fn len(&self) -> usize {
+        self.kept.lock().map(|k| k.len()).unwrap_or(0)
+    }
+
+    /// Whether none is.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+impl<'a> Object<'a> {
+    pub(super) fn new(
+        mesh: &'a Mesh,
+        mat: &'a Material,
+        key: u64,
+        m: DMat4,
+        shells: &Shells,
+    ) -> Result<Object<'a>> {
+        let depth = mat.depth as f64;
+        let geo = shells.get(mesh, key, depth)?;
         let lin = DMat3::from_mat4(m);
         Ok(Object {
             mesh,

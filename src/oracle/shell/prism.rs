@@ -36,6 +36,15 @@ pub(crate) struct Local {
     pub(crate) s: f64,
 }
 
+/// A ray's place in one object's shell: the prism (its base triangle), the ray's parameter and
+/// the point there.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Place {
+    pub(crate) tri: u32,
+    pub(crate) lam: f64,
+    pub(crate) at: Local,
+}
+
 /// A ray's crossing of one of a prism's sides: where, and the point there.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Crossing {

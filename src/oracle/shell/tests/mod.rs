@@ -60,7 +60,7 @@ fn on_a_plane_the_shell_answers_as_the_planar_oracle() {
         40,
     );
     let planar = hits_of(&s, &Oracle::new(&s, "test").unwrap(), 0.0);
-    let shell = hits_of(&s, &Shell::new(&s).unwrap(), 0.0);
+    let shell = hits_of(&s, &Shell::new(&s, &Shells::default()).unwrap(), 0.0);
     // the planar oracle extends the plane past its border; compare where its hit lies inside
     let inner = |i: usize| {
         (0.05..0.95).contains(&planar.uv[2 * i]) && (0.05..0.95).contains(&planar.uv[2 * i + 1])
@@ -115,7 +115,7 @@ fn a_flat_shaded_plane_whose_normals_differ_by_rounding_loses_no_ray() {
     let planar = scene(Mesh::plane(2.0, 6).unwrap(), hm.clone(), 0.1, eye, 48);
     let s = scene(flat, hm, 0.1, eye, 48);
     let want = hits_of(&planar, &Oracle::new(&planar, "test").unwrap(), 0.0);
-    let got = hits_of(&s, &Shell::new(&s).unwrap(), 0.0);
+    let got = hits_of(&s, &Shell::new(&s, &Shells::default()).unwrap(), 0.0);
     let inner = |i: usize| {
         (0.05..0.95).contains(&want.uv[2 * i]) && (0.05..0.95).contains(&want.uv[2 * i + 1])
     };
@@ -128,7 +128,7 @@ fn a_flat_shaded_plane_whose_normals_differ_by_rounding_loses_no_ray() {
 /// A hit lies on the surface (h of its point = H(uv), the point P + depth (h - 1) N of its
 /// triangle), and no point of the ray before it lies under the surface in any prism.
 fn hits_lie_on_the_surface(s: &Scene, want_hits: usize) {
-    let shell = Shell::new(s).unwrap();
+    let shell = Shell::new(s, &Shells::default()).unwrap();
     let ob = &shell.objects[0];
     let depth = ob.depth;
     let hm = &ob.mat.height;
@@ -236,7 +236,7 @@ fn a_ray_that_leaves_above_its_object_skips_it() {
         [0.3, 0.8, 3.2],
         8,
     );
-    let shell = Shell::new(&sphere).unwrap();
+    let shell = Shell::new(&sphere, &Shells::default()).unwrap();
     let ob = &shell.objects[0];
     assert!(!(0..ob.prisms.len()).any(|t| ob.overhung(t)));
 
@@ -247,7 +247,7 @@ fn a_ray_that_leaves_above_its_object_skips_it() {
         [0.4, 1.8, 2.6],
         32,
     );
-    let shell = Shell::new(&torus).unwrap();
+    let shell = Shell::new(&torus, &Shells::default()).unwrap();
     let ob = &shell.objects[0];
     // a triangle faces the hole where its normal points towards the axis
     let (mut inner, mut outer) = (0, 0);
@@ -319,7 +319,7 @@ fn a_search_from_a_triangle_gives_what_the_search_from_the_root_gives() {
         [0.4, 1.6, 2.4],
         8,
     );
-    let shell = Shell::new(&s).unwrap();
+    let shell = Shell::new(&s, &Shells::default()).unwrap();
     let ob = &shell.objects[0];
     let (mut tried, mut extra) = (0, 0);
     for (t, p) in ob.prisms.iter().enumerate() {
@@ -378,7 +378,7 @@ fn a_ray_below_the_lowest_texel_has_met_the_surface() {
         (Mesh::torus(1.0, 0.4, 16, 8).unwrap(), zeros),
     ] {
         let s = scene(mesh, hm, 0.1, [0.4, 1.8, 2.6], 32);
-        let shell = Shell::new(&s).unwrap();
+        let shell = Shell::new(&s, &Shells::default()).unwrap();
         let ob = &shell.objects[0];
         let cam = &s.camera;
         let basis = cam.basis();
@@ -424,7 +424,7 @@ fn a_ray_into_the_floor_is_blocked() {
         [0.3, 1.6, 0.9],
         24,
     );
-    let shell = Shell::new(&s).unwrap();
+    let shell = Shell::new(&s, &Shells::default()).unwrap();
     let cam = &s.camera;
     let basis = cam.basis();
     let mut n = 0;
@@ -448,3 +448,27 @@ fn a_ray_into_the_floor_is_blocked() {
 }
 
 mod tiles;
+
+/// The caller's `Shells` keeps a shell per (mesh content, depth), the latest four, and a
+/// scene built again from the same mesh finds it there (the same geometry, not a copy).
+#[test]
+fn the_callers_shells_keep_the_latest_four() {
+    let shells = Shells::default();
+    let mesh = Mesh::plane(2.0, 4).unwrap();
+    let depths = [0.02f32, 0.04, 0.06, 0.08, 0.1];
+    let first = scene(mesh.clone(), noise(8, 8, 1), depths[0], [0.3, 1.5, 1.0], 8);
+    let a = Shell::new(&first, &shells).unwrap().objects[0].geo.clone();
+    let b = Shell::new(&first, &shells).unwrap().objects[0].geo.clone();
+    assert!(std::sync::Arc::ptr_eq(&a, &b));
+    assert_eq!(shells.len(), 1);
+    for &d in &depths[1..] {
+        let s = scene(mesh.clone(), noise(8, 8, 1), d, [0.3, 1.5, 1.0], 8);
+        Shell::new(&s, &shells).unwrap();
+    }
+    assert_eq!(shells.len(), 4);
+    // the first depth's shell was the oldest, and is built anew
+    let c = Shell::new(&first, &shells).unwrap().objects[0].geo.clone();
+    assert!(!std::sync::Arc::ptr_eq(&a, &c));
+    // a fresh set keeps nothing from the caller's
+    assert!(Shells::default().is_empty());
+}

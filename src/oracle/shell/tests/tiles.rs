@@ -4,7 +4,7 @@ use super::*;
 /// The camera's tiles give the hits the bounding volumes give, pixel by pixel; the number of
 /// hits per object.
 fn tiles_against_bounding_volumes(s: &Scene) -> Vec<usize> {
-    let shell = Shell::new(s).unwrap();
+    let shell = Shell::new(s, &Shells::default()).unwrap();
     let cam = &s.camera;
     let basis = cam.basis();
     let mut hits = vec![0usize; s.objects.len()];
@@ -17,9 +17,16 @@ fn tiles_against_bounding_volumes(s: &Scene) -> Vec<usize> {
             match (a, b) {
                 (None, None) => {}
                 (Some(a), Some(b)) => {
-                    assert_eq!((a.0, a.1), (b.0, b.1), "pixel ({i}, {j})");
-                    assert!((a.2 - b.2).abs() <= 1e-12 * b.2, "pixel ({i}, {j})");
-                    hits[a.0] += 1;
+                    assert_eq!(
+                        (a.object, a.place.tri),
+                        (b.object, b.place.tri),
+                        "pixel ({i}, {j})"
+                    );
+                    assert!(
+                        (a.place.lam - b.place.lam).abs() <= 1e-12 * b.place.lam,
+                        "pixel ({i}, {j})"
+                    );
+                    hits[a.object] += 1;
                 }
                 _ => panic!("pixel ({i}, {j}): {a:?} against {b:?}"),
             }
@@ -108,7 +115,7 @@ fn a_bundle_answers_as_its_rays() {
     );
     through(&mut pair, Mesh::sphere(0.5, 16, 8).unwrap(), 0.3);
     for s in [&sphere, &pair] {
-        let shell = Shell::new(s).unwrap();
+        let shell = Shell::new(s, &Shells::default()).unwrap();
         let basis = s.camera.basis();
         let (mut bundles, mut tried, mut lit) = (0, 0, 0);
         let (mut shadows, mut dark) = (0, 0);
