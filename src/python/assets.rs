@@ -2,7 +2,7 @@
 
 use super::handles::{PyHeightData, PyMeshData};
 use super::arrays::nd_array;
-use super::scene_args::mesh_out;
+use super::mesh_args::mesh_out;
 use crate::assets::{self, TangentSource};
 use crate::mesh::normals::NormalsMode;
 use pyo3::prelude::*;

@@ -1,7 +1,9 @@
 //! The pyo3 layer: conversion only, one file per concept (tokenizers' layout). The Renderer
-//! (`renderer.rs`), scenes and meshes (`scene_args.rs`), methods (`method_args.rs`), frames
-//! (`frame.rs`), the oracle (`oracle_arrays.rs`), assets (`assets.rs`), image files (`io.rs`), long builds (`build_hooks.rs`)
-//! and errors (`errors.rs`); this file holds the module's init and one array helper.
+//! (`renderer.rs`), scenes (`scene_args.rs`), meshes (`mesh_args.rs`), Tessellated's CPU mesh
+//! (`tessellation.rs`), methods (`method_args.rs`), frames (`frame.rs`), the oracle
+//! (`oracle_arrays.rs`), assets (`assets.rs`), image files (`io.rs`), long builds
+//! (`build_hooks.rs`) and errors (`errors.rs`); this file holds the module's init and the
+//! schema's tables.
 
 mod arrays;
 mod assets;
@@ -15,7 +17,9 @@ mod jod;
 mod method_args;
 mod oracle_arrays;
 mod renderer;
+mod mesh_args;
 mod scene_args;
+mod tessellation;
 
 use handles::{PyAlbedoData, PyHeightData, PyMeshData};
 use pyo3::prelude::*;
@@ -107,18 +111,18 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(oracle_arrays::oracle_image, m)?)?;
     m.add_function(wrap_pyfunction!(oracle_arrays::reference_normals, m)?)?;
     m.add_function(wrap_pyfunction!(oracle_arrays::reference_directions, m)?)?;
-    m.add_function(wrap_pyfunction!(scene_args::mesh_from_arrays, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh_args::mesh_from_arrays, m)?)?;
     m.add_function(wrap_pyfunction!(assets::load_gltf, m)?)?;
     m.add_function(wrap_pyfunction!(assets::shell_findings, m)?)?;
     m.add_function(wrap_pyfunction!(assets::check_asset, m)?)?;
-    m.add_function(wrap_pyfunction!(scene_args::mesh_plane, m)?)?;
-    m.add_function(wrap_pyfunction!(scene_args::mesh_sphere, m)?)?;
-    m.add_function(wrap_pyfunction!(scene_args::mesh_torus, m)?)?;
-    m.add_function(wrap_pyfunction!(scene_args::mesh_cylinder, m)?)?;
-    m.add_function(wrap_pyfunction!(scene_args::mesh_cube, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh_args::mesh_plane, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh_args::mesh_sphere, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh_args::mesh_torus, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh_args::mesh_cylinder, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh_args::mesh_cube, m)?)?;
     m.add_function(wrap_pyfunction!(scene_args::bounding_sphere, m)?)?;
     m.add_function(wrap_pyfunction!(scene_args::light_power, m)?)?;
-    m.add_function(wrap_pyfunction!(scene_args::tessellate, m)?)?;
+    m.add_function(wrap_pyfunction!(tessellation::tessellate, m)?)?;
     m.add_function(wrap_pyfunction!(io::load_image, m)?)?;
     m.add_function(wrap_pyfunction!(jod::jod, m)?)?;
     m.add_function(wrap_pyfunction!(jod::jod_displays, m)?)?;
