@@ -29,16 +29,25 @@ def test_the_page(tmp_path, monkeypatch):
     monkeypatch.setenv("POMKIT_CACHE", str(tmp_path / "cache"))
     out = page.run_page(tmp_path / "out", size=256)  # the shipped references are 256²
     text = out.read_text()
-    for name in list(page.PLANAR) + list(page.CURVED):
-        assert f"<th>{name}<br>" in text, name
+    # a card per method on both scenes, each opening its own page with its frame and maps
+    for scene, methods in (("planar", page.PLANAR), ("curved", page.CURVED)):
+        for name in methods:
+            detail = f"{scene}_{name}.html".replace(" ", "_")
+            assert f'href="{html.escape(detail)}"' in text, (scene, name)
+            d = (tmp_path / "out" / detail).read_text()
+            assert f'src="{html.escape(scene + "_" + name)}_uv.png"' in d, detail
+    details = "".join(p.read_text() for p in (tmp_path / "out").glob("*.html") if p.name != "index.html")
     # both scenes' FLIP maps against the noise-free oracle image (on the torus too), shaded as each
     # method is (shadows and AO or none), the shipped Mitsuba render beside them; each time says
     # what its method computed
     assert text.count("vs pk.oracle.image (noise-free), shaded as the method is") == 2
     assert text.count("exact hits, exact shadows") == 2
-    assert "exact shadows, AO 64 directions)" in text and "ConeStep<br>" in text
-    assert text.count("against the unshadowed oracle image") >= 4 and text.count("against the shadowed oracle image") >= 2
+    assert "exact shadows, AO 64 directions)" in details and "ConeStep</b>" in text
+    assert details.count("against the unshadowed oracle image") >= 4 and details.count("against the shadowed oracle image") >= 2
     assert "pk.choose" in text and "lod_legend.png" in text
+    # the page says nothing meant for maintainers, and its chart comes first
+    assert "scripts/" not in text and "make_demo_refs" not in text
+    assert text.index('id="pareto"') < text.index('id="planar"')
     # the command that opens the widget on the page's scenes is on the page, and it runs
     assert html.escape(page.EXPLORE_COMMAND) in text
     pytest.importorskip("anywidget")
@@ -54,4 +63,4 @@ def test_the_page(tmp_path, monkeypatch):
         assert (tmp_path / "out" / png).exists(), png
     assert np.asarray(page.lod_legend(8.0)).shape[1] == 256
     # the asset section: the glTF rock, its report, its shipped Mitsuba render
-    assert "<h2>asset</h2>" in text and "pk.check_asset" in text and "7 chart(s)" in text
+    assert '<h2 id="asset">asset</h2>' in text and "pk.check_asset" in text and "7 chart(s)" in text

@@ -1,10 +1,13 @@
-"""The demo's page (`python -m pomkit demo` writes pomkit-out/index.html and its PNGs): every
-method on a planar and on a curved scene and the curved methods on an asset (a glTF rock with a
-UV atlas, its report from `pk.check_asset`), framed on the surface, with the Mitsuba reference
-beside them (renders shipped with the package, made by scripts/make_demo_refs.py, so the demo
-needs no Mitsuba), uv-error and FLIP heat maps, the speed/accuracy chart of the methods shown,
-a `pk.choose` answer for one built-in map, loops in motion beside their motion tables (loops.py),
-and the LOD as a false-colour overlay with its legend.
+"""The demo's page (`python -m pomkit demo` writes pomkit-out/index.html, a page per card and
+their PNGs): a gallery of every method on a planar and on a curved scene and of the curved methods
+on an asset (a glTF rock with a UV atlas, its report from `pk.check_asset`), framed on the
+surface, each card a thumbnail and its figures that opens the method's frame, uv-error and FLIP
+maps and settings; the Mitsuba reference beside each scene (renders shipped with the package,
+made by scripts/make_demo_refs.py, so the demo needs no Mitsuba); a sticky legend of the maps'
+scales; the speed/accuracy chart of the methods shown at the top; the corpus table's summary
+where the checkout holds it; a `pk.choose` answer for one built-in map, loops in motion beside
+their motion tables (loops.py), and the LOD as a false-colour overlay with its legend. One
+column of at most 1360 pixels (a 1400-pixel window shows it without scrolling sideways).
 """
 
 from __future__ import annotations
@@ -24,6 +27,22 @@ from pomkit._heatmap import heat, ramp
 
 REFS = Path(__file__).resolve().parent.parent / "data" / "demo"
 UV_MAX = 2.0  # texels: the uv heat map's scale
+#: the summary line of the corpus of other people's models (docs/tables/wild.md), where the page is
+#: made from a checkout that holds it
+WILD_TABLE = Path(__file__).resolve().parents[3] / "docs" / "tables" / "wild.md"
+#: the page's style: one column of at most 1360 pixels, the legend kept in view
+CSS = ("body{font-family:system-ui,sans-serif;font-size:15px;line-height:1.4;background:#fafafa;color:#222;"
+       "margin:0 auto;padding:0 1em 2em;max-width:1360px;box-sizing:border-box}"
+       "img{image-rendering:pixelated;max-width:100%}h2{margin-top:1.6em;border-bottom:1px solid #ddd}"
+       ".maplegend{position:sticky;top:0;z-index:5;background:#fafafaee;border-bottom:1px solid #ddd;padding:6px 0;"
+       "display:flex;flex-wrap:wrap;gap:18px;align-items:center;font-size:13px}.maplegend img{height:14px;width:160px;"
+       "vertical-align:middle}.gallery{display:grid;grid-template-columns:repeat(auto-fill,minmax(180px,1fr));gap:10px}"
+       ".card{display:block;background:#fff;border:1px solid #ddd;border-radius:6px;padding:6px;color:inherit;"
+       "text-decoration:none;font-size:13px}.card:hover{border-color:#888}.card img{width:100%;display:block;"
+       "margin-bottom:4px}.card .more{display:none}.refs,.maps{display:flex;flex-wrap:wrap;gap:12px}"
+       "figure{margin:0;max-width:420px}figcaption{font-size:13px;color:#555}small{color:#555}"
+       "pre{white-space:pre-wrap;overflow-wrap:anywhere;background:#fff;border:1px solid #eee;padding:8px}"
+       "td,th{padding:3px;vertical-align:top}")
 
 
 #: what the page prints to open `pk.explore` on its own two scenes (tests/test_demo.py runs it)
@@ -151,12 +170,28 @@ def computed(m: pk.Method) -> str:
     return ("no shadows" if sh == "none" else f"{sh} shadows") + (f", AO {ao} directions" if ao else "")
 
 
+def _detail_page(outdir: Path, name: str, label: str, imgs: list[str], heads: list[str], figures: str,
+                 settings: str) -> str:
+    """One card's page: the method's frame and error maps at full size, its figures and settings."""
+    page_name = f"{name}_{label}.html".replace(" ", "_")
+    cells = "".join(f"<figure><img src=\"{html.escape(i)}\"><figcaption>{html.escape(h)}</figcaption></figure>"
+                    for i, h in zip(imgs, heads))
+    (outdir / page_name).write_text(
+        f"<!doctype html><meta charset=utf-8><title>{html.escape(label)} on {name}</title><link rel=icon href='data:,'>"
+        f"<style>{CSS}</style><p><a href=\"index.html#{name}\">back to the gallery</a></p>"
+        f"<h1>{html.escape(label)} <small>on the {name} scene</small></h1><div class=maps>{cells}</div>"
+        f"<p>{html.escape(figures)}</p><pre>{html.escape(settings)}</pre>", encoding="utf-8")
+    return page_name
+
+
 def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: dict, uv_ref: pk.Frame,
             uv_ref_label: str, colour_ref: Optional[dict[bool, pk.Frame]] = None) -> tuple[str, list[dict]]:
-    """One scene's table: per method its frame, uv-error map, FLIP map and figures, with what
-    the method computed beside its time. The FLIP is against `colour_ref` when given, the
-    noise-free `pk.oracle.image` shaded as the method is ({True: with shadows and AO, False:
-    without}, by whether the method shadows itself), else against the shipped Mitsuba render."""
+    """One scene of the gallery: its references, and a card per method (its frame as a
+    thumbnail, its figures) that opens the method's page (its frame, uv-error map, FLIP map,
+    figures and settings), with what the method computed beside its time. The FLIP is against
+    `colour_ref` when given, the noise-free `pk.oracle.image` shaded as the method is ({True:
+    with shadows and AO, False: without}, by whether the method shadows itself), else against
+    the shipped Mitsuba render."""
     ref8 = reference(name, scene)
     flip_refs: dict[bool, pk.Frame] = {}
     if colour_ref is not None:
@@ -167,12 +202,13 @@ def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: d
         flip_label = "Mitsuba"
     else:
         flip_ref, flip_label = None, ""
-    rows, cells = [], []
+    rows, cards = [], []
     have_flip = True
     try:
         import flip_evaluator  # noqa: F401
     except ImportError:
         have_flip = False
+    flip_name = "FLIP" if have_flip else "|Δ sRGB|"
     for label, make in methods.items():
         m = make()
         f = r.render(scene, m, spp=4)
@@ -181,6 +217,7 @@ def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: d
                    safety=m.safety, settings=repr(m))
         imgs = [_save(f.to_srgb8(), outdir / f"{name}_{label}.png"),
                 _save(heat(e["image"], UV_MAX, f.mask | uv_ref.mask), outdir / f"{name}_{label}_uv.png")]
+        heads = ["frame (4 spp)", f"uv error vs {uv_ref_label} (0–{UV_MAX:g} texels)"]
         if flip_ref is not None:
             shaded = getattr(m, "shadows", "none") != "none"
             fl, emap = _flip_map(f, flip_refs.get(shaded, flip_ref))
@@ -188,31 +225,32 @@ def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: d
             row["flip_against"] = ("the shadowed" if shaded else "the unshadowed") if flip_refs else "Mitsuba"
             imgs.append(_save(heat(emap, 0.5 if have_flip else 0.25, np.ones(emap.shape, bool)),
                               outdir / f"{name}_{label}_flip.png"))
+            heads.append(f"{flip_name} vs {flip_label}")
         rows.append(row)
         row["computed"] = computed(m)
         figures = (f"{row['gpu_ms']:.1f} ms (2 passes, spp 4; {row['computed']}) · uv p95 {row['uv_p95']:.2f} tx · "
                    f"IoU {row['mask_iou']:.3f}")
         if "flip" in row:
-            figures += f" · {'FLIP' if have_flip else '|Δ sRGB|'} {row['flip']:.3f}"
+            figures += f" · {flip_name} {row['flip']:.3f}"
             if flip_refs:
                 figures += f" against {row['flip_against']} oracle image"
-        cells.append(f"<tr><th>{html.escape(label)}<br><small>{m.safety}</small></th>"
-                     + "".join(f'<td><img src="{i}"></td>' for i in imgs)
-                     + f"<td><small>{html.escape(figures)}</small></td></tr>")
-    head = "<tr><th></th><th>frame (4 spp)</th><th>uv error vs " + html.escape(uv_ref_label) + f" (0–{UV_MAX:g} texels)</th>"
+        detail = _detail_page(outdir, name, label, imgs, heads, figures, row["settings"])
+        short = f"{row['gpu_ms']:.1f} ms · uv p95 {row['uv_p95']:.2f} · IoU {row['mask_iou']:.3f}" + (
+            f" · {flip_name} {row['flip']:.3f}" if "flip" in row else "")
+        cards.append(f'<a class=card href="{html.escape(detail)}"><img src="{html.escape(imgs[0])}" alt="{html.escape(label)}">'
+                     f"<b>{html.escape(label)}</b> <small>{m.safety}</small><br><small>{html.escape(short)}</small></a>")
+    refs = []
     if ref8 is not None:
         _save(ref8, outdir / f"{name}_mitsuba.png")
-    if flip_ref is not None:
-        head += f"<th>{'FLIP' if have_flip else '|Δ sRGB|'} vs {html.escape(flip_label)}</th>"
-    head += "<th></th></tr>"
-    ref_html = (f'<p>Mitsuba 3 (the displaced mesh, box filter): <br><img src="{name}_mitsuba.png"></p>' if ref8 is not None
-                else "<p>(no Mitsuba reference for this scene: run scripts/make_demo_refs.py)</p>")
+        refs.append(f'<figure><img src="{name}_mitsuba.png"><figcaption>Mitsuba 3 (the displaced mesh, box filter)</figcaption></figure>')
     if colour_ref is not None:
         _save(colour_ref[True].to_srgb8(), outdir / f"{name}_exact.png")
-        ref_html += (f'<p><code>pk.oracle.image</code> (exact hits, exact shadows and AO, float64; noise-free; '
-                     f'the FLIP maps\' reference for the methods that shadow themselves, and the same without '
-                     f'shadows or AO for those that do not): <br><img src="{name}_exact.png"></p>')
-    return f"<h2>{name}</h2>{ref_html}<table>{head}{''.join(cells)}</table>", rows
+        refs.append(f'<figure><img src="{name}_exact.png"><figcaption><code>pk.oracle.image</code> (exact hits, exact '
+                    f'shadows and AO, float64; noise-free): the FLIP maps\' reference for the methods that shadow themselves, '
+                    f'and the same without shadows or AO for those that do not</figcaption></figure>')
+    against = f"uv error vs {html.escape(uv_ref_label)}" + (f", {flip_name} vs {html.escape(flip_label)}" if flip_ref is not None else "")
+    return (f'<h2 id="{name}">{name}</h2><div class=refs>{"".join(refs)}</div><p><small>Each card opens the '
+            f"method's frame and maps ({against}).</small></p><div class=gallery>{''.join(cards)}</div>"), rows
 
 
 def chart(rows: list[dict], outdir: Path) -> str:
@@ -223,7 +261,7 @@ def chart(rows: list[dict], outdir: Path) -> str:
         import plotly.graph_objects as go
         from plotly.offline import get_plotlyjs
     except ImportError:
-        return "<h2>Speed against accuracy</h2><p>(plotly not installed: no chart; <code>pip install pomkit[demo]</code>)</p>"
+        return "<h2 id=chart>Speed against accuracy</h2><p>(plotly not installed: no chart; <code>pip install pomkit[demo]</code>)</p>"
     fig = go.Figure()
     esc = functools.partial(html.escape, quote=False)
     for scene in dict.fromkeys(r["scene"] for r in rows):
@@ -245,7 +283,33 @@ def chart(rows: list[dict], outdir: Path) -> str:
                       yaxis=dict(type="log", title="uv p95 against the reference geometry (texels; 0 shown at 0.001)"))
     (outdir / "plotly.min.js").write_text(get_plotlyjs(), encoding="utf-8")
     div = fig.to_html(full_html=False, include_plotlyjs="directory", div_id="pareto")
-    return ("<h2>Speed against accuracy</h2>" + div + "<p>The full sweep: <code>python -m pomkit bench</code>.</p>")
+    return ("<h2 id=chart>Speed against accuracy</h2>" + div + "<p>The full sweep: <code>python -m pomkit bench</code>.</p>")
+
+
+def legend(outdir: Path, have_flip: bool) -> str:
+    """The sticky legend: what the error maps' colours mean, the markers, and the sections."""
+    bar = np.linspace(0.0, 1.0, 160)[None, :].repeat(14, 0)
+    _save(heat(bar * UV_MAX, UV_MAX, np.ones(bar.shape, bool)), outdir / "legend_uv.png")
+    vmax = 0.5 if have_flip else 0.25
+    _save(heat(bar * vmax, vmax, np.ones(bar.shape, bool)), outdir / "legend_flip.png")
+    links = " · ".join(f'<a href="#{k}">{v}</a>' for k, v in (("chart", "speed/accuracy"), ("planar", "plane"),
+                                                             ("curved", "torus"), ("asset", "asset"), ("hybrid", "coarse + fine"),
+                                                             ("choose", "choose"), ("motion", "in motion")))
+    return (f'<div class=maplegend><span>uv error 0 <img src="legend_uv.png" alt="uv error scale"> {UV_MAX:g} texels</span>'
+            f'<span>{"FLIP" if have_flip else "|Δ sRGB|"} 0 <img src="legend_flip.png" alt="FLIP scale"> {vmax:g}</span>'
+            "<span>grey: neither hits · safe: never misses a feature of the field</span>"
+            f"<span>{links}</span></div>")
+
+
+def wild_summary() -> str:
+    """The corpus table's summary line, where the page is made from a checkout that holds it."""
+    if not WILD_TABLE.exists():
+        return ""
+    lines = [ln for ln in WILD_TABLE.read_text().splitlines() if "converted files from" in ln]
+    if not lines:
+        return ""
+    return ("<h2 id=corpus>On models other people made</h2><p>" + html.escape(lines[0]) +
+            " (docs/tables/wild.md: every file, method and view against the oracle).</p>")
 
 
 def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
@@ -253,9 +317,15 @@ def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
     outdir = Path(out)
     outdir.mkdir(parents=True, exist_ok=True)
     r = pk.Renderer()
-    parts = [f"<h1>pomkit {pk.__version__}</h1><p>{html.escape(r.info['name'])} ({r.info['backend']}). "
-             "Every method of the field on a plane and on a torus, and the curved methods on an asset; GPU times of "
-             "this adapter.</p>"]
+    try:
+        import flip_evaluator  # noqa: F401
+        have_flip = True
+    except ImportError:
+        have_flip = False
+    head = [f"<h1>pomkit {pk.__version__}</h1><p>{html.escape(r.info['name'])} ({r.info['backend']}). "
+            "Every method of the field on a plane and on a torus, and the curved methods on an asset, each against "
+            "the float64 oracle; GPU times of this adapter. Each card opens its frame, error maps and figures.</p>",
+            legend(outdir, have_flip)]
     planar = planar_scene(size)
     oracle = pk.oracle.hits(planar)
     exact = {sh: pk.oracle.image(planar, spp=4, shadows=sh) for sh in (True, False)}
@@ -263,26 +333,25 @@ def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
     curved = curved_scene(size)
     curved_ref = {sh: pk.oracle.image(curved, spp=4, shadows=sh) for sh in (True, False)}
     s2, rows2 = section(r, outdir, "curved", curved, CURVED, pk.oracle.hits(curved), "the float64 oracle", curved_ref)
-    parts += [s1, s2]
     # a user's asset: a glTF with an atlas, checked, every curved method against the mesh
     asset = asset_scene(size)
     obj = asset.objects[0]
     report = pk.check_asset(obj.mesh, obj.material)
     s3, rows3 = section(r, outdir, "asset", asset, ASSET_METHODS, r.render(asset, pk.Tessellated(0.5)), "Tessellated(0.5)")
-    parts.append(s3.replace("</h2>", "</h2><p><code>pk.load_mesh(\"rock.glb\")</code>, then <code>pk.check_asset(mesh, material)</code>:</p><pre>"
-                            + html.escape(str(report)) + "</pre>", 1))
+    s3 = s3.replace("</h2>", "</h2><p><code>pk.load_mesh(\"rock.glb\")</code>, then <code>pk.check_asset(mesh, material)</code>:</p><pre>"
+                    + html.escape(str(report)) + "</pre>", 1)
     # coarse + fine: the asset under a coarse mesh displaced at its vertices, at three densities
     s4, rows4 = section(r, outdir, "hybrid", asset, HYBRID_METHODS, pk.oracle.hits(asset), "the float64 oracle")
-    parts.append(s4.replace("<h2>hybrid</h2>", "<h2>coarse + fine</h2><p>A coarse mesh displaced at its vertices (16, 4 and 1 texels a vertex) "
-                            "and Exact marching the rest: <code>pk.Hybrid(coarse=pk.Tessellated(texels_per_vertex=4), "
-                            "fine=pk.Exact())</code> (docs/hybrid.md; the full sweep with JOD in motion: "
-                            "docs/tables/hybrid.md). Its points are in the chart below.</p>", 1))
-    # speed against accuracy, every scene's methods: an interactive chart, plotly.js beside the page
-    parts.append(chart(rows + rows2 + rows3 + rows4, outdir))
+    s4 = s4.replace(">hybrid</h2>", ">coarse + fine</h2><p>A coarse mesh displaced at its vertices (16, 4 and 1 texels a vertex) "
+                    "and Exact marching the rest: <code>pk.Hybrid(coarse=pk.Tessellated(texels_per_vertex=4), "
+                    "fine=pk.Exact())</code> (docs/hybrid.md; the full sweep with JOD in motion: "
+                    "docs/tables/hybrid.md). Its points are in the chart above.</p>", 1)
+    # speed against accuracy, every scene's methods, at the top: plotly.js beside the page
+    parts = head + [chart(rows + rows2 + rows3 + rows4, outdir), wild_summary(), s1, s2, s3, s4]
     # pk.choose on one built-in map (cached after the first run)
     ch = pk.choose(heights=pk.textures.bricks(128), angles=(40.0, 75.0), resolution=96, max_uv_error=0.5, rounds=3,
                    methods=["SteepParallax", "POM", "Relief", "ConeStep", "Exact"])
-    parts.append("<h2>Which method should I ship?</h2><p><code>pk.choose(heights=pk.textures.bricks(128), "
+    parts.append("<h2 id=choose>Which method should I ship?</h2><p><code>pk.choose(heights=pk.textures.bricks(128), "
                  "angles=(40, 75), resolution=96, max_uv_error=0.5)</code></p><pre>" + html.escape(str(ch)) + "</pre>")
     # the same scenes, live: the notebook widget
     parts.append("<h2>Explore these scenes live</h2><p>In a notebook (JupyterLab, Notebook 7, VS Code, Colab; the "
@@ -296,7 +365,7 @@ def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
         ("plane", planar_scene(small), "orbit", [pk.POM(), pk.Exact(), pk.presets.playcanvas_pom()]),
         ("torus", curved_scene(small), "orbit", [pk.Prism(), pk.NCS(), pk.Prism(exact=True)]),
         ("plane", planar_scene(small), "pullback", [pk.POM(mip_filtering=True), pk.POM(), pk.Exact()]),
-    ]))
+    ]).replace("<h2>", "<h2 id=motion>", 1))
     # the LOD, at a glance
     pom = r.render(planar, pk.POM(mip_filtering=True))
     levels = float(np.log2(256))
@@ -304,8 +373,6 @@ def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
     _save(lod_legend(levels), outdir / "lod_legend.png")
     parts.append('<h2>Level of detail</h2><p>POM(mip_filtering=True): the mip level each pixel marched '
                  '(blue: level 0, red: the coarsest).</p><img src="lod.png"><br><img src="lod_legend.png">')
-    css = ("body{font-family:sans-serif;background:#fafafa;margin:2em}img{image-rendering:pixelated;max-width:256px}"
-           "td,th{padding:3px;vertical-align:top}small{color:#555}")
-    (outdir / "index.html").write_text(f"<!doctype html><meta charset=utf-8><title>pomkit demo</title><link rel=icon href='data:,'><style>{css}</style>"
+    (outdir / "index.html").write_text(f"<!doctype html><meta charset=utf-8><title>pomkit demo</title><link rel=icon href='data:,'><style>{CSS}</style>"
                                        + "".join(parts) + f"<p><small>made in {time.perf_counter() - t0:.1f} s</small></p>")
     return outdir / "index.html"
