@@ -42,6 +42,8 @@ struct ObjectUniforms {
     pad_e: f32,
 }
 
+// group 1's bindings, in the order and with the names of src/render/object_group.rs's
+// OBJECT_GROUP (a test there holds these declarations to it)
 @group(1) @binding(0) var<uniform> G: ObjectUniforms;
 @group(1) @binding(1) var height_tex: texture_2d<f32>;
 @group(1) @binding(2) var height_samp: sampler;

@@ -23,6 +23,7 @@ mod choice;
 pub mod mip_builder;
 mod compute;
 mod limits;
+mod object_group;
 pub mod pipelines;
 pub mod resources;
 pub mod shadow_map;
@@ -404,7 +405,6 @@ impl Renderer {
         shadow_view: Option<&wgpu::TextureView>,
         targets: &Targets,
     ) -> Result<(FrameBinds, Vec<Draw>)> {
-        use wgpu::BindingResource as R;
         let ctx = &self.ctx;
         let f = &self.fixed;
         let (params, binds) = ctx.scoped(|| {
@@ -460,16 +460,17 @@ impl Renderer {
                 let object = ctx.bind_group(
                     "object",
                     &self.pipelines.object_bgl,
-                    vec![
-                        g.as_entire_binding(),
-                        R::TextureView(&height.view),
-                        R::Sampler(&f.height_sampler),
-                        R::TextureView(&albedo),
-                        R::Sampler(&f.albedo_sampler),
-                        R::TextureView(&height.max0_view),
-                        R::TextureView(&height.max_atlas_view),
-                        R::TextureView(&height.max_children_view),
-                    ],
+                    object_group::ObjectBindings {
+                        globals: g.as_entire_binding(),
+                        height: &height.view,
+                        height_sampler: &f.height_sampler,
+                        albedo: &albedo,
+                        albedo_sampler: &f.albedo_sampler,
+                        max0: &height.max0_view,
+                        max_atlas: &height.max_atlas_view,
+                        max_children: &height.max_children_view,
+                    }
+                    .resources(),
                 );
                 let mut m = vec![params.as_entire_binding()];
                 if let Some(own) = &own {

@@ -176,20 +176,6 @@ impl Pipelines {
             let vf = wgpu::ShaderStages::FRAGMENT
                 | wgpu::ShaderStages::VERTEX
                 | wgpu::ShaderStages::COMPUTE;
-            let tex = |b: u32, filterable: bool| {
-                layout::texture(b, vf, wgpu::TextureSampleType::Float { filterable })
-            };
-            let samp = |b: u32, filtering: bool| {
-                layout::sampler(
-                    b,
-                    vf,
-                    if filtering {
-                        wgpu::SamplerBindingType::Filtering
-                    } else {
-                        wgpu::SamplerBindingType::NonFiltering
-                    },
-                )
-            };
             let uniform = |b: u32| layout::buffer(b, vf, wgpu::BufferBindingType::Uniform);
             let mut view_entries = vec![
                 uniform(0),
@@ -210,16 +196,7 @@ impl Pipelines {
             });
             let object_bgl = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("pomkit object"),
-                entries: &[
-                    uniform(0),
-                    tex(1, filterable),
-                    samp(2, filterable),
-                    tex(3, true),
-                    samp(4, true),
-                    tex(5, false),
-                    tex(6, false),
-                    tex(7, false),
-                ],
+                entries: &super::object_group::layout_entries(filterable),
             });
             let storage = |b: u32, stages| {
                 layout::buffer(
