@@ -113,7 +113,7 @@ EXACT_OPTS = dict(shadows="exact", ao_directions=64, mip_filtering=False)
 def test_the_gpu_methods_that_follow_the_definition_meet_it(tmp_path, monkeypatch, name, theta, ambient):
     """Exact with the reference shading's options (level-0 normal and albedo; exact shadows over
     the light's disk and exact AO, each by the reference's 64 directions shared among a pixel's
-    samples) and the mesh with exact self-shadows, both at spp 16, against render_exact at spp
+    samples) and the mesh with exact self-shadows, both at spp 16, against pk.oracle.image at spp
     16: the same hits and the same shading. Interior FLIP (measured: docs/tables/reference_agreement.md):
     - Exact <= 0.003 (issue 30's bound) on every scene: at most 0.0009 at 144² (the gravel
       photograph at 70° under the grazing light), since its light rays start 1e-6 shell depths
@@ -159,7 +159,7 @@ def test_methods_rank_alike_by_colour_and_by_geometry(tmp_path, monkeypatch, nam
 
 
 def test_any_map_size_without_a_mesh(tmp_path, monkeypatch):
-    """render_exact builds no mesh: an 8192² map renders at the cost of its rays."""
+    """pk.oracle.image builds no mesh: an 8192² map renders at the cost of its rays."""
     monkeypatch.setenv("POMKIT_CACHE", str(tmp_path))
     h = np.kron(pk.textures.bricks(256), np.ones((32, 32), np.float32))
     f = pk.oracle.image(_plane(h, size=24, diameter=2.0, ambient=0.1), spp=4)

@@ -1,8 +1,8 @@
 """Mitsuba matched to the reference shading (issue 30): `render_mitsuba(integrator="cast")`, the
 default, casts every sample's ray and every light and ambient ray with Mitsuba against the
-displaced mesh and shades the hits by docs/conventions.md. These tests hold it to render_exact
+displaced mesh and shades the hits by docs/conventions.md. These tests hold it to pk.oracle.image
 (the float64 oracle: an independent ray caster on the same definition), to the analytic sphere,
-and the mesh the GPU rasterises (Tessellated) to it on curved meshes, where render_exact is this
+and the mesh the GPU rasterises (Tessellated) to it on curved meshes, where pk.oracle.image is this
 render. Measured tables: docs/tables/reference_agreement.md.
 """
 
@@ -32,7 +32,7 @@ def _suite_scene(name: str, theta: float, ambient: float, size: int = 96) -> pk.
 @pytest.mark.parametrize("name", ["bricks", "cobblestones", "terrain", "gravel"])
 @pytest.mark.parametrize("theta", [30.0, 70.0])
 @pytest.mark.parametrize("ambient", [0.0, 0.15])
-def test_matched_mitsuba_meets_render_exact_on_planes(tmp_path, monkeypatch, name, theta, ambient):
+def test_matched_mitsuba_meets_the_oracle_image_on_planes(tmp_path, monkeypatch, name, theta, ambient):
     """Mitsuba's hits on the mesh and the oracle's on the bilinear field, shaded alike: interior
     FLIP <= 0.005 (issue 30's bound) at Mitsuba's defaults (8 lattice vertices per texel, each
     quad cut in four about its centre). Measured at 144²: at most 0.0039, on the gravel
@@ -61,7 +61,7 @@ def test_matched_mitsuba_is_deterministic_and_refuses_a_seed(tmp_path, monkeypat
 
 @pytest.mark.parametrize("mesh", ["torus", "sphere"])
 def test_the_mesh_meets_the_exact_reference_on_curved_meshes(tmp_path, monkeypatch, mesh):
-    """On a curved mesh render_exact is the float64 oracle's shell walk. The mesh the GPU
+    """On a curved mesh pk.oracle.image is the float64 oracle's shell walk. The mesh the GPU
     rasterises (Tessellated(0.5), spp 16) against it without shadows: interior FLIP <= 0.006
     (issue 30's bound), held at 0.003 (against Mitsuba's ray casts on the finer mesh it was
     0.0007-0.0012).

@@ -35,7 +35,7 @@ scene = pk.Scene(mesh=m, material=pk.Material(big, depth=0.06, tiling=1.0),
                  lights=[pk.DirectionalLight((-0.3, -1.0, -0.2), 3.0)])
 r = pk.Renderer()
 note = ""
-if name == "exact_uv":
+if name == "oracle.hits":
     render = lambda: pk.oracle.hits(scene)
 else:
     method = eval("pk." + name)
@@ -56,7 +56,7 @@ print(json.dumps(dict(size=size, method=name, mesh=mesh, ok=ok, note=note, map_s
 """
 
 PLANAR = ["Flat()", "Bump()", "Parallax()", "SteepParallax()", "POM()", "Relief()", "Exact()", "ConeStep()",
-          "DistanceMapping()", "Prism()", "NCS()", "CurvedRelief()", "exact_uv"]
+          "DistanceMapping()", "Prism()", "NCS()", "CurvedRelief()", "oracle.hits"]
 CURVED = ["Prism()", "NCS()"]
 
 

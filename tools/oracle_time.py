@@ -1,7 +1,7 @@
 #!/usr/bin/env python
 """The oracle on curved meshes against the planar one (issue 49's goal: within 3x): a 256²
 frame, a 4096² bricks map at depth 0.06, the sphere and the torus (48 x 24) against the plane,
-for `pk.oracle.hits` and `pk.oracle.image(spp=spp)` (4 unless given; `render_exact`'s default
+for `pk.oracle.hits` and `pk.oracle.image(spp=spp)` (4 unless given; its own default
 is 16) unshadowed, with a sharp light and ambient occlusion, and with a 2° light and ambient
 occlusion. Best of `repeats` runs in one process, in turn; docs/oracle.md ("The oracle on any
 mesh") holds the table.

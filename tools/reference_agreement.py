@@ -5,7 +5,7 @@
 For each planar scene of the suite (bricks, cobblestones, the terrain DEM and the gravel
 photograph; 30° with the light overhead and 70° with a grazing light; ambient 0 and 0.15; a 2°
 light), interior FLIP (4 px from either outline) at 144², spp 16 for pomkit's frames:
-Mitsuba seed against seed, Mitsuba against render_exact, Tessellated(0.5, shadows="exact") and
+Mitsuba seed against seed, Mitsuba against pk.oracle.image, Tessellated(0.5, shadows="exact") and
 Exact(shadows="exact", ao_directions=64, mip_filtering=False) against each reference, pyrender
 against each, and each reference's time.
 
@@ -71,10 +71,10 @@ def main() -> None:
     head = ("| map | view | light | ambient | Mitsuba direct seed vs seed | Mitsuba direct vs exact | "
             "Mitsuba matched vs exact | matched (16/texel) vs exact | Tessellated vs exact | Exact vs exact | "
             "Tessellated vs matched | Exact vs matched | pyrender vs exact | pyrender vs matched | "
-            "render_exact s | matched s | matched (16) s | direct s | pyrender s |")
+            "oracle.image s | matched s | matched (16) s | direct s | pyrender s |")
     lines = ["# The colour references against each other", "", stamp(r.info), "",
              "Interior FLIP (4 px from either "
-             f"outline) at {size}², a 2° directional light; pomkit's frames and render_exact at spp 16. \"exact\" is "
+             f"outline) at {size}², a 2° directional light; pomkit's frames and pk.oracle.image at spp 16. \"exact\" is "
              "`pk.oracle.image`; \"matched\" is `render_mitsuba()` at its defaults (integrator=\"cast\": "
              "Mitsuba's ray casts against the mesh at 8 vertices per texel, shaded by the reference shading, spp 16), "
              "and at 16 vertices per texel; \"direct\" is `render_mitsuba(integrator=\"direct\")`, Mitsuba's own Monte "

@@ -25,7 +25,7 @@ def references_table(size: int = 128) -> str:
     (texels) and FLIP; pyrender against Mitsuba; the time of each reference render."""
     from pomkit import reference as R
     r = pk.Renderer()
-    rows = ["The colour references against each other and against render_exact, scene by scene with their times "
+    rows = ["The colour references against each other and against pk.oracle.image, scene by scene with their times "
             "(issue 30's table), are in reference_agreement.md (`tools/reference_agreement.py`). This table: bricks "
             "128² against `render_mitsuba()`.", "",
             "| angle | method | uv p95 (texels) | FLIP | mask IoU |", "|---|---|---|---|---|"]
