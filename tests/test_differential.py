@@ -50,20 +50,27 @@ EDGE_PX = 1.5       # pixels from the oracle's shadow edge or the outline where 
 GPU_BIAS = 1.0 / 512
 EXACT_SHADOW_BIAS = 1e-6  # shadows.wgsl: a blocker must rise this much (shell depths) above the light ray
 
+# every method by the suite its `differential` trait names, and the variants of them that the suite
+# also runs: "planar" searches tile the plane on past its border; "shell" methods' displaced
+# surface ends at the mesh's open border, as the oracle's and the reference mesh's do, so their
+# coverage is not the base plane's
 PLANAR = {
-    "Parallax": pk.Parallax, "SteepParallax": pk.SteepParallax, "POM": pk.POM, "Relief": pk.Relief,
-    "Exact": pk.Exact, "ConeStep": pk.ConeStep,
+    **{c.__name__: c for c in pk.ALL_METHODS if c.differential == "planar"},
     "ConeStep-relaxed": lambda **k: pk.ConeStep(cones="relaxed", refine="binary", **k),
-    "DistanceMapping": pk.DistanceMapping,
     "ContactRefinement": lambda **k: dataclasses.replace(pk.presets.qgis_contact_refinement(), **k),
 }
-# methods whose displaced surface ends at the mesh's open border, as the oracle's and the
-# reference mesh's do (the texture-space marches tile the plane on): their coverage is not the
-# base plane's
-SHELL = {"NCS": pk.NCS, "CurvedRelief": pk.CurvedRelief, "Prism": pk.Prism,
+SHELL = {**{c.__name__: c for c in pk.ALL_METHODS if c.differential == "shell"},
          "Prism-exact": lambda **k: pk.Prism(exact=True, **k)}
 METHODS = {**PLANAR, **SHELL}
-SAFE = ("Exact", "ConeStep", "Prism-exact")
+SAFE = tuple(name for name, make in METHODS.items() if make().safety == "safe")
+
+
+def test_every_method_is_in_the_suite_or_says_why_not():
+    """A method joins the suite by its `differential` trait; one without it states why."""
+    for c in pk.ALL_METHODS:
+        assert c.differential in ("planar", "shell") or (c.differential is None and c.not_differential), c.__name__
+    assert {"Parallax", "SteepParallax", "POM", "Relief", "Exact", "ConeStep", "DistanceMapping"} <= set(PLANAR)
+    assert {"NCS", "CurvedRelief", "Prism"} <= set(SHELL) and set(SAFE) == {"Exact", "ConeStep", "Prism-exact"}
 SHADOWS = ("none", "hard", "soft", "horizon", "exact")
 FILTERING = ("hardware", "exact")
 

@@ -82,6 +82,15 @@ class Method:
     #: the field of the method's main quality knob, its step count (None: it has none). The one
     #: place `pk.choose`, the bench and the explorer read it from, through `with_steps`.
     steps_knob: ClassVar[str | None] = None
+    #: whether it builds or walks a shell along the vertex normals, so that flipped normals and
+    #: folded prisms change what it renders (render warns where a mesh has them)
+    shell: ClassVar[bool] = False
+    #: how tests/test_differential.py checks it against the oracle on generated maps: "planar"
+    #: (a texture-space search, whose surface tiles on past the mesh's border) or "shell" (whose
+    #: surface ends at the border, as the oracle's); None where it is not in that suite, with the
+    #: reason in `not_differential` (a test holds every method to one or the other)
+    differential: ClassVar[str | None] = None
+    not_differential: ClassVar[str] = ""
 
     def with_steps(self, n: int) -> "Method":
         """This method at `n` steps on its main knob (`steps_knob`), the fields that follow it
@@ -110,6 +119,7 @@ class Flat(Method):
     """Texture at the rasterised uv, base normal, no displacement."""
 
     _kind = "Flat"
+    not_differential = "no search: the rasterised point itself (tests/test_surface.py holds it to the oracle at depth 0)"
 
 
 @dataclass(frozen=True)
@@ -119,6 +129,7 @@ class Bump(Method):
 
     filtering: FilteringKind = "hardware"
     _kind = "Bump"
+    not_differential = "no search: the rasterised uv, only the normal changes (tests/test_methods.py)"
 
     def __post_init__(self):
         _choice(self, "filtering", _FILTERING)
@@ -177,6 +188,7 @@ class POM(_PerPixel):
     lod_threshold: float = 4.0
     adaptive: bool = True
     _kind = "POM"
+    differential = "planar"
     steps_knob = "max_steps"
 
     def _knob(self, n: int) -> dict[str, int]:
@@ -208,6 +220,7 @@ class Parallax(_PerPixel):
     bias: float = 0.0
     mip_filtering: bool = _level0()
     _kind = "Parallax"
+    differential = "planar"
 
     def _validate(self):
         _bool_field(self, "offset_limiting")
@@ -228,6 +241,7 @@ class SteepParallax(_PerPixel):
     steps: int = 32
     mip_filtering: bool = _level0()
     _kind = "SteepParallax"
+    differential = "planar"
     steps_knob = "steps"
 
     def _validate(self):
@@ -250,6 +264,7 @@ class Relief(_PerPixel):
     depth_bias: bool = False
     mip_filtering: bool = _level0()
     _kind = "Relief"
+    differential = "planar"
     steps_knob = "linear_steps"
 
     def _validate(self):
@@ -273,6 +288,7 @@ class Exact(_PerPixel):
 
     max_iterations: int = 4096
     _kind = "Exact"
+    differential = "planar"
 
     @property
     def safety(self) -> str:
@@ -315,6 +331,7 @@ class ConeStep(_PerPixel):
     binary_steps: int = 8
     max_iterations: int = 4096
     _kind = "ConeStep"
+    differential = "planar"
     steps_knob = "max_steps"
 
     def _knob(self, n: int) -> dict[str, int]:
@@ -360,6 +377,8 @@ class NCS(_PerPixel):
     # level 0, as POM and Prism
     mip_filtering: bool = _level0()
     _kind = "NCS"
+    differential = "shell"
+    shell = True
     steps_knob = "max_steps"
 
     def _validate(self):
@@ -400,6 +419,8 @@ class Prism(_PerPixel):
     # torus 0.9924 mip-filtered -> 0.9988 level 0, sphere 0.9931 -> 0.9981)
     mip_filtering: bool = _level0()
     _kind = "Prism"
+    differential = "shell"
+    shell = True
 
     @property
     def safety(self) -> str:
@@ -438,6 +459,8 @@ class CurvedRelief(_PerPixel):
     binary_steps: int = 6
     mip_filtering: bool = _level0()
     _kind = "CurvedRelief"
+    differential = "shell"
+    shell = True
     steps_knob = "linear_steps"
 
     def _validate(self):
@@ -469,6 +492,7 @@ class DistanceMapping(_PerPixel):
     slices: int = 16
     mip_filtering: bool = _level0()
     _kind = "DistanceMapping"
+    differential = "planar"
     steps_knob = "max_steps"
 
     def _validate(self):
@@ -506,6 +530,7 @@ class Tessellated(Method):
     shadows: Literal["none", "hard", "exact"] = "hard"
     pattern: PatternKind = "fan"
     _kind = "Tessellated"
+    not_differential = "a mesh, not a search: the reference mesh the suites measure others by (tests/test_surface.py, test_wild.py, test_reference.py hold it to the oracle)"
 
     def __post_init__(self):
         _choice(self, "shadows", ("none", "hard", "exact"))

@@ -15,7 +15,7 @@ import numpy as np
 from . import _core, _progress
 from . import _validate as _v
 from ._frame import AOV_NAMES, AovName, Frame
-from ._methods import NCS, CurvedRelief, Method, Prism
+from ._methods import ALL_METHODS, Method
 from ._scene import Material, Scene
 
 __all__ = ["Renderer", "adapters"]
@@ -194,9 +194,9 @@ def _check(scene: Any, method: Any) -> None:
             _warn_shell(o.mesh, float(o.material.depth), type(method).__name__)
 
 
-#: the methods that build or walk a shell along the vertex normals: flipped normals and folded
-#: prisms change what they render (docs/conventions.md, "The displaced surface")
-_SHELL_METHODS = (Prism, NCS, CurvedRelief)
+#: the methods that build or walk a shell along the vertex normals (their `shell` trait): flipped
+#: normals and folded prisms change what they render (docs/conventions.md, "The displaced surface")
+_SHELL_METHODS = tuple(c for c in ALL_METHODS if c.shell)
 #: per mesh, the depths already checked (a mesh is checked once per depth)
 _SHELL_CHECKED: "weakref.WeakKeyDictionary[Any, set[float]]" = weakref.WeakKeyDictionary()
 
