@@ -48,6 +48,8 @@ def test_the_page(tmp_path, monkeypatch):
     # the page says nothing meant for maintainers, and its chart comes first
     assert "scripts/" not in text and "make_demo_refs" not in text
     assert text.index('id="pareto"') < text.index('id="planar"')
+    # the corpus table's summary, from the checkout the tests run in
+    assert "On models other people made" in text and "converted files from" in text
     # the command that opens the widget on the page's scenes is on the page, and it runs
     assert html.escape(page.EXPLORE_COMMAND) in text
     pytest.importorskip("anywidget")

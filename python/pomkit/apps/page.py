@@ -27,9 +27,10 @@ from pomkit._heatmap import heat, ramp
 
 REFS = Path(__file__).resolve().parent.parent / "data" / "demo"
 UV_MAX = 2.0  # texels: the uv heat map's scale
-#: the summary line of the corpus of other people's models (docs/tables/wild.md), where the page is
-#: made from a checkout that holds it
-WILD_TABLE = Path(__file__).resolve().parents[3] / "docs" / "tables" / "wild.md"
+#: the table of the corpus of other people's models (relative to a checkout), whose summary the
+#: page quotes where it is made in a checkout that holds it (`make demo` runs in one) or from an
+#: editable install of one
+WILD_TABLE = Path("docs") / "tables" / "wild.md"
 #: the page's style: one column of at most 1360 pixels, the legend kept in view
 CSS = ("body{font-family:system-ui,sans-serif;font-size:15px;line-height:1.4;background:#fafafa;color:#222;"
        "margin:0 auto;padding:0 1em 2em;max-width:1360px;box-sizing:border-box}"
@@ -303,9 +304,11 @@ def legend(outdir: Path, have_flip: bool) -> str:
 
 def wild_summary() -> str:
     """The corpus table's summary line, where the page is made from a checkout that holds it."""
-    if not WILD_TABLE.exists():
+    roots = (Path.cwd(), Path(__file__).resolve().parents[3])
+    table = next((r / WILD_TABLE for r in roots if (r / WILD_TABLE).exists()), None)
+    if table is None:
         return ""
-    lines = [ln for ln in WILD_TABLE.read_text().splitlines() if "converted files from" in ln]
+    lines = [ln for ln in table.read_text().splitlines() if "converted files from" in ln]
     if not lines:
         return ""
     return ("<h2 id=corpus>On models other people made</h2><p>" + html.escape(lines[0]) +
