@@ -152,6 +152,16 @@ def _save(img: np.ndarray, path: Path) -> str:
     return path.name
 
 
+def _have_flip() -> bool:
+    """Whether FLIP (flip-evaluator) is installed: the colour error maps are FLIP's, else the mean
+    absolute sRGB difference (`_flip_map`)."""
+    try:
+        import flip_evaluator  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
 def _flip_map(frame: pk.Frame, ref: pk.Frame) -> tuple[float, np.ndarray]:
     """FLIP (flip-evaluator, when installed) or, without it, the mean absolute sRGB difference."""
     ref8 = ref.to_srgb8()
@@ -204,11 +214,7 @@ def section(r: pk.Renderer, outdir: Path, name: str, scene: pk.Scene, methods: d
     else:
         flip_ref, flip_label = None, ""
     rows, cards = [], []
-    have_flip = True
-    try:
-        import flip_evaluator  # noqa: F401
-    except ImportError:
-        have_flip = False
+    have_flip = _have_flip()
     flip_name = "FLIP" if have_flip else "|Δ sRGB|"
     for label, make in methods.items():
         m = make()
@@ -320,11 +326,7 @@ def run_page(out: str | Path = "pomkit-out", size: int = 256) -> Path:
     outdir = Path(out)
     outdir.mkdir(parents=True, exist_ok=True)
     r = pk.Renderer()
-    try:
-        import flip_evaluator  # noqa: F401
-        have_flip = True
-    except ImportError:
-        have_flip = False
+    have_flip = _have_flip()
     head = [f"<h1>pomkit {pk.__version__}</h1><p>{html.escape(r.info['name'])} ({r.info['backend']}). "
             "Every method of the field on a plane and on a torus, and the curved methods on an asset, each against "
             "the float64 oracle; GPU times of this adapter. Each card opens its frame, error maps and figures.</p>",

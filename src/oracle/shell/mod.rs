@@ -173,9 +173,9 @@ impl<'a> Shell<'a> {
         self.search(eye, dir, lam_min, any, skip, None)
     }
 
-    /// `first` through the bounding volumes; `from`: the triangle the ray starts in or left by, whose boxes up to the root hold its start or lie about it
-    /// (bvh.rs: `visit_from`; any triangle gives the same answer, this one the fewest boxes to
-    /// test).
+    /// `first` through the bounding volumes; `from`: the triangle the ray starts in or left by,
+    /// whose boxes up to the root hold its start or lie about it (bvh.rs: `visit_from`; any
+    /// triangle gives the same answer, this one the fewest boxes to test).
     fn search(
         &self,
         eye: DVec3,
